@@ -1,0 +1,222 @@
+"""``shaped-es`` command line: train / resume / evaluate / report / bench.
+
+Bad input (config, env, run directory, checkpoint) prints one line ``shaped-es: error: ...`` and exits
+with code 2; nothing already saved is touched.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+USAGE_ERROR = 2
+
+
+def _user_errors() -> tuple[type[BaseException], ...]:
+    from shaped_es.config import ConfigError
+    from shaped_es.executors import ExecutorError
+    from shaped_es.rollout import EnvSpecError
+    from shaped_es.store import StoreError
+
+    errs: list[type[BaseException]] = [ConfigError, StoreError, EnvSpecError, ExecutorError]
+    try:
+        from shaped_es.shaping.trajectories import TrajectoryStoreError
+
+        errs.append(TrajectoryStoreError)
+    except ImportError:
+        pass
+    return tuple(errs)
+
+
+def _parse_set(items: list[str]) -> dict:
+    import yaml
+
+    from shaped_es.config import ConfigError
+
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ConfigError(f"--set expects KEY=VALUE, got {item!r}")
+        k, v = item.split("=", 1)
+        out[k.strip()] = yaml.safe_load(v)
+    return out
+
+
+def cmd_train(a: argparse.Namespace) -> int:
+    from shaped_es.config import build_config, merge, read_yaml
+    from shaped_es.store import RunStore
+
+    data = read_yaml(a.config) if a.config else {}
+    flags = {"env": a.env, "method": a.method, "generations": a.generations, "seed": a.seed,
+             "executor": a.executor, "workers": a.workers, "address": a.address}
+    overrides = {k: v for k, v in flags.items() if v is not None}
+    if a.preset is not None:
+        overrides["env_kwargs.preset"] = a.preset
+    overrides.update(_parse_set(a.set))
+    cfg = build_config(merge(data, overrides))
+    _check_env(cfg)
+    store = RunStore(a.out)
+    store.create(cfg)
+    return _run(cfg, store, a)
+
+
+def _check_env(cfg) -> None:
+    """Fail with one line before anything is written if the env cannot be made or used."""
+    import shaped_es  # noqa: F401 - registers the built-in envs
+    from shaped_es.rollout import env_dims, make_env
+
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        env_dims(env)
+    finally:
+        env.close()
+
+
+def cmd_resume(a: argparse.Namespace) -> int:
+    from shaped_es.config import build_config, merge
+    from shaped_es.store import RunStore
+
+    store = RunStore(a.run_dir)
+    cfg = store.read_config()
+    if a.generations is not None or a.executor is not None or a.workers is not None:
+        changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
+                                     "workers": a.workers}.items() if v is not None}
+        cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
+        from shaped_es.config import dump_config
+        from shaped_es.store import atomic_write_text
+
+        atomic_write_text(store.config_path, dump_config(cfg))
+    return _run(cfg, store, a)
+
+
+def _run(cfg, store, a) -> int:
+    if cfg.method == "ppo":
+        from shaped_es.baselines.ppo import train_ppo
+
+        train_ppo(cfg, store, progress=not a.quiet)
+    else:
+        from shaped_es.trainer import Trainer
+
+        Trainer(cfg, store, progress=not a.quiet).run()
+    from shaped_es.report import plot_runs
+
+    fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)
+    rows = store.read_metrics()
+    last = rows[-1] if rows else {}
+    print(json.dumps({"run_dir": str(store.root), "generations": len(rows),
+                      "test_reward_mean": _num(last.get("test_reward_mean")),
+                      "train_reward_mean": _num(last.get("train_reward_mean")), "figure": str(fig)}))
+    return 0
+
+
+def _num(v):
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return None
+
+
+def cmd_evaluate(a: argparse.Namespace) -> int:
+    from shaped_es.evaluate import evaluate_run
+
+    print(json.dumps(evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)))
+    return 0
+
+
+def cmd_report(a: argparse.Namespace) -> int:
+    from shaped_es.report import plot_runs
+
+    runs = {Path(r).name: r for r in a.run_dirs}
+    for r in a.run_dirs:
+        if not (Path(r) / "metrics.csv").is_file():
+            from shaped_es.store import StoreError
+
+            raise StoreError(f"{r} has no metrics.csv")
+    print(plot_runs(runs, a.out))
+    return 0
+
+
+def cmd_bench(a: argparse.Namespace) -> int:
+    import shaped_es  # noqa: F401
+    from shaped_es.benchmarks.env_speed import bench_env
+    from shaped_es.rollout import make_env
+
+    make_env(a.env_id, {}).close()  # one clear error for unknown ids before spawning workers
+    res = bench_env(a.env_id, num_envs=a.num_envs, workers=a.workers, seconds=a.seconds)
+    print(json.dumps(res) if a.json else "\n".join(f"{k}: {v}" for k, v in res.items()))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from shaped_es.config import EXECUTORS, METHODS
+
+    p = argparse.ArgumentParser(prog="shaped-es", description="Shaped policy search with evolution strategies")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    t = sub.add_parser("train", help="start a run in a new directory")
+    t.add_argument("--env", help="Gymnasium id, e.g. Pendulum-v1, CarNav-v0 or mypkg.envs:MyEnv-v0")
+    t.add_argument("--method", choices=METHODS)
+    t.add_argument("--generations", type=int)
+    t.add_argument("--seed", type=int)
+    t.add_argument("--out", required=True, help="run directory (must not hold a run yet)")
+    t.add_argument("--executor", choices=EXECUTORS)
+    t.add_argument("--workers", type=int)
+    t.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster")
+    t.add_argument("--preset", help="env preset (built-in envs: default, paper)")
+    t.add_argument("--config", help="YAML config file (flags override it)")
+    t.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a field, e.g. es.sigma=0.1")
+    t.add_argument("--quiet", action="store_true", help="no progress display")
+    t.set_defaults(fn=cmd_train)
+
+    r = sub.add_parser("resume", help="continue a killed or finished run")
+    r.add_argument("run_dir")
+    r.add_argument("--generations", type=int, help="extend the run to this many generations")
+    r.add_argument("--executor", choices=EXECUTORS)
+    r.add_argument("--workers", type=int)
+    r.add_argument("--quiet", action="store_true")
+    r.set_defaults(fn=cmd_resume)
+
+    e = sub.add_parser("evaluate", help="evaluate a run's policy on fresh test episodes")
+    e.add_argument("run_dir")
+    e.add_argument("--episodes", type=int, default=15)
+    e.add_argument("--policy", choices=("best", "mean"), default="best")
+    e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
+    e.set_defaults(fn=cmd_evaluate)
+
+    rp = sub.add_parser("report", help="reward figures for one or more runs")
+    rp.add_argument("run_dirs", nargs="+")
+    rp.add_argument("--out", default="report.png")
+    rp.set_defaults(fn=cmd_report)
+
+    b = sub.add_parser("bench", help="benchmarks that print figures (JSON with --json)")
+    bsub = b.add_subparsers(dest="what", required=True)
+    be = bsub.add_parser("env", help="env + policy steps per second on all cores")
+    be.add_argument("env_id")
+    be.add_argument("--num-envs", type=int, default=1024)
+    be.add_argument("--workers", type=int)
+    be.add_argument("--seconds", type=float, default=6.0)
+    be.add_argument("--json", action="store_true")
+    be.set_defaults(fn=cmd_bench)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    a = parser.parse_args(argv)
+    errors = _user_errors()
+    try:
+        return int(a.fn(a) or 0)
+    except errors as exc:
+        print(f"shaped-es: error: {exc}", file=sys.stderr)
+        return USAGE_ERROR
+    except KeyboardInterrupt:
+        run = getattr(a, "out", None) or getattr(a, "run_dir", None)
+        hint = f"; continue with: shaped-es resume {run}" if run else ""
+        print(f"shaped-es: interrupted{hint}", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,139 @@
+"""Typed, validated run configuration (``config.yaml`` in every run directory).
+
+A config file holds any subset of these fields; everything else takes the defaults below, and the run
+directory stores the complete result, so ``shaped-es train --config RUN/config.yaml`` re-runs it.
+Unknown keys and bad values are errors (one line each, naming the field).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+METHODS = ("vanilla", "guided", "cmaes", "shaped", "ppo")
+EXECUTORS = ("inline", "process", "ray", "mpi")
+
+
+class ConfigError(ValueError):
+    """A config file or flag is malformed; the message is one line naming the field."""
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+
+
+class PolicyConfig(_Strict):
+    hidden: tuple[int, ...] = Field((32, 32), description="hidden layer widths of the tanh MLP policy")
+
+    @model_validator(mode="after")
+    def _positive(self):
+        if any(h <= 0 for h in self.hidden):
+            raise ValueError("hidden widths must be positive")
+        return self
+
+
+class ESConfig(_Strict):
+    pairs: int = Field(32, gt=0, description="antithetic pairs; population = 2 * pairs (paper: 64 members)")
+    sigma: float = Field(0.05, gt=0, description="search std; same meaning for vanilla and guided")
+    lr: float = Field(0.03, gt=0, description="step size gamma of the mean update (beta absorbed)")
+    optimizer: Literal["adam", "sgd"] = Field("adam", description="optimizer applied to the ES gradient")
+    momentum: float = Field(0.0, ge=0, lt=1, description="SGD momentum (sgd only)")
+    weight_decay: float = Field(0.005, ge=0, description="L2 decay on the mean (vanilla, guided, shaped)")
+    fitness_shaping: Literal["rank", "none"] = Field("rank", description="ranks in [-1, 1] (paper) or raw")
+    alpha: float = Field(0.6, ge=0, le=1, description="Guided-ES isotropic share; paper 0.6")
+    guided_k: int = Field(1, gt=0, description="'guided' method: past ES gradients kept as surrogates")
+    cmaes_mu: int = Field(25, gt=0, description="CMA-ES parents M_best (paper 25)")
+    cmaes_weight_decay: float = Field(0.05, ge=0, description="CMA-ES fitness weight decay (paper 0.05)")
+    cmaes_diagonal_above: int = Field(2000, gt=0, description="use separable CMA above this many params")
+
+
+class RolloutConfig(_Strict):
+    episodes: int = Field(2, gt=0, description="training episodes per member, mean return (paper: 2)")
+    test_episodes: int = Field(15, ge=0, description="test episodes of the best member (paper: 15)")
+    test_every: int = Field(1, gt=0, description="evaluate the best member every N generations")
+    max_steps: int | None = Field(None, gt=0, description="cap on episode length (None: env's limit)")
+    common_seeds: bool = Field(True, description="all members of a generation share episode seeds")
+
+
+class ShapingConfig(_Strict):
+    eta: float = Field(0.01, gt=0, description="surrogate normalization eta (paper 0.01)")
+    settings: dict[str, Any] = Field(default_factory=dict, description="shaped-method settings")
+
+
+class RunConfig(_Strict):
+    env: str = Field("Pendulum-v1", description="Gymnasium id; 'module:Env-v0' imports module first")
+    env_kwargs: dict[str, Any] = Field(default_factory=dict, description="keyword args for gym.make")
+    method: Literal["vanilla", "guided", "cmaes", "shaped", "ppo"] = "vanilla"
+    generations: int = Field(50, gt=0, description="generations to run (ES); PPO maps it to env steps")
+    seed: int = Field(0, ge=0, description="root seed; every member/episode seed derives from it")
+    executor: Literal["inline", "process", "ray", "mpi"] = "process"
+    workers: int | None = Field(None, gt=0, description="worker count (None: all cores)")
+    address: str | None = Field(None, description="ray: 'auto' or HOST:PORT; None starts a local Ray")
+    task_timeout_s: float | None = Field(None, gt=0, description="a task running longer is retried")
+    max_retries: int = Field(3, ge=0, description="retries of tasks whose worker died or hung")
+    checkpoint_every: int = Field(1, gt=0, description="checkpoint every N generations")
+    keep_checkpoints: int = Field(3, gt=0, description="checkpoints kept on disk (newest)")
+    tensorboard: bool = Field(True, description="also write TensorBoard events")
+    policy: PolicyConfig = Field(default_factory=PolicyConfig)
+    es: ESConfig = Field(default_factory=ESConfig)
+    rollout: RolloutConfig = Field(default_factory=RolloutConfig)
+    shaping: ShapingConfig = Field(default_factory=ShapingConfig)
+
+
+def _first_error(exc: ValidationError) -> str:
+    err = exc.errors()[0]
+    where = ".".join(str(p) for p in err["loc"]) or "config"
+    more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
+    return f"{where}: {err['msg']}{more}"
+
+
+def build_config(data: dict[str, Any]) -> RunConfig:
+    try:
+        return RunConfig.model_validate(data)
+    except ValidationError as exc:
+        raise ConfigError(f"invalid config: {_first_error(exc)}") from None
+
+
+def read_yaml(path: str | Path) -> dict[str, Any]:
+    p = Path(path)
+    if not p.is_file():
+        raise ConfigError(f"config file not found: {p}")
+    try:
+        data = yaml.safe_load(p.read_text())
+    except yaml.YAMLError as exc:
+        line = getattr(getattr(exc, "problem_mark", None), "line", None)
+        at = f" (line {line + 1})" if line is not None else ""
+        raise ConfigError(f"config file {p} is not valid YAML{at}") from None
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise ConfigError(f"config file {p} must hold a mapping of fields, got {type(data).__name__}")
+    return data
+
+
+def load_config(path: str | Path, overrides: dict[str, Any] | None = None) -> RunConfig:
+    """Read a YAML config and apply ``overrides`` (dotted keys allowed: ``{"es.sigma": 0.1}``)."""
+    data = read_yaml(path)
+    return build_config(merge(data, overrides or {}))
+
+
+def merge(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
+    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
+    for key, value in overrides.items():
+        node = out
+        parts = key.split(".")
+        for part in parts[:-1]:
+            nxt = node.get(part)
+            if not isinstance(nxt, dict):
+                nxt = {}
+            node[part] = nxt = dict(nxt)
+            node = nxt
+        node[parts[-1]] = value
+    return out
+
+
+def dump_config(cfg: RunConfig) -> str:
+    return yaml.safe_dump(cfg.model_dump(mode="json"), sort_keys=False)

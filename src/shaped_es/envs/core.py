@@ -1,0 +1,65 @@
+"""The environment contract shared by every method, and the batched-core protocol of built-in envs.
+
+Contract for *any* Gymnasium env (a user's own included) trained with ``--method shaped``:
+
+=====================  ==========================  =============================================
+``info`` key           shape / dtype               meaning
+=====================  ==========================  =============================================
+``"position"``         ``(d,)`` float              the agent's current position in waypoint space
+``"waypoint"``         ``(d,)`` float              the next local waypoint the agent should reach
+=====================  ==========================  =============================================
+
+Both keys must be present in the ``info`` of ``reset`` *and* of every ``step``. The policy never sees
+them (they are not part of the observation); only the inverse-dynamics model ``M_phi(s_t, w_t)`` of the
+paper (Sec. III) uses them, at train time. Vanilla-ES, CMA-ES and PPO ignore them.
+
+Built-in envs additionally expose a *batched core* (``env.unwrapped.batch_core``): a pure object that
+steps ``B`` independent copies at once, ``state in -> state out``, with NumPy arrays. The rollout layer
+uses it when present, so a whole chunk of the population runs in one vectorized loop. Protocol:
+
+- ``reset(seeds)``: ``seeds`` ``(B,)`` int64 -> ``(state, obs (B, obs_dim) float32, info)``
+- ``step(state, action)``: ``action`` ``(B, act_dim)`` float32 in ``[-1, 1]`` ->
+  ``(state, obs, reward (B,) float64, terminated (B,) bool, truncated (B,) bool, info)``
+
+``info`` holds ``(B, ...)`` arrays: ``"position"`` ``(B, d)``, ``"waypoint"`` ``(B, d)`` and one
+``"reward_<term>"`` ``(B,)`` per named reward term, the terms summing to ``reward``. All randomness of an
+episode comes from its seed at ``reset``; ``step`` is deterministic. Stepping an env that has already
+ended is allowed (its outputs are ignored by the caller).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+POSITION_KEY = "position"
+WAYPOINT_KEY = "waypoint"
+REWARD_TERM_PREFIX = "reward_"
+
+
+@runtime_checkable
+class BatchCore(Protocol):
+    """Steps ``B`` copies of an environment at once; see the module docstring for the contract."""
+
+    obs_dim: int
+    act_dim: int
+    pos_dim: int
+    max_steps: int
+
+    def reset(self, seeds: np.ndarray) -> tuple[Any, np.ndarray, dict[str, np.ndarray]]: ...
+
+    def step(
+        self, state: Any, action: np.ndarray
+    ) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]: ...
+
+
+def get_batch_core(env: Any) -> BatchCore | None:
+    """The env's batched core if it offers one (``env.unwrapped.batch_core``), else ``None``."""
+    core = getattr(getattr(env, "unwrapped", env), "batch_core", None)
+    return core if isinstance(core, BatchCore) else None
+
+
+def has_waypoint_contract(info: dict[str, Any]) -> bool:
+    """True if an ``info`` dict carries the two keys the shaped method needs."""
+    return POSITION_KEY in info and WAYPOINT_KEY in info

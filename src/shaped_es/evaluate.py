@@ -1,0 +1,43 @@
+"""Evaluate a run's saved policy on fresh test episodes (``shaped-es evaluate RUN --episodes 15``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shaped_es import seeding
+from shaped_es.executors import make_executor
+from shaped_es.rollout import RolloutTask, run_task
+from shaped_es.store import RunStore, StoreError
+from shaped_es.trainer import policy_spec
+
+EVAL_STREAM = 99
+
+
+def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 12345,
+                 executor: str = "process", workers: int | None = None) -> dict:
+    if episodes <= 0:
+        raise StoreError("--episodes must be positive")
+    store = RunStore(run_dir)
+    cfg = store.read_config()
+    loaded = store.load_checkpoint()
+    if loaded is None:
+        raise StoreError(f"{run_dir} has no checkpoint yet")
+    arrays, meta = loaded
+    key = f"policy/{which}"
+    if key not in arrays:
+        raise StoreError(f"checkpoint of {run_dir} has no {which!r} policy")
+    spec = policy_spec(cfg)
+    theta = np.asarray(arrays[key], dtype=np.float32)
+    if theta.shape != (spec.num_params,):
+        raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
+                         f"{spec.num_params}")
+    seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)  # (1, E)
+    with make_executor(executor, workers=workers) as ex:
+        chunks = np.array_split(np.arange(episodes), max(1, min(episodes, ex.workers)))
+        tasks = [RolloutTask(cfg.env, cfg.env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
+                             max_steps=cfg.rollout.max_steps) for c in chunks]
+        res = ex.map(run_task, tasks)
+    returns = np.concatenate([r.returns[0] for r in res])  # (E,)
+    return {"run_dir": str(run_dir), "policy": which, "generation": meta["generation"],
+            "episodes": episodes, "reward_mean": float(returns.mean()), "reward_std": float(returns.std()),
+            "reward_min": float(returns.min()), "reward_max": float(returns.max())}

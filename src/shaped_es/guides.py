@@ -1,0 +1,68 @@
+"""Per-method hooks around the generation loop: what to record and which surrogate shapes the next ask.
+
+- ``vanilla`` / ``cmaes``: :class:`NoGuide` (nothing extra).
+- ``guided``: :class:`PastUpdateGuide`, Guided ES with the last ``k`` ES updates of the mean as the
+  surrogate subspace (no waypoints needed; a cheap, environment-agnostic baseline).
+- ``shaped``: the paper's Algorithm 1 (``shaping/pipeline.py``): inverse dynamics + behaviour cloning.
+
+A guide sees the strategy and a ``map_tasks(fn, tasks)`` callable from the trainer, never an executor.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+MapTasks = Callable[[Callable[[Any], Any], Sequence[Any]], list[Any]]
+
+
+class NoGuide:
+    """Plain ES: rollouts keep no transitions, the strategy gets no surrogate."""
+
+    record = False
+
+    def begin_generation(self, generation: int) -> None:
+        """Called before the rollouts start (background work may start here)."""
+
+    def rollout_fn(self):
+        """Worker-side function for training rollouts (None: the plain ``rollout.run_task``)."""
+        return None
+
+    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks: MapTasks) -> dict:
+        """Called after ``strategy.tell``; may call ``strategy.guide(G)``; returns extra metrics."""
+        return {}
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        return {}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+class PastUpdateGuide(NoGuide):
+    """Guided ES whose surrogate gradients are the last ``k`` updates ``mu_{g+1} - mu_g``."""
+
+    def __init__(self, k: int = 1):
+        self.k = k
+        self.history: list[np.ndarray] = []
+
+    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
+        step = np.asarray(strategy.mean, dtype=np.float64) - np.asarray(old_mean, dtype=np.float64)
+        if np.linalg.norm(step) > 0:
+            self.history = (self.history + [step])[-self.k :]
+        if self.history:
+            strategy.guide(np.stack(self.history))  # (k, n)
+        return {}
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        n = 0 if not self.history else self.history[0].shape[0]
+        hist = np.stack(self.history) if self.history else np.zeros((0, n))
+        return {"history": hist}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.history = [row for row in state.get("history", np.zeros((0, 0)))]

@@ -1,0 +1,92 @@
+"""MLP policies whose parameters are one flat float32 vector, evaluated for a whole population at once.
+
+Layout of the flat vector ``theta`` (length ``n = MLPSpec.num_params``): for each layer ``l`` in order,
+the weight matrix ``W_l`` of shape ``(in_l, out_l)`` in row-major order, then its bias ``b_l`` ``(out_l,)``.
+Hidden layers use ``tanh``; the output layer uses ``tanh`` too, so actions lie in ``[-1, 1]`` (envs
+rescale to their own bounds). The same layout is used by the NumPy forward (rollouts: no torch in the
+hot loop) and by the torch forward (behaviour cloning in ``shaping/``), so a vector means the same
+policy in both.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class MLPSpec:
+    """Architecture of a policy: ``obs_dim -> hidden... -> act_dim``."""
+
+    obs_dim: int
+    act_dim: int
+    hidden: tuple[int, ...] = field(default=(32, 32))
+
+    @property
+    def sizes(self) -> tuple[int, ...]:
+        return (self.obs_dim, *self.hidden, self.act_dim)
+
+    @property
+    def layer_shapes(self) -> list[tuple[int, int]]:
+        s = self.sizes
+        return [(s[i], s[i + 1]) for i in range(len(s) - 1)]
+
+    @property
+    def num_params(self) -> int:
+        return sum(i * o + o for i, o in self.layer_shapes)
+
+    def slices(self) -> list[tuple[slice, slice]]:
+        """(weight slice, bias slice) into the flat vector, per layer."""
+        out, k = [], 0
+        for i, o in self.layer_shapes:
+            w = slice(k, k + i * o)
+            k += i * o
+            b = slice(k, k + o)
+            k += o
+            out.append((w, b))
+        return out
+
+    def init(self, seed: int) -> np.ndarray:
+        """Glorot-uniform weights, zero biases; the last layer scaled by 0.1 (small initial actions)."""
+        rng = np.random.default_rng(seed)
+        theta = np.zeros(self.num_params, dtype=np.float32)
+        shapes = self.layer_shapes
+        for li, ((i, o), (ws, _)) in enumerate(zip(shapes, self.slices())):
+            lim = np.sqrt(6.0 / (i + o))
+            if li == len(shapes) - 1:
+                lim *= 0.1
+            theta[ws] = rng.uniform(-lim, lim, size=i * o).astype(np.float32)
+        return theta
+
+
+def forward(spec: MLPSpec, params: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """Batched forward over a population.
+
+    params: ``(P, n)``; obs: ``(P, B, obs_dim)`` -> actions ``(P, B, act_dim)`` in ``[-1, 1]``.
+    """
+    params = np.asarray(params, dtype=np.float32)
+    h = np.asarray(obs, dtype=np.float32)
+    P = params.shape[0]
+    layers = spec.layer_shapes
+    for li, ((i, o), (ws, bs)) in enumerate(zip(layers, spec.slices())):
+        W = params[:, ws].reshape(P, i, o)  # (P, in, out)
+        b = params[:, bs][:, None, :]  # (P, 1, out)
+        h = np.tanh(np.matmul(h, W) + b)  # (P, B, out)
+    return h
+
+
+def forward_torch(spec: MLPSpec, params, obs):
+    """Torch twin of :func:`forward` (differentiable in ``params``).
+
+    params: ``(P, n)`` tensor; obs: ``(P, B, obs_dim)`` tensor -> ``(P, B, act_dim)``.
+    """
+    import torch
+
+    h = obs
+    P = params.shape[0]
+    for (i, o), (ws, bs) in zip(spec.layer_shapes, spec.slices()):
+        W = params[:, ws].reshape(P, i, o)  # (P, in, out)
+        b = params[:, bs].unsqueeze(1)  # (P, 1, out)
+        h = torch.tanh(torch.bmm(h, W) + b)  # (P, B, out)
+    return h

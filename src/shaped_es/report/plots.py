@@ -1,0 +1,64 @@
+"""Reward curves in the layout of the paper's Fig. 4: reward vs generation, vs CPU time, vs wall time."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def load_metrics(run_dir: str | Path) -> dict[str, np.ndarray]:
+    """``metrics.csv`` as columns of floats (empty cells -> NaN)."""
+    path = Path(run_dir) / "metrics.csv"
+    with path.open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        return {}
+    cols = {}
+    for k in rows[0]:
+        vals = []
+        for r in rows:
+            try:
+                vals.append(float(r[k]) if r[k] not in ("", None) else np.nan)
+            except ValueError:
+                vals.append(np.nan)
+        cols[k] = np.asarray(vals)
+    return cols
+
+
+def plot_runs(runs: dict[str, str | Path], out: str | Path, title: str = "") -> Path:
+    """One figure, three panels (the paper's Fig. 4 axes); one line per labelled run.
+
+    Solid: test reward of the best member (where evaluated); dotted: mean training reward.
+    """
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), sharey=True)
+    xs = [("generation", "generation"), ("cpu_time_s", "CPU time (s)"), ("wall_time_s", "wall time (s)")]
+    for i, (label, run_dir) in enumerate(runs.items()):
+        m = load_metrics(run_dir)
+        if not m:
+            continue
+        color = f"C{i}"
+        for ax, (key, xlabel) in zip(axes, xs):
+            x = m[key] + (1 if key == "generation" else 0)
+            test = m.get("test_reward_mean")
+            if test is not None and np.isfinite(test).any():
+                ok = np.isfinite(test)
+                ax.plot(x[ok], test[ok], color=color, label=f"{label} (test, best member)")
+            ax.plot(x, m["train_reward_mean"], color=color, ls=":", alpha=0.7, label=f"{label} (train mean)")
+            ax.set_xlabel(xlabel)
+            ax.grid(alpha=0.3)
+    axes[0].set_ylabel("cumulative reward")
+    axes[0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out

@@ -1,0 +1,219 @@
+"""Evaluate parameter vectors on an environment: returns, step counts and (optionally) transitions.
+
+One :class:`RolloutTask` is a chunk of population members, each run for ``E`` episodes (the paper
+evaluates every member on 2 seeds and uses the mean return). All ``m * E`` episodes of a task run in
+lock-step with one batched policy forward per step:
+
+- envs with a batched core (``env.unwrapped.batch_core``, see ``envs/core.py``) step all episodes in one
+  vectorized call;
+- any other Gymnasium env is stepped one instance per episode (the policy forward is still batched).
+
+Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds, Discrete spaces
+take the argmax. Results depend only on the task's parameters and seeds, never on the process running it.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es.data import Transitions
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
+from shaped_es.policies import MLPSpec, forward
+
+
+class EnvSpecError(ValueError):
+    """The environment cannot be created or does not fit the policy/contract."""
+
+
+@dataclass
+class RolloutTask:
+    """A chunk of members to evaluate. Picklable (crosses process boundaries as a task, never to disk)."""
+
+    env_id: str
+    env_kwargs: dict
+    spec: MLPSpec
+    params: np.ndarray  # (m, n) float32, one row per member
+    members: np.ndarray  # (m,) int, population index of each row
+    seeds: np.ndarray  # (m, E) int64, episode seeds
+    generation: int = 0
+    record: bool = False  # keep per-step transitions (for the inverse-dynamics model)
+    max_steps: int | None = None  # cap on episode length (None: the env's own limit)
+
+
+@dataclass
+class RolloutResult:
+    members: np.ndarray  # (m,)
+    returns: np.ndarray  # (m, E) float64, cumulative reward per episode
+    lengths: np.ndarray  # (m, E) int64, steps per episode
+    cpu_time_s: float  # CPU seconds this task used in its process
+    transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
+
+
+_ENV_CACHE: dict[str, list[gym.Env]] = {}
+
+
+def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
+    """``gymnasium.make`` with one clear error for unknown ids (``module:Env-v0`` ids import the module)."""
+    try:
+        return gym.make(env_id, **(env_kwargs or {}))
+    except (gym.error.Error, ModuleNotFoundError, ImportError, TypeError, ValueError) as exc:
+        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
+
+
+def env_dims(env: gym.Env) -> tuple[int, int]:
+    """(obs_dim, act_dim) of a flat-Box-observation env with a Box or Discrete action space."""
+    obs_space, act_space = env.observation_space, env.action_space
+    if not isinstance(obs_space, gym.spaces.Box) or len(obs_space.shape) != 1:
+        raise EnvSpecError(f"observation space must be a flat Box, got {obs_space}")
+    if isinstance(act_space, gym.spaces.Box) and len(act_space.shape) == 1:
+        return int(obs_space.shape[0]), int(act_space.shape[0])
+    if isinstance(act_space, gym.spaces.Discrete):
+        return int(obs_space.shape[0]), int(act_space.n)
+    raise EnvSpecError(f"action space must be a flat Box or Discrete, got {act_space}")
+
+
+def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:
+    key = env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
+    envs = _ENV_CACHE.setdefault(key, [])
+    while len(envs) < count:
+        envs.append(make_env(env_id, env_kwargs))
+    return envs[:count]
+
+
+def _to_env_action(space: gym.Space, a: np.ndarray):
+    if isinstance(space, gym.spaces.Discrete):
+        return int(np.argmax(a))
+    low, high = space.low, space.high
+    return (low + (a + 1.0) * 0.5 * (high - low)).astype(space.dtype)
+
+
+def run_task(task: RolloutTask) -> RolloutResult:
+    """Evaluate every member of ``task`` on its seeds (the worker-side entry point)."""
+    t_cpu = time.process_time()
+    env0 = _envs(task.env_id, task.env_kwargs, 1)[0]
+    core = get_batch_core(env0)
+    if core is not None:
+        out = _run_batched(core, task)
+    else:
+        out = _run_gym(task)
+    out.cpu_time_s = time.process_time() - t_cpu
+    return out
+
+
+class _Recorder:
+    """Per-step buffers ``(T, B, ...)`` turned into per-member :class:`Transitions` at the end."""
+
+    def __init__(self, task: RolloutTask):
+        self.task, self.steps = task, []
+
+    def add(self, obs, pos, wp, act, rew, alive):
+        self.steps.append((obs.copy(), pos.copy(), wp.copy(), act.copy(), rew.copy(), alive.copy()))
+
+    def build(self) -> list[Transitions]:
+        m, E = self.task.seeds.shape
+        if not self.steps:
+            return []
+        obs, pos, wp, act, rew, alive = (np.stack(x) for x in zip(*self.steps))  # (T, B, ...)
+        out = []
+        for r in range(m):
+            parts = []
+            for e in range(E):
+                b = r * E + e
+                t = np.flatnonzero(alive[:, b])  # (T_e,) steps this episode actually took
+                parts.append((np.full(t.shape, e), t, obs[t, b], pos[t, b], wp[t, b], act[t, b], rew[t, b]))
+            ep, st, o, p, w, a, rw = (np.concatenate(x) for x in zip(*parts))
+            out.append(
+                Transitions(
+                    generation=self.task.generation,
+                    member=int(self.task.members[r]),
+                    episode=ep.astype(np.int32),
+                    step=st.astype(np.int32),
+                    state=o.astype(np.float32),
+                    position=p.astype(np.float32),
+                    waypoint=w.astype(np.float32),
+                    action=a.astype(np.float32),
+                    reward=rw.astype(np.float32),
+                )
+            )
+        return out
+
+
+def _finish(task, returns, lengths, rec) -> RolloutResult:
+    m, E = task.seeds.shape
+    return RolloutResult(
+        members=np.asarray(task.members),
+        returns=returns.reshape(m, E),  # (m*E,) -> (m, E)
+        lengths=lengths.reshape(m, E),
+        cpu_time_s=0.0,
+        transitions=rec.build() if rec is not None else [],
+    )
+
+
+def _run_batched(core, task: RolloutTask) -> RolloutResult:
+    m, E = task.seeds.shape
+    B = m * E
+    state, obs, info = core.reset(task.seeds.reshape(B))  # (m, E) -> (B,)
+    limit = core.max_steps if task.max_steps is None else min(core.max_steps, task.max_steps)
+    returns = np.zeros(B, dtype=np.float64)
+    lengths = np.zeros(B, dtype=np.int64)
+    alive = np.ones(B, dtype=bool)
+    rec = _Recorder(task) if task.record else None
+    for _ in range(limit):
+        act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
+        pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
+        state, nobs, rew, term, trunc, info = core.step(state, act)
+        rew = np.where(alive, rew, 0.0)
+        if rec is not None:
+            rec.add(obs, pos, wp, act, rew, alive)
+        returns += rew
+        lengths += alive
+        alive &= ~(term | trunc)
+        obs = nobs
+        if not alive.any():
+            break
+    return _finish(task, returns, lengths, rec)
+
+
+def _info_vec(info: dict, key: str) -> np.ndarray:
+    v = info.get(key)
+    return np.zeros(0, np.float32) if v is None else np.asarray(v, dtype=np.float32).reshape(-1)
+
+
+def _run_gym(task: RolloutTask) -> RolloutResult:
+    m, E = task.seeds.shape
+    B = m * E
+    envs = _envs(task.env_id, task.env_kwargs, B)
+    seeds = task.seeds.reshape(B)  # (m, E) -> (B,)
+    first = [env.reset(seed=int(s)) for env, s in zip(envs, seeds)]
+    obs = np.stack([np.asarray(o, dtype=np.float32) for o, _ in first])  # (B, obs)
+    pos = np.stack([_info_vec(i, POSITION_KEY) for _, i in first])  # (B, d)
+    wp = np.stack([_info_vec(i, WAYPOINT_KEY) for _, i in first])  # (B, d)
+    returns = np.zeros(B, dtype=np.float64)
+    lengths = np.zeros(B, dtype=np.int64)
+    alive = np.ones(B, dtype=bool)
+    rec = _Recorder(task) if task.record else None
+    t = 0
+    while alive.any() and (task.max_steps is None or t < task.max_steps):
+        act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
+        rew = np.zeros(B, dtype=np.float64)
+        nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
+        stepped = alive.copy()
+        for b in np.flatnonzero(stepped):
+            o, r, term, trunc, info = envs[b].step(_to_env_action(envs[b].action_space, act[b]))
+            nobs[b], rew[b] = o, r
+            if npos.shape[1]:
+                npos[b], nwp[b] = _info_vec(info, POSITION_KEY), _info_vec(info, WAYPOINT_KEY)
+            alive[b] = not (term or trunc)
+        if rec is not None:
+            rec.add(obs, pos, wp, act, rew, stepped)
+        returns += rew
+        lengths += stepped
+        obs, pos, wp = nobs, npos, nwp
+        t += 1
+    return _finish(task, returns, lengths, rec)

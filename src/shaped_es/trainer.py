@@ -1,0 +1,259 @@
+"""The generation loop (the paper's Algorithm 1, master side) for every ES method, with exact resume.
+
+One generation::
+
+    X = strategy.ask()                       # (P, n) population
+    results = map(rollout, chunks of X)      # returns (P, E) on per-episode seeds from the root seed
+    strategy.tell(mean return per member)    # maximize
+    guide.after_tell(...)                    # guided / shaped: surrogate subspace for the next ask
+    evaluate the best member on test episodes; append a metrics row; checkpoint atomically
+
+A checkpoint holds the strategy's and the guide's state; ``resume`` reloads the newest one, drops
+metrics rows written after it, and continues, giving the rows an uninterrupted run would have given.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from shaped_es import seeding
+from shaped_es.config import RunConfig, dump_config
+from shaped_es.executors import Executor, make_executor
+from shaped_es.guides import NoGuide, PastUpdateGuide
+from shaped_es.policies import MLPSpec
+from shaped_es.progress import ProgressDisplay
+from shaped_es.rollout import RolloutTask, env_dims, make_env, run_task
+from shaped_es.store import RunStore, StoreError
+from shaped_es.strategies import make_strategy
+
+TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s")
+
+
+def policy_spec(cfg: RunConfig) -> MLPSpec:
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        obs_dim, act_dim = env_dims(env)
+    finally:
+        env.close()
+    return MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+
+
+def build_strategy(cfg: RunConfig, x0: np.ndarray):
+    es, seed = cfg.es, seeding.derive_seed(cfg.seed, seeding.STRATEGY)
+    if cfg.method == "cmaes":
+        return make_strategy(
+            "cmaes", x0, sigma=es.sigma, pairs=es.pairs, seed=seed, weight_decay=es.cmaes_weight_decay,
+            mu=es.cmaes_mu, diagonal_above=es.cmaes_diagonal_above,
+        )
+    common = dict(
+        sigma=es.sigma, lr=es.lr, pairs=es.pairs, seed=seed, fitness_shaping=es.fitness_shaping,
+        optimizer=es.optimizer, momentum=es.momentum, weight_decay=es.weight_decay,
+    )
+    if cfg.method == "vanilla":
+        return make_strategy("vanilla", x0, **common)
+    return make_strategy("guided", x0, alpha=es.alpha, **common)
+
+
+def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore):
+    if cfg.method == "guided":
+        return PastUpdateGuide(k=cfg.es.guided_k)
+    if cfg.method == "shaped":
+        from shaped_es.shaping.pipeline import ShapedGuide
+
+        return ShapedGuide(cfg, spec, store)
+    return NoGuide()
+
+
+def config_digest(cfg: RunConfig) -> str:
+    """Hash of the fields that determine results (not where or how the run executes)."""
+    d = cfg.model_dump(mode="json")
+    for k in ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
+              "checkpoint_every", "keep_checkpoints", "tensorboard"):
+        d.pop(k, None)
+    return hashlib.sha256(repr(sorted(d.items())).encode()).hexdigest()[:16]
+
+
+@dataclass
+class Counters:
+    generation: int = 0  # generations completed
+    env_steps: int = 0
+    cpu_time_s: float = 0.0
+    wall_time_s: float = 0.0
+    best_test_reward: float = -math.inf
+
+
+class Trainer:
+    def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
+                 progress: bool = True):
+        self.cfg, self.store, self.progress = cfg, store, progress
+        self._own_executor = executor is None
+        self.executor = executor or make_executor(
+            cfg.executor, workers=cfg.workers, **_executor_options(cfg)
+        )
+        self.spec = policy_spec(cfg)
+        x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
+        self.strategy = build_strategy(cfg, x0)
+        self.guide = build_guide(cfg, self.spec, store)
+        self.c = Counters()
+        self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
+        self._tb = None
+
+    # -- checkpointing -----------------------------------------------------------------------------
+    def _checkpoint(self) -> None:
+        arrays = {f"strategy/{k}": v for k, v in self.strategy.state_dict().items()}
+        arrays |= {f"guide/{k}": v for k, v in self.guide.state_dict().items()}
+        arrays["policy/best"] = self.best_params
+        arrays["policy/mean"] = np.asarray(self.strategy.mean, dtype=np.float32)
+        meta = {**self.c.__dict__, "config_digest": config_digest(self.cfg), "method": self.cfg.method,
+                "policy": {"obs_dim": self.spec.obs_dim, "act_dim": self.spec.act_dim,
+                           "hidden": list(self.spec.hidden)}}
+        if not math.isfinite(meta["best_test_reward"]):
+            meta["best_test_reward"] = None
+        self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
+
+    def restore(self) -> bool:
+        """Load the newest checkpoint if any; returns True if one was loaded."""
+        loaded = self.store.load_checkpoint()
+        if loaded is None:
+            return False
+        arrays, meta = loaded
+        if meta.get("config_digest") != config_digest(self.cfg):
+            raise StoreError(f"checkpoint in {self.store.ckpt_dir} was made with a different config")
+        try:
+            self.strategy.load_state_dict(_sub(arrays, "strategy/"))
+            self.guide.load_state_dict(_sub(arrays, "guide/"))
+            self.best_params = arrays["policy/best"]
+        except (KeyError, ValueError) as exc:
+            raise StoreError(f"checkpoint in {self.store.ckpt_dir} does not fit this run: {exc}") from None
+        for k in Counters.__dataclass_fields__:
+            setattr(self.c, k, meta[k] if meta[k] is not None else -math.inf)
+        self.store.truncate_metrics(self.c.generation - 1)
+        return True
+
+    # -- one generation ----------------------------------------------------------------------------
+    def _tasks(self, params: np.ndarray, members: np.ndarray, seeds: np.ndarray, g: int, record: bool):
+        n_tasks = max(1, min(len(members), self.executor.workers))
+        return [
+            RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, params[idx], members[idx],
+                        seeds[idx], generation=g, record=record, max_steps=self.cfg.rollout.max_steps)
+            for idx in np.array_split(np.arange(len(members)), n_tasks)
+        ]
+
+    def _evaluate(self, theta: np.ndarray, g: int) -> tuple[np.ndarray, int, float]:
+        E = self.cfg.rollout.test_episodes
+        seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
+        chunks = np.array_split(np.arange(E), max(1, min(E, self.executor.workers)))
+        tasks = [RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, theta[None], np.zeros(1, int),
+                             seeds[:, c], generation=g, max_steps=self.cfg.rollout.max_steps)
+                 for c in chunks]
+        res = self.executor.map(run_task, tasks)
+        returns = np.concatenate([r.returns[0] for r in res])  # (E,)
+        return returns, int(sum(r.lengths.sum() for r in res)), sum(r.cpu_time_s for r in res)
+
+    def step(self, g: int) -> dict:
+        t0, cpu0 = time.perf_counter(), time.process_time()
+        cfg = self.cfg
+        X = np.asarray(self.strategy.ask(), dtype=np.float32)  # (P, n)
+        P = X.shape[0]
+        members = np.arange(P)
+        seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, members, cfg.rollout.episodes,
+                                      cfg.rollout.common_seeds)  # (P, E)
+        self.guide.begin_generation(g)
+        fn = self.guide.rollout_fn() or run_task
+        t_roll = time.perf_counter()
+        results = self.executor.map(fn, self._tasks(X, members, seeds, g, self.guide.record))
+        rollout_time = time.perf_counter() - t_roll
+        returns = np.concatenate([r.returns for r in results])  # (P, E) in member order
+        fitness = returns.mean(axis=1)  # (P,) mean over the member's episodes (paper: 2 seeds)
+        steps = int(sum(r.lengths.sum() for r in results))
+        worker_cpu = sum(r.cpu_time_s for r in results)
+        old_mean = np.array(self.strategy.mean, copy=True)
+        self.strategy.tell(fitness)
+        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
+        row = {"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
+               "train_reward_mean": float(fitness.mean()), "train_reward_max": float(fitness.max()),
+               "train_reward_min": float(fitness.min()), "test_reward_mean": None,
+               "test_reward_std": None, "test_reward_best_so_far": None}
+        best = int(np.argmax(fitness))
+        if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
+            test_ret, test_steps, test_cpu = self._evaluate(X[best], g)
+            worker_cpu += test_cpu
+            row["test_reward_mean"], row["test_reward_std"] = float(test_ret.mean()), float(test_ret.std())
+            row["test_env_steps"] = test_steps
+            if test_ret.mean() > self.c.best_test_reward:
+                self.c.best_test_reward, self.best_params = float(test_ret.mean()), X[best].copy()
+        else:
+            row["test_env_steps"] = 0
+        row["test_reward_best_so_far"] = self.c.best_test_reward if math.isfinite(
+            self.c.best_test_reward) else None
+        master_cpu = time.process_time() - cpu0
+        self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps
+        self.c.cpu_time_s += master_cpu + (0.0 if _in_process(self.executor) else worker_cpu)
+        self.c.wall_time_s += time.perf_counter() - t0
+        row.update(env_steps=self.c.env_steps, gen_env_steps=steps, wall_time_s=self.c.wall_time_s,
+                   cpu_time_s=self.c.cpu_time_s, gen_time_s=time.perf_counter() - t0,
+                   rollout_time_s=rollout_time,
+                   update_norm=float(np.linalg.norm(np.asarray(self.strategy.mean) - old_mean)))
+        row.update(extra)
+        return row
+
+    def run(self) -> list[dict]:
+        """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
+        self.restore()
+        rows: list[dict] = []
+        bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress)
+        try:
+            for g in range(self.c.generation, self.cfg.generations):
+                row = self.step(g)
+                self.store.append_metrics(row)
+                self._log_tb(row)
+                rows.append(row)
+                if (g + 1) % self.cfg.checkpoint_every == 0 or g + 1 == self.cfg.generations:
+                    self._checkpoint()
+                bar.update(g, row)
+        finally:
+            bar.close()
+            self.close()
+        return rows
+
+    def _log_tb(self, row: dict) -> None:
+        if not self.cfg.tensorboard:
+            return
+        if self._tb is None:
+            from torch.utils.tensorboard import SummaryWriter
+
+            self._tb = SummaryWriter(str(self.store.root / "tb"), purge_step=int(row["generation"]))
+        for k, v in row.items():
+            if k != "generation" and isinstance(v, (int, float)) and v is not None:
+                self._tb.add_scalar(k, v, int(row["generation"]))
+
+    def close(self) -> None:
+        if self._tb is not None:
+            self._tb.close()
+            self._tb = None
+        self.guide.close()
+        if self._own_executor:
+            self.executor.shutdown()
+
+
+def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
+    return {k[len(prefix):]: v for k, v in arrays.items() if k.startswith(prefix)}
+
+
+def _in_process(executor: Executor) -> bool:
+    return bool(getattr(executor, "in_process", False))
+
+
+def _executor_options(cfg: RunConfig) -> dict:
+    opts: dict = {"max_retries": cfg.max_retries, "task_timeout_s": cfg.task_timeout_s}
+    if cfg.executor == "ray":
+        opts["address"] = cfg.address
+    return {k: v for k, v in opts.items() if v is not None or k == "task_timeout_s"}
+
+
+__all__ = ["Trainer", "policy_spec", "dump_config"]

@@ -1,0 +1,121 @@
+"""Tiny end-to-end runs on CartPole-v1: learning, executor independence, kill-and-resume."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from shaped_es.config import build_config
+from shaped_es.store import RunStore
+from shaped_es.trainer import TIME_COLUMNS, Trainer
+
+TINY = {
+    "env": "CartPole-v1",
+    "generations": 6,
+    "seed": 3,
+    "es": {"pairs": 8, "sigma": 0.1, "lr": 0.05},
+    "policy": {"hidden": [8]},
+    "rollout": {"episodes": 2, "test_episodes": 3},
+    "tensorboard": False,
+}
+
+
+def _train(tmp_path, name, **over):
+    cfg = build_config({**TINY, **over})
+    store = RunStore(tmp_path / name)
+    store.create(cfg)
+    Trainer(cfg, store, progress=False).run()
+    return store.read_metrics()
+
+
+def _strip(rows):
+    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS} for r in rows]
+
+
+@pytest.mark.parametrize("method", ["vanilla", "guided", "cmaes"])
+def test_tiny_train_improves(tmp_path, method):
+    rows = _train(tmp_path, method, method=method, executor="inline", generations=8)
+    assert len(rows) == 8
+    first = float(rows[0]["train_reward_mean"])
+    best_late = max(float(r["train_reward_mean"]) for r in rows[-3:])
+    assert best_late > 1.5 * first, (first, best_late)
+    assert (tmp_path / method / "checkpoints" / "latest.json").is_file()
+
+
+def test_inline_equals_process(tmp_path):
+    a = _train(tmp_path, "inline", executor="inline", method="guided")
+    b = _train(tmp_path, "proc", executor="process", workers=2, method="guided")
+    assert _strip(a) == _strip(b)
+
+
+def _cli(*args, **kw):
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "src")}
+    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+
+
+def test_kill_and_resume_gives_identical_rows(tmp_path):
+    cfg = tmp_path / "tiny.yaml"
+    import yaml
+
+    cfg.write_text(yaml.safe_dump({**TINY, "generations": 14, "executor": "inline"}))
+    full = _cli("train", "--config", str(cfg), "--out", str(tmp_path / "full"), "--quiet")
+    assert full.wait(timeout=300) == 0, full.stderr.read()
+
+    run = tmp_path / "killed"
+    p = _cli("train", "--config", str(cfg), "--out", str(run), "--quiet")
+    deadline = time.time() + 120
+    while time.time() < deadline:
+        m = run / "metrics.csv"
+        if m.is_file() and len(m.read_text().splitlines()) >= 5:  # header + >= 4 rows
+            break
+        time.sleep(0.02)
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    n_before = len((run / "metrics.csv").read_text().splitlines()) - 1
+    assert 0 < n_before < 14, "the kill must land mid-run"
+    r = _cli("resume", str(run), "--quiet")
+    assert r.wait(timeout=300) == 0, r.stderr.read()
+    a = RunStore(tmp_path / "full").read_metrics()
+    b = RunStore(run).read_metrics()
+    assert len(b) == 14
+    assert _strip(a) == _strip(b)
+
+
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (["train", "--env", "NoSuchEnv-v0", "--out", "{tmp}/a"], "NoSuchEnv-v0"),
+        (["train", "--env", "nomod_xyz:Foo-v0", "--out", "{tmp}/b"], "nomod_xyz"),
+        (["train", "--config", "{tmp}/missing.yaml", "--out", "{tmp}/c"], "not found"),
+        (["train", "--env", "CartPole-v1", "--set", "es.sigma=-2", "--out", "{tmp}/d"], "es.sigma"),
+        (["train", "--env", "CartPole-v1", "--set", "nonsense", "--out", "{tmp}/e"], "KEY=VALUE"),
+        (["train", "--env", "CartPole-v1", "--set", "es.colour=3", "--out", "{tmp}/f"], "es.colour"),
+        (["resume", "{tmp}/nothing-here"], "not a run directory"),
+        (["evaluate", "{tmp}/nothing-here"], "not a run directory"),
+    ],
+)
+def test_cli_bad_input_one_line_exit_2(tmp_path, args, needle):
+    p = _cli(*[a.format(tmp=tmp_path) for a in args])
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 2, err
+    lines = [l for l in err.splitlines() if l.strip()]
+    assert len(lines) == 1 and needle in lines[0] and lines[0].startswith("shaped-es: error:"), err
+    assert not (tmp_path / "a" / "config.yaml").exists()
+
+
+def test_cli_existing_run_refused_and_untouched(tmp_path):
+    p = _cli("train", "--env", "CartPole-v1", "--generations", "1", "--executor", "inline",
+             "--set", "es.pairs=2", "--set", "rollout.test_episodes=1", "--out", str(tmp_path / "r"),
+             "--quiet")
+    assert p.wait(timeout=120) == 0, p.stderr.read()
+    before = (tmp_path / "r" / "metrics.csv").read_bytes()
+    q = _cli("train", "--env", "CartPole-v1", "--out", str(tmp_path / "r"))
+    _, err = q.communicate(timeout=60)
+    assert q.returncode == 2 and "already holds a run" in err
+    assert (tmp_path / "r" / "metrics.csv").read_bytes() == before
