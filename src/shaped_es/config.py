@@ -58,9 +58,32 @@ class RolloutConfig(_Strict):
     common_seeds: bool = Field(True, description="all members of a generation share episode seeds")
 
 
+class InverseDynamicsSettings(_Strict):
+    hidden: tuple[int, ...] = Field((20, 20), description="ReLU widths; paper (20, 20) nav, 3 layers arm")
+    lr: float = Field(1e-3, gt=0, description="Adam learning rate (paper)")
+    batch_size: int = Field(64, gt=0, description="minibatch size (paper)")
+    steps_per_generation: int = Field(500, ge=0, description="training iterations per generation")
+    min_return: float = Field(5.0, description="episodes with a lower return are left out (paper: 5)")
+    max_dataset: int = Field(100_000, gt=0, description="cap on aggregated transitions (FIFO)")
+    query_clip: float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
+                                     "times the mean one-step displacement (None: raw, as the paper)")
+
+
+class CloningSettings(_Strict):
+    steps: int = Field(20, ge=0, description="behaviour-cloning gradient steps per member per generation")
+    lr: float = Field(1e-3, gt=0, description="cloning step size")
+    batch_size: int = Field(64, description="samples per member per step (<= 0: all)")
+    optimizer: Literal["adam", "sgd"] = Field("adam", description="cloning optimizer")
+    max_samples: int = Field(4000, description="newest samples of D_i used (<= 0: all)")
+
+
 class ShapingConfig(_Strict):
     eta: float = Field(0.01, gt=0, description="surrogate normalization eta (paper 0.01)")
-    settings: dict[str, Any] = Field(default_factory=dict, description="shaped-method settings")
+    surrogate: Literal["paper", "clone_step"] = Field(
+        "paper", description="Delta = (theta* - mu_{g+1})/eta (paper) or theta* - theta (clone step only)")
+    history: int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
+    inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
+    cloning: CloningSettings = Field(default_factory=CloningSettings)
 
 
 class RunConfig(_Strict):

@@ -1,0 +1,176 @@
+"""Behaviour cloning of a whole population at once: ``theta_i -> theta*_i`` (paper, Sec. III, Eq. L(theta)).
+
+Worker ``i`` fits its policy, starting from its own ``theta_i``, to the inverse-dynamics labels
+``a_hat = M_phi(s_t, w_t)`` of its aggregated data set ``D_i`` (DAgger style) by a few gradient steps on
+
+    L(theta) = 1/M sum_t (pi_theta(s_t) - M_phi(s_t, w_t))^2                (Eq. L(theta); MSE)
+
+Here all ``P`` members are cloned in one batched torch computation: the flat parameter matrix ``(P, n)``
+is the leaf tensor, :func:`shaped_es.policies.forward_torch` evaluates every member on its own minibatch,
+and the summed loss ``sum_i L_i(theta_i)`` has gradient ``dL_i/dtheta_i`` in row ``i``. Adam and SGD act
+elementwise, so row ``i`` follows exactly the trajectory it would follow if cloned alone, given the same
+minibatch indices -- which come from a per-member NumPy generator seeded by ``seeds[i]``.
+
+The MSE is the mean over samples and action dimensions (the ``1/M`` of the paper, also over actions).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import torch
+
+from shaped_es.policies import MLPSpec, forward_torch
+
+
+@dataclass(frozen=True)
+class CloningConfig:
+    steps: int = 20  # gradient steps per member per generation (0: theta* = theta)
+    lr: float = 1e-3  # optimizer step size
+    batch_size: int = 64  # samples per member per step, drawn with replacement; <= 0: full data every step
+    optimizer: Literal["adam", "sgd"] = "adam"  # Adam (fresh state per call) or plain SGD
+    max_samples: int = 4000  # only the most recent samples of each D_i are used; <= 0: all
+    seed: int = 0  # per-member seeds default to SeedSequence([seed, row]) when none are given
+
+    def __post_init__(self):
+        if self.steps < 0 or self.lr <= 0 or self.optimizer not in ("adam", "sgd"):
+            raise ValueError(f"bad cloning config: steps={self.steps} lr={self.lr} "
+                             f"optimizer={self.optimizer!r}")
+
+
+@dataclass
+class CloneResult:
+    theta_star: np.ndarray  # (P, n) float32, the cloned parameters theta*_i
+    loss_before: np.ndarray  # (P,) float64, MSE to the labels over D_i at theta_i (nan: member has no data)
+    loss_after: np.ndarray  # (P,) float64, the same at theta*_i
+    samples: np.ndarray  # (P,) int64, samples of D_i used
+
+
+def pad_population(
+    states: Sequence[np.ndarray], labels: Sequence[np.ndarray], max_samples: int = 0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-member ``(T_i, obs)``, ``(T_i, act)`` -> padded ``(P, T, obs)``, ``(P, T, act)``, mask ``(P, T)``.
+
+    With ``max_samples > 0`` only the last ``max_samples`` rows of each member are kept (newest data).
+    """
+    if len(states) != len(labels):
+        raise ValueError(f"{len(states)} state arrays but {len(labels)} label arrays")
+    if max_samples > 0:
+        states = [np.asarray(s)[-max_samples:] for s in states]
+        labels = [np.asarray(a)[-max_samples:] for a in labels]
+    lens = [int(np.asarray(s).shape[0]) for s in states]
+    if any(int(np.asarray(a).shape[0]) != n for a, n in zip(labels, lens)):
+        raise ValueError("each member needs as many labels as states")
+    P, T = len(states), max(lens, default=0)
+    obs_dim = np.asarray(states[0]).shape[-1] if P else 0
+    act_dim = np.asarray(labels[0]).shape[-1] if P else 0
+    S = np.zeros((P, T, obs_dim), np.float32)  # (P, T, obs)
+    A = np.zeros((P, T, act_dim), np.float32)  # (P, T, act)
+    M = np.zeros((P, T), bool)  # (P, T)
+    for i, (s, a, n) in enumerate(zip(states, labels, lens)):
+        S[i, :n], A[i, :n], M[i, :n] = s, a, True
+    return S, A, M
+
+
+def _keep_newest(mask: np.ndarray, max_samples: int) -> np.ndarray:
+    """Mask ``(P, T)`` restricted to each row's last ``max_samples`` True entries."""
+    from_end = np.cumsum(mask[:, ::-1], axis=1)[:, ::-1]  # (P, T) valid entries at or after t
+    return mask & (from_end <= max_samples)
+
+
+def _member_indices(mask: np.ndarray, seeds: np.ndarray, steps: int, batch: int) -> np.ndarray:
+    """Minibatch positions ``(steps, P, B)`` into each member's padded rows, from its own generator."""
+    P = mask.shape[0]
+    out = np.zeros((steps, P, batch), np.int64)
+    for i in range(P):
+        valid = np.flatnonzero(mask[i])  # (n_i,)
+        if valid.size:
+            draws = np.random.default_rng(int(seeds[i])).integers(0, valid.size, size=(steps, batch))
+            out[:, i] = valid[draws]  # (steps, B)
+    return out
+
+
+def _masked_mse(spec: MLPSpec, params: torch.Tensor, S: torch.Tensor, A: torch.Tensor, M: torch.Tensor,
+                chunk: int = 2048) -> np.ndarray:
+    """Per-member MSE over all valid samples, in chunks of time to bound memory; ``(P,)`` (nan: no data)."""
+    P, T = M.shape
+    sse = torch.zeros(P, dtype=torch.float64)
+    with torch.no_grad():
+        for t0 in range(0, T, chunk):
+            pred = forward_torch(spec, params, S[:, t0 : t0 + chunk])  # (P, c, act)
+            err = ((pred - A[:, t0 : t0 + chunk]) ** 2).sum(-1)  # (P, c)
+            sse += (err * M[:, t0 : t0 + chunk]).sum(1).double()
+    n = M.sum(1).double() * spec.act_dim  # (P,)
+    return torch.where(n > 0, sse / n.clamp(min=1), torch.nan).numpy()
+
+
+def clone_population(
+    spec: MLPSpec,
+    theta: np.ndarray,
+    states: np.ndarray | Sequence[np.ndarray],
+    labels: np.ndarray | Sequence[np.ndarray],
+    mask: np.ndarray | None = None,
+    config: CloningConfig | None = None,
+    seeds: Sequence[int] | np.ndarray | None = None,
+) -> CloneResult:
+    """Clone every member to its labels: ``theta`` ``(P, n)`` -> :class:`CloneResult` (``theta_star (P, n)``).
+
+    ``states``/``labels``: lists of per-member arrays ``(T_i, obs)``/``(T_i, act)`` (oldest first), or
+    padded arrays ``(P, T, obs)``/``(P, T, act)`` with ``mask`` ``(P, T)`` (None: all valid).
+    ``seeds`` ``(P,)``: minibatch seed of each member (default from ``config.seed`` and the row index);
+    cloning member ``i`` alone with ``seeds=[seeds[i]]`` gives the same ``theta*_i``.
+    """
+    cfg = config or CloningConfig()
+    th = np.atleast_2d(np.asarray(theta, dtype=np.float32))  # (P, n)
+    P = th.shape[0]
+    if th.shape[1] != spec.num_params:
+        raise ValueError(f"theta has {th.shape[1]} parameters, spec needs {spec.num_params}")
+    if isinstance(states, np.ndarray) and states.ndim == 3:
+        S, A = np.asarray(states, np.float32), np.asarray(labels, np.float32)
+        M = np.ones(S.shape[:2], bool) if mask is None else np.asarray(mask, bool)
+        if cfg.max_samples > 0:
+            M = _keep_newest(M, cfg.max_samples)
+        if M.shape == S.shape[:2] == A.shape[:2]:  # padding may hold anything (NaN): zero it
+            S = np.where(M[..., None], S, 0).astype(np.float32)  # (P, T, obs)
+            A = np.where(M[..., None], A, 0).astype(np.float32)  # (P, T, act)
+    else:
+        S, A, M = pad_population(list(states), list(labels), cfg.max_samples)
+    if S.shape[0] != P or A.shape[:2] != S.shape[:2] or M.shape != S.shape[:2]:
+        raise ValueError(f"data shapes {S.shape}, {A.shape}, mask {M.shape} do not match {P} members")
+    if S.shape[1] and (S.shape[2] != spec.obs_dim or A.shape[2] != spec.act_dim):
+        got, want = (S.shape[2], A.shape[2]), (spec.obs_dim, spec.act_dim)
+        raise ValueError(f"data has (obs, act) = {got}, spec needs {want}")
+    if seeds is None:
+        seeds = [np.random.SeedSequence([cfg.seed, i]).generate_state(1)[0] for i in range(P)]
+    seeds = np.asarray(seeds, dtype=np.int64).reshape(-1)
+    if seeds.shape[0] != P:
+        raise ValueError(f"{seeds.shape[0]} seeds for {P} members")
+
+    S_t, A_t, M_t = torch.from_numpy(S), torch.from_numpy(A), torch.from_numpy(M)
+    params = torch.tensor(th, requires_grad=True)  # (P, n) leaf: row i is member i
+    before = _masked_mse(spec, params, S_t, A_t, M_t)
+    n_i = M_t.sum(1)  # (P,)
+    if cfg.steps > 0 and S.shape[1] > 0:
+        opt = (torch.optim.Adam if cfg.optimizer == "adam" else torch.optim.SGD)([params], lr=cfg.lr)
+        rows = torch.arange(P)[:, None]  # (P, 1)
+        full = cfg.batch_size <= 0
+        idx = None if full else torch.from_numpy(_member_indices(M, seeds, cfg.steps, cfg.batch_size))
+        has = (n_i > 0).float()  # (P,) members without data get no gradient
+        for k in range(cfg.steps):
+            if full:
+                s, a, w = S_t, A_t, M_t.float() / n_i.clamp(min=1)[:, None]  # (P, T, .), (P, T)
+            else:
+                s, a = S_t[rows, idx[k]], A_t[rows, idx[k]]  # (P, B, obs), (P, B, act)
+                w = has[:, None].expand(P, cfg.batch_size) / cfg.batch_size  # (P, B)
+            err = ((forward_torch(spec, params, s) - a) ** 2).mean(-1)  # (P, B)
+            loss = (err * w).sum()  # sum_i L_i(theta_i), Eq. L(theta) per member
+            opt.zero_grad(set_to_none=True)
+            loss.backward()
+            opt.step()
+    theta_star = params.detach().numpy().astype(np.float32)  # (P, n)
+    after = _masked_mse(spec, params.detach(), S_t, A_t, M_t)
+    return CloneResult(theta_star=theta_star, loss_before=before, loss_after=after,
+                       samples=n_i.numpy().astype(np.int64))

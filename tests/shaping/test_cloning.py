@@ -1,0 +1,108 @@
+"""Batched behaviour cloning: lowers the loss, no-op at 0 steps, batched == one member at a time."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from shaped_es.policies import MLPSpec, forward
+from shaped_es.shaping.cloning import CloningConfig, clone_population, pad_population
+
+SPEC = MLPSpec(obs_dim=5, act_dim=2, hidden=(8, 8))
+
+
+def _population(P=4, lens=(60, 45, 80, 30), seed=0):
+    """Members near a teacher policy, each with its own states and the teacher's actions as labels."""
+    rng = np.random.default_rng(seed)
+    teacher = SPEC.init(100) * 5  # (n,) a policy with non-trivial actions
+    theta = np.stack([SPEC.init(i) for i in range(P)])  # (P, n)
+    states = [rng.normal(size=(n, SPEC.obs_dim)).astype(np.float32) for n in lens[:P]]
+    labels = [forward(SPEC, teacher[None], s[None])[0] for s in states]  # (T_i, act) each
+    return theta, states, labels
+
+
+@pytest.mark.parametrize("optimizer", ["adam", "sgd"])
+def test_cloning_lowers_loss_for_every_member(optimizer):
+    theta, states, labels = _population()
+    lr = 1e-2 if optimizer == "adam" else 0.5
+    cfg = CloningConfig(steps=60, lr=lr, optimizer=optimizer)
+    res = clone_population(SPEC, theta, states, labels, config=cfg)
+    assert res.theta_star.shape == theta.shape and res.theta_star.dtype == np.float32
+    assert np.all(res.loss_after < 0.7 * res.loss_before)
+    np.testing.assert_array_equal(res.samples, [60, 45, 80, 30])
+    for i in range(4):  # loss_before is the plain MSE of the member's policy on its data
+        mse = np.mean((forward(SPEC, theta[i : i + 1], states[i][None])[0] - labels[i]) ** 2)
+        assert res.loss_before[i] == pytest.approx(mse, rel=1e-5)
+
+
+def test_zero_steps_leaves_theta_unchanged():
+    theta, states, labels = _population()
+    res = clone_population(SPEC, theta, states, labels, config=CloningConfig(steps=0))
+    np.testing.assert_array_equal(res.theta_star, theta)
+    np.testing.assert_array_equal(res.loss_before, res.loss_after)
+
+
+@pytest.mark.parametrize("optimizer,batch", [("adam", 16), ("sgd", 16), ("adam", 0)])
+def test_batched_equals_one_member_at_a_time(optimizer, batch):
+    theta, states, labels = _population()
+    cfg = CloningConfig(steps=25, lr=1e-2, batch_size=batch, optimizer=optimizer)
+    seeds = [11, 12, 13, 14]
+    res = clone_population(SPEC, theta, states, labels, config=cfg, seeds=seeds)
+    for i in range(4):
+        alone = clone_population(SPEC, theta[i : i + 1], [states[i]], [labels[i]], config=cfg,
+                                 seeds=[seeds[i]])
+        np.testing.assert_allclose(res.theta_star[i], alone.theta_star[0], atol=1e-5, rtol=0)
+        assert not np.array_equal(alone.theta_star[0], theta[i])
+
+
+def test_default_seeds_are_deterministic_and_per_member():
+    theta, states, labels = _population()
+    cfg = CloningConfig(steps=10, lr=1e-2, batch_size=8, seed=7)
+    a = clone_population(SPEC, theta, states, labels, config=cfg)
+    b = clone_population(SPEC, theta, states, labels, config=cfg)
+    cfg8 = CloningConfig(steps=10, lr=1e-2, batch_size=8, seed=8)
+    c = clone_population(SPEC, theta, states, labels, config=cfg8)
+    np.testing.assert_array_equal(a.theta_star, b.theta_star)
+    assert not np.array_equal(a.theta_star, c.theta_star)
+
+
+def test_padded_input_with_mask_equals_list_input_and_max_samples_uses_newest():
+    theta, states, labels = _population()
+    cfg = CloningConfig(steps=15, lr=1e-2, batch_size=16, max_samples=40)
+    S, A, M = pad_population(states, labels)
+    assert S.shape == (4, 80, 5) and A.shape == (4, 80, 2) and M.sum() == 215
+    from_list = clone_population(SPEC, theta, states, labels, config=cfg, seeds=[1, 2, 3, 4])
+    S[~M] = np.nan  # whatever the padding holds is ignored
+    from_pad = clone_population(SPEC, theta, S, A, M, config=cfg, seeds=[1, 2, 3, 4])
+    np.testing.assert_array_equal(from_list.samples, [40, 40, 40, 30])
+    np.testing.assert_allclose(from_pad.theta_star, from_list.theta_star, atol=1e-6)
+    newest = clone_population(SPEC, theta, [s[-40:] for s in states], [a[-40:] for a in labels],
+                              config=CloningConfig(steps=15, lr=1e-2, batch_size=16, max_samples=0),
+                              seeds=[1, 2, 3, 4])
+    np.testing.assert_allclose(newest.theta_star, from_list.theta_star, atol=1e-6)
+
+
+def test_member_without_data_is_left_alone():
+    theta, states, labels = _population()
+    states[2], labels[2] = states[2][:0], labels[2][:0]
+    res = clone_population(SPEC, theta, states, labels, config=CloningConfig(steps=10, lr=1e-2))
+    np.testing.assert_array_equal(res.theta_star[2], theta[2])
+    assert np.isnan(res.loss_before[2]) and np.isnan(res.loss_after[2])
+    assert np.all(res.loss_after[[0, 1, 3]] < res.loss_before[[0, 1, 3]])
+
+
+def test_rejects_bad_shapes():
+    theta, states, labels = _population()
+    with pytest.raises(ValueError, match="parameters"):
+        clone_population(SPEC, theta[:, :-1], states, labels)
+    with pytest.raises(ValueError, match="members"):
+        clone_population(SPEC, theta[:3], states, labels)
+    with pytest.raises(ValueError, match="seeds"):
+        clone_population(SPEC, theta, states, labels, seeds=[1, 2])
+
+
+def test_config_validation():
+    with pytest.raises(ValueError, match="optimizer"):
+        CloningConfig(optimizer="rmsprop")
+    with pytest.raises(ValueError):
+        CloningConfig(lr=0.0)

@@ -1,0 +1,144 @@
+"""Parquet trajectory store: exact round trip, layout, history reads, and clear errors on bad shards."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from shaped_es.data import COLUMNS
+from shaped_es.shaping.trajectories import (
+    TrajectoryStoreError,
+    delete_generations,
+    list_generations,
+    read_generation,
+    read_member_history,
+    read_shard,
+    shard_path,
+    write_shard,
+)
+
+FIELDS = ("episode", "step", "state", "position", "waypoint", "action", "reward")
+
+
+def _assert_same(a, b):
+    assert (a.generation, a.member) == (b.generation, b.member)
+    for f in FIELDS:
+        x, y = getattr(a, f), getattr(b, f)
+        assert x.dtype == y.dtype and x.shape == y.shape, f
+        np.testing.assert_array_equal(x, y, err_msg=f)
+
+
+@pytest.fixture
+def tr(make_transitions):
+    rng = np.random.default_rng(0)
+    return make_transitions(rng, episodes=3, steps=40, obs_dim=38, generation=3, member=7)
+
+
+def test_roundtrip_is_exact_and_layout_as_documented(tr, tmp_path):
+    path = write_shard(tmp_path / "trajectories", tr)
+    assert path == str(tmp_path / "trajectories" / "gen_000003" / "member_0007.parquet")
+    assert os.listdir(os.path.dirname(path)) == ["member_0007.parquet"]  # no temp file left behind
+    back = read_shard(path)
+    _assert_same(tr, back)
+    schema = pq.read_schema(path)
+    assert schema.names == list(COLUMNS)
+    assert schema.field("state").type == pa.list_(pa.float32(), 38)
+    assert schema.field("step").type == pa.int32() and schema.field("reward").type == pa.float32()
+
+
+def test_roundtrip_through_a_filesystem_uri(tr, tmp_path):
+    path = write_shard(f"file://{tmp_path}/store", tr)
+    assert path == f"file://{tmp_path}/store/gen_000003/member_0007.parquet"
+    _assert_same(tr, read_shard(path))
+    assert list_generations(f"file://{tmp_path}/store") == [3]
+
+
+def test_overwrite_replaces_and_empty_shard_roundtrips(tr, make_transitions, tmp_path):
+    write_shard(tmp_path, tr)
+    rng = np.random.default_rng(5)
+    other = make_transitions(rng, episodes=1, steps=4, obs_dim=38, generation=3, member=7)
+    _assert_same(other, read_shard(write_shard(tmp_path, other)))
+    empty = make_transitions(rng, episodes=1, steps=0, obs_dim=38, generation=4, member=1)
+    _assert_same(empty, read_shard(write_shard(tmp_path, empty)))
+
+
+def test_generation_and_member_history_reads(make_transitions, tmp_path):
+    rng = np.random.default_rng(1)
+    written = {}
+    for g in (0, 1, 2, 4):
+        for m in (2, 0, 1):
+            if (g, m) != (1, 1):  # member 1 has no shard in generation 1
+                written[g, m] = make_transitions(rng, episodes=1, steps=5, generation=g, member=m)
+                write_shard(tmp_path, written[g, m])
+    (tmp_path / "gen_000002" / ".member_0003.parquet.abc.tmp").write_bytes(b"partial")  # ignored
+    assert list_generations(tmp_path) == [0, 1, 2, 4]
+    gen2 = read_generation(tmp_path, 2)
+    assert [t.member for t in gen2] == [0, 1, 2]
+    for t in gen2:
+        _assert_same(written[2, t.member], t)
+    assert read_generation(tmp_path, 3) == []
+    hist = read_member_history(tmp_path, 1, range(5))
+    assert [t.generation for t in hist] == [0, 2, 4]
+    hist = read_member_history(tmp_path, 0, range(5), last=2)  # the last 2 generations asked: 3 and 4
+    assert [t.generation for t in hist] == [4]
+    _assert_same(written[4, 0], hist[0])
+    assert [t.generation for t in read_member_history(tmp_path, 0, [4, 1, 2], last=2)] == [2, 4]
+    delete_generations(tmp_path, [0, 9])
+    assert list_generations(tmp_path) == [1, 2, 4]
+
+
+def _expect_error(path, match):
+    with pytest.raises(TrajectoryStoreError, match=match) as info:
+        read_shard(path)
+    msg = str(info.value)
+    assert "\n" not in msg and str(path) in msg
+
+
+def test_truncated_shard_raises(tr, tmp_path):
+    path = write_shard(tmp_path, tr)
+    data = open(path, "rb").read()
+    for cut in (0, 10, len(data) // 2, len(data) - 3):
+        with open(path, "wb") as fh:
+            fh.write(data[:cut])
+        _expect_error(path, "corrupt")
+
+
+def test_flipped_data_byte_raises(tr, tmp_path):
+    path = write_shard(tmp_path, tr)
+    col = pq.ParquetFile(path).metadata.row_group(0).column(COLUMNS.index("state"))
+    start = col.dictionary_page_offset or col.data_page_offset
+    off = start + col.total_compressed_size // 2  # inside the state column chunk's pages
+    data = bytearray(open(path, "rb").read())
+    data[off] ^= 0xFF
+    with open(path, "wb") as fh:
+        fh.write(bytes(data))
+    _expect_error(path, "corrupt")
+
+
+def test_missing_or_foreign_or_malformed_shard_raises(tr, tmp_path):
+    _expect_error(tmp_path / "nope.parquet", "not found")
+    (tmp_path / "junk.parquet").write_bytes(b"not parquet at all")
+    _expect_error(tmp_path / "junk.parquet", "corrupt")
+    good = pq.read_table(write_shard(tmp_path, tr))
+    pq.write_table(pa.table({"x": [1, 2]}), tmp_path / "foreign.parquet")
+    _expect_error(tmp_path / "foreign.parquet", "not a shaped-es trajectory shard")
+    pq.write_table(good.drop_columns(["reward"]), tmp_path / "missing.parquet")
+    _expect_error(tmp_path / "missing.parquet", "missing columns")
+    wide_step = good.set_column(3, "step", good.column("step").cast(pa.int64()))
+    pq.write_table(wide_step, tmp_path / "type.parquet")
+    _expect_error(tmp_path / "type.parquet", "'step' has type int64")
+    meta = {**good.schema.metadata, b"member": b"8"}
+    pq.write_table(good.replace_schema_metadata(meta), tmp_path / "meta.parquet")
+    _expect_error(tmp_path / "meta.parquet", "disagree")
+
+
+def test_writing_transitions_without_positions_is_a_clear_error(make_transitions, tmp_path):
+    tr = make_transitions(np.random.default_rng(0), pos_dim=2)
+    tr.position, tr.waypoint = tr.position[:, :0], tr.waypoint[:, :0]
+    with pytest.raises(TrajectoryStoreError, match="'position'"):
+        write_shard(tmp_path, tr)
+    assert not any(tmp_path.rglob("*.parquet"))
