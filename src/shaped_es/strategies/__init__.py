@@ -1,0 +1,33 @@
+"""ES strategies over explicit state: Vanilla-ES, Guided ES and CMA-ES (numpy + pycma only).
+
+Every strategy MAXIMIZES fitness and shares one interface::
+
+    es = GuidedES(x0, sigma=0.1, lr=0.2, alpha=0.5, pairs=1, seed=0, fitness_shaping="rank")
+    X = es.ask()                    # (2 * pairs, n)
+    es.tell(fitness, surrogate=G)   # fitness (2 * pairs,), larger is better; G (k, n) or None
+    es.mean, es.popsize, es.generation, es.num_params, es.best_fitness, es.best_params
+    es.state_dict() / es.load_state_dict(d)   # numpy arrays only; exact continuation
+
+``make_strategy(name, x0, **hyper)`` builds one by name: ``"vanilla"``, ``"guided"``, ``"cmaes"``.
+"""
+
+from __future__ import annotations
+
+from shaped_es.strategies.base import Strategy
+from shaped_es.strategies.cmaes import CMAES
+from shaped_es.strategies.guided import GuidedES
+from shaped_es.strategies.vanilla import VanillaES
+
+STRATEGIES: dict[str, type[Strategy]] = {"vanilla": VanillaES, "guided": GuidedES, "cmaes": CMAES}
+
+
+def make_strategy(name: str, x0, **hyper) -> Strategy:
+    """Build the strategy called ``name`` (one of :data:`STRATEGIES`) at ``x0`` with ``hyper``."""
+    try:
+        cls = STRATEGIES[name]
+    except KeyError:
+        raise ValueError(f"unknown strategy {name!r}; choose one of {sorted(STRATEGIES)}") from None
+    return cls(x0, **hyper)
+
+
+__all__ = ["CMAES", "GuidedES", "STRATEGIES", "Strategy", "VanillaES", "make_strategy"]

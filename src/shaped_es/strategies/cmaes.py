@@ -1,0 +1,116 @@
+"""CMA-ES baseline: a thin adapter over pycma's ``cma.CMAEvolutionStrategy`` (maximizes fitness).
+
+Lekkala & Itti, Eqs. (1)-(2): the mean and covariance are re-estimated from the ``M_best`` (25) best
+members each generation; pycma implements the full CMA-ES (Hansen 2016) with ``CMA_mu = M_best``.
+Settings as the paper's baseline:
+
+- population ``2 * pairs``; ``mu`` (M_best) clipped to ``popsize // 2``;
+- weight decay 0.05 on the fitness, as in estool: ``fitness_i -= weight_decay * mean(x_i ** 2)``;
+- above ``diagonal_above`` parameters the full covariance (O(n^2) memory, O(n^3) updates) is replaced
+  by the separable/diagonal variant (pycma option ``CMA_diagonal=True``; the paper notes full CMA-ES is
+  infeasible beyond ~10k parameters).
+
+pycma minimizes, so it is told ``-fitness``. pycma draws from numpy's GLOBAL random state; every call
+into pycma runs with a private global state (the caller's is saved and restored around it), so the
+strategy is deterministic whatever else runs in the process and leaves others' draws untouched.
+
+Exact resume without pickle: ``state_dict`` keeps the told fitness history (G, popsize);
+``load_state_dict`` rebuilds pycma from ``x0`` with the same seed and replays the G ask/tell rounds,
+which reproduces every internal array bit for bit (checked against the saved mean).
+"""
+
+from __future__ import annotations
+
+import cma
+import numpy as np
+
+from shaped_es.strategies.base import Strategy
+from shaped_es.strategies.fitness import l2_fitness_penalty
+
+
+class CMAES(Strategy):
+    """pycma CMA-ES (separable above ``diagonal_above`` params) behind the common ask/tell API."""
+
+    def __init__(self, x0, sigma: float = 0.1, pairs: int = 32, seed: int = 0,
+                 weight_decay: float = 0.05, mu: int = 25, diagonal_above: int = 2000):
+        super().__init__(x0, pairs, seed, fitness_shaping="none", weight_decay=weight_decay)
+        if not sigma > 0:
+            raise ValueError(f"sigma must be > 0, got {sigma}")
+        if int(mu) != mu or mu < 1:
+            raise ValueError(f"mu must be a positive integer, got {mu}")
+        self.sigma0 = float(sigma)  # initial step size
+        self.mu = max(1, min(int(mu), self.popsize // 2))  # M_best parents
+        self.diagonal = self.num_params > diagonal_above  # separable CMA-ES for large n
+        self._build()
+
+    # -- pycma plumbing -----------------------------------------------------------------------
+    def _options(self) -> dict:
+        return {
+            "popsize": self.popsize,
+            "CMA_mu": self.mu,
+            "CMA_diagonal": bool(self.diagonal),
+            "seed": np.nan,  # pycma must not reseed: we own the global state it draws from
+            "verbose": -9, "verb_disp": 0, "verb_log": 0, "verb_plot": 0, "verb_time": False,
+        }
+
+    def _build(self) -> None:
+        self._rng_state = np.random.RandomState(self.seed).get_state()  # our private global state
+        self._es = self._isolated(lambda: cma.CMAEvolutionStrategy(self.x0.copy(), self.sigma0,
+                                                                   self._options()))
+        self._pending: list[np.ndarray] | None = None  # solutions asked, awaiting tell
+        self._history: list[np.ndarray] = []  # told raw fitness, one (popsize,) row per generation
+
+    def _isolated(self, fn):
+        """Run ``fn`` with our numpy global RNG state; restore the caller's afterwards."""
+        caller = np.random.get_state()
+        np.random.set_state(self._rng_state)
+        try:
+            return fn()
+        finally:
+            self._rng_state = np.random.get_state()
+            np.random.set_state(caller)
+
+    # -- ask / tell ---------------------------------------------------------------------------
+    @property
+    def mean(self) -> np.ndarray:
+        """pycma's current distribution mean (n,) (a copy; no bounds or scaling, so pheno == geno)."""
+        return np.array(self._es.mean, dtype=np.float64)
+
+    def ask(self) -> np.ndarray:
+        """Population (popsize, n); the same until the next tell."""
+        if self._pending is None:
+            self._pending = self._isolated(self._es.ask)
+        return np.array(self._pending, dtype=np.float64)  # (2P, n)
+
+    def tell(self, fitness, surrogate=None) -> None:
+        """Update from fitness (popsize,), larger is better. ``surrogate`` is accepted and ignored."""
+        f = self._check_fitness(fitness)  # (2P,)
+        X = self.ask()  # (2P, n)
+        self._record_best(f, X)
+        penalized = l2_fitness_penalty(f, X, self.weight_decay)  # (2P,) estool weight decay
+        solutions = self._pending
+        self._isolated(lambda: self._es.tell(solutions, (-penalized).tolist()))  # pycma minimizes
+        self._pending = None
+        self._history.append(f.copy())
+        self.generation += 1
+
+    # -- state --------------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        hist = np.array(self._history, dtype=np.float64).reshape(len(self._history), self.popsize)
+        return self._base_state() | {"fitness_history": hist, "mean": self.mean}  # hist (G, 2P)
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Rebuild pycma from x0 and replay the saved generations (bitwise-exact continuation)."""
+        hist = np.array(state["fitness_history"], dtype=np.float64)  # (G, 2P)
+        if hist.ndim != 2 or hist.shape[1] != self.popsize:
+            raise ValueError(f"fitness_history has shape {hist.shape}, expected (G, {self.popsize})")
+        if int(np.asarray(state["generation"])) != hist.shape[0]:
+            raise ValueError("fitness_history length does not match generation")
+        self._build()
+        self.generation = 0
+        for row in hist:
+            self.tell(row)
+        self._load_base(state)  # best-so-far as saved (the replay recomputed the same)
+        saved = np.asarray(state["mean"], dtype=np.float64)
+        if not np.array_equal(saved, self.mean):
+            raise ValueError("CMA-ES replay did not reproduce the saved mean (different pycma/numpy?)")
