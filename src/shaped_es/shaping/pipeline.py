@@ -162,8 +162,9 @@ class ShapedGuide(NoGuide):
         return theta_star, outs
 
     def _prune(self, generation: int) -> None:
-        """Keep only the shards later generations read (the last ``history`` generations)."""
-        old = [g for g in list_generations(self.traj_root) if g <= generation + 1 - self.sh.history]
+        """Drop shards no generation will read again, even one re-run after a crash before its checkpoint:
+        a re-run of ``g`` reads ``g-1`` (M_phi) and ``g-history+1 .. g`` (D_i)."""
+        old = [g for g in list_generations(self.traj_root) if g <= generation - max(self.sh.history, 2)]
         if old:
             delete_generations(self.traj_root, old)
 
