@@ -20,6 +20,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from shaped_es import seeding
 from shaped_es.config import RunConfig, dump_config
@@ -204,6 +205,13 @@ class Trainer:
 
     def run(self) -> list[dict]:
         """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
+        # The master's linear algebra is small (QR of (n, k), M_phi minibatches): one thread avoids
+        # oversubscribing the cores the workers use (multi-threaded BLAS was 100x slower here).
+        with threadpool_limits(limits=1):
+            return self._run()
+
+    def _run(self) -> list[dict]:
+        _limit_torch_threads()
         self.restore()
         rows: list[dict] = []
         bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress)
@@ -239,6 +247,13 @@ class Trainer:
         self.guide.close()
         if self._own_executor:
             self.executor.shutdown()
+
+
+def _limit_torch_threads() -> None:
+    import sys
+
+    if "torch" in sys.modules:  # only the shaped method and TensorBoard load torch in the master
+        sys.modules["torch"].set_num_threads(1)
 
 
 def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:

@@ -30,7 +30,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env
 from shaped_es.shaping.cloning import CloningConfig
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, training_pairs
-from shaped_es.shaping.surrogate import cosine, orthonormal_basis, subspace_alignment, surrogate_gradients
+from shaped_es.shaping.surrogate import cosine, subspace_alignment, surrogate_gradients
 from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation
 from shaped_es.shaping.worker import CloneTask, label_and_clone, rollout_and_store
 
@@ -133,7 +133,7 @@ class ShapedGuide(NoGuide):
             G = theta_star.astype(np.float64) - params  # (k, n): the cloning steps alone
         strategy.guide(G)
         update = mean - np.asarray(old_mean, dtype=np.float64)  # (n,) this generation's ES step
-        U = orthonormal_basis(G)  # (n, k')
+        U = strategy.U  # (n, k') the basis the next ask samples in (QR of G, computed by guide)
         out.update(
             time_update_s=time.perf_counter() - t1, surrogate_rank=int(U.shape[1]),
             surrogate_update_alignment=subspace_alignment(U, update) if np.any(update) else None,
