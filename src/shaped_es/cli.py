@@ -1,4 +1,4 @@
-"""``shaped-es`` command line: train / resume / evaluate / report / bench.
+"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / bench.
 
 Bad input (config, env, run directory, checkpoint) prints one line ``shaped-es: error: ...`` and exits
 with code 2; nothing already saved is touched.
@@ -125,19 +125,6 @@ def cmd_evaluate(a: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_report(a: argparse.Namespace) -> int:
-    from shaped_es.report import plot_runs
-
-    runs = {Path(r).name: r for r in a.run_dirs}
-    for r in a.run_dirs:
-        if not (Path(r) / "metrics.csv").is_file():
-            from shaped_es.store import StoreError
-
-            raise StoreError(f"{r} has no metrics.csv")
-    print(plot_runs(runs, a.out))
-    return 0
-
-
 def cmd_bench(a: argparse.Namespace) -> int:
     import shaped_es  # noqa: F401
     from shaped_es.benchmarks.env_speed import bench_env
@@ -185,10 +172,11 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
     e.set_defaults(fn=cmd_evaluate)
 
-    rp = sub.add_parser("report", help="reward figures for one or more runs")
-    rp.add_argument("run_dirs", nargs="+")
-    rp.add_argument("--out", default="report.png")
-    rp.set_defaults(fn=cmd_report)
+    from shaped_es.benchmark.cli_commands import add_benchmark_parser, add_render_parser, add_report_parser
+
+    add_benchmark_parser(sub)
+    add_report_parser(sub)
+    add_render_parser(sub)
 
     b = sub.add_parser("bench", help="benchmarks that print figures (JSON with --json)")
     bsub = b.add_subparsers(dest="what", required=True)
@@ -213,7 +201,10 @@ def main(argv: list[str] | None = None) -> int:
         return USAGE_ERROR
     except KeyboardInterrupt:
         run = getattr(a, "out", None) or getattr(a, "run_dir", None)
-        hint = f"; continue with: shaped-es resume {run}" if run else ""
+        if a.command == "benchmark":
+            hint = "; rerun the same command to continue (finished runs are skipped)"
+        else:
+            hint = f"; continue with: shaped-es resume {run}" if run else ""
         print(f"shaped-es: interrupted{hint}", file=sys.stderr)
         return 130
 

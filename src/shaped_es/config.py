@@ -79,11 +79,29 @@ class CloningSettings(_Strict):
 
 class ShapingConfig(_Strict):
     eta: float = Field(0.01, gt=0, description="surrogate normalization eta (paper 0.01)")
-    surrogate: Literal["paper", "clone_step"] = Field(
-        "paper", description="Delta = (theta* - mu_{g+1})/eta (paper) or theta* - theta (clone step only)")
+    surrogate: Literal["paper", "clone_step", "clone_mean"] = Field(
+        "paper", description="Delta = (theta* - mu_{g+1})/eta (paper), theta* - theta (each clone step), "
+        "or the mean clone step (k = 1)")
     history: int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
     cloning: CloningSettings = Field(default_factory=CloningSettings)
+
+
+class PPOConfig(_Strict):
+    steps_per_generation: int | None = Field(
+        None, gt=0, description="PPO env steps per generation (None: 2*pairs*episodes*horizon, ES's max)")
+    n_steps: int = Field(2048, ge=2, description="env steps per env per PPO iteration (SB3 default)")
+    n_envs: int = Field(1, gt=0, description="envs stepped in lock-step in the one process")
+    batch_size: int = Field(64, gt=0, description="minibatch size")
+    n_epochs: int = Field(10, gt=0, description="passes over each rollout")
+    learning_rate: float = Field(3e-4, gt=0, description="Adam step size")
+    gamma: float = Field(0.99, ge=0, le=1, description="discount")
+    gae_lambda: float = Field(0.95, ge=0, le=1, description="GAE lambda")
+    clip_range: float = Field(0.2, gt=0, description="PPO ratio clip")
+    ent_coef: float = Field(0.0, ge=0, description="entropy bonus")
+    vf_coef: float = Field(0.5, ge=0, description="value-loss weight")
+    max_grad_norm: float = Field(0.5, gt=0, description="gradient clipping")
+    target_kl: float | None = Field(None, gt=0, description="early stop of an iteration's epochs")
 
 
 class RunConfig(_Strict):
@@ -104,6 +122,7 @@ class RunConfig(_Strict):
     es: ESConfig = Field(default_factory=ESConfig)
     rollout: RolloutConfig = Field(default_factory=RolloutConfig)
     shaping: ShapingConfig = Field(default_factory=ShapingConfig)
+    ppo: PPOConfig = Field(default_factory=PPOConfig)
 
 
 def _first_error(exc: ValidationError) -> str:

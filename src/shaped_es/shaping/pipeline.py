@@ -129,8 +129,10 @@ class ShapedGuide(NoGuide):
         mean = np.asarray(strategy.mean, dtype=np.float64)
         if self.sh.surrogate == "paper":
             G = surrogate_gradients(theta_star, mean, self.sh.eta)  # (k, n): (Theta* - mu_{g+1}) / eta
-        else:
+        elif self.sh.surrogate == "clone_step":
             G = theta_star.astype(np.float64) - params  # (k, n): the cloning steps alone
+        else:
+            G = (theta_star.astype(np.float64) - params).mean(axis=0, keepdims=True)  # (1, n)
         strategy.guide(G)
         update = mean - np.asarray(old_mean, dtype=np.float64)  # (n,) this generation's ES step
         U = strategy.U  # (n, k') the basis the next ask samples in (QR of G, computed by guide)

@@ -1,0 +1,253 @@
+"""PPO baseline (Stable-Baselines3) on the same envs and seeds, logged in the ES methods' metrics format.
+
+The paper compares its shaped ES with PPO "on a single core" and plots PPO against CPU time (Fig. 4):
+the run sets ``torch.set_num_threads(1)`` and steps its ``n_envs`` envs in this one process.
+
+A "generation" is the whole number of PPO iterations (collect ``n_steps * n_envs`` env steps, then
+``n_epochs`` of minibatch updates) nearest to the most env steps one ES generation can use (see
+``ppo_settings.py``); it writes one ``metrics.csv`` row with the ES trainer's columns, so
+``cfg.generations`` maps to a total budget of ``generations * gen_env_steps`` env steps.
+
+- ``train_reward_*``: returns of the training episodes that finished during the generation (stochastic
+  policy; SB3's ``Monitor`` episode records, the same records SB3's ``ep_info_buffer`` holds), falling
+  back to that buffer (last 100 episodes) when none finished.
+- ``test_reward_*``: the deterministic policy on the TEST episode seeds the ES trainer gives its best
+  member at generation ``g`` (``seeding.episode_seeds(seed, TEST, g, [0], E)``), every
+  ``rollout.test_every`` generations and at the last one.
+- ``rollout_time_s``: time spent collecting rollouts (the rest of ``gen_time_s``: updates and tests).
+- ``update_norm``: norm of the change of the actor's parameters over the generation.
+
+Resume: checkpoints hold the policy, the best policy, Adam's moments and torch's RNG as arrays
+(``ppo_state.py``); SB3's own ``save`` (a zip of pickles) is never used. A resumed run restarts the
+training episodes in progress (their env state is not saved: the envs are reseeded from the root seed
+and the generation) and refills the rollout buffer, so it is close to, not bit-identical with, an
+uninterrupted run; metrics rows after the checkpoint are dropped as for ES.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict
+
+import numpy as np
+import torch
+from gymnasium.wrappers import TimeLimit
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.monitor import Monitor
+from stable_baselines3.common.vec_env import DummyVecEnv
+
+from shaped_es import seeding
+from shaped_es.baselines.ppo_settings import PPOSettings, iterations_per_generation, ppo_settings
+from shaped_es.baselines.ppo_state import (BEST, POLICY, RNG, DeterministicEpisodes, actor_vector, copy_state,
+                                           from_arrays, optimizer_from_arrays, optimizer_to_arrays, to_arrays)
+from shaped_es.config import RunConfig
+from shaped_es.progress import ProgressDisplay
+from shaped_es.rollout import env_dims, make_env
+from shaped_es.store import RunStore, StoreError
+from shaped_es.trainer import Counters, config_digest
+
+
+def _train_env(cfg: RunConfig):
+    env = make_env(cfg.env, cfg.env_kwargs)
+    if cfg.rollout.max_steps is not None:
+        env = TimeLimit(env, cfg.rollout.max_steps)  # same episode cap as the ES rollouts
+    return Monitor(env)
+
+
+def env_time_limit(cfg: RunConfig) -> int | None:
+    """The env's own episode limit (after checking its spaces fit the contract)."""
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        env_dims(env)
+        return env.spec.max_episode_steps if env.spec is not None else None
+    finally:
+        env.close()
+
+
+def build_model(cfg: RunConfig, s: PPOSettings) -> PPO:
+    """A fresh SB3 PPO whose actor and critic are tanh MLPs with ``cfg.policy.hidden`` units."""
+    vec = DummyVecEnv([lambda: _train_env(cfg)] * s.n_envs)
+    hidden = list(cfg.policy.hidden)
+    return PPO(
+        "MlpPolicy", vec, learning_rate=s.learning_rate, n_steps=s.n_steps, batch_size=s.batch_size,
+        n_epochs=s.n_epochs, gamma=s.gamma,
+        gae_lambda=s.gae_lambda, clip_range=s.clip_range, ent_coef=s.ent_coef, vf_coef=s.vf_coef,
+        max_grad_norm=s.max_grad_norm, target_kl=s.target_kl,
+        policy_kwargs={"net_arch": {"pi": hidden, "vf": hidden}, "activation_fn": torch.nn.Tanh},
+        seed=seeding.derive_seed(cfg.seed, seeding.STRATEGY), device="cpu", verbose=0,
+    )
+
+
+class _GenerationLog(BaseCallback):
+    """Returns of the episodes finishing during a generation's rollouts, and the time spent collecting."""
+
+    def __init__(self):
+        super().__init__()
+        self.returns: list[float] = []
+        self.rollout_time_s = 0.0
+        self._t0 = 0.0
+
+    def _on_step(self) -> bool:
+        for info in self.locals["infos"]:
+            if "episode" in info:
+                self.returns.append(float(info["episode"]["r"]))
+        return True
+
+    def _on_rollout_start(self) -> None:
+        self._t0 = time.perf_counter()
+
+    def _on_rollout_end(self) -> None:
+        self.rollout_time_s += time.perf_counter() - self._t0
+
+
+class PPORun:
+    """The PPO generation loop over explicit counters, checkpointed like the ES trainer."""
+
+    def __init__(self, cfg: RunConfig, store: RunStore, settings: PPOSettings):
+        self.cfg, self.store, self.s = cfg, store, settings
+        self.iterations = iterations_per_generation(cfg, settings, env_time_limit(cfg))
+        self.steps_per_generation = self.iterations * settings.n_steps * settings.n_envs
+        self.model = build_model(cfg, settings)
+        self.model.env.seed(seeding.derive_seed(cfg.seed, seeding.TRAIN, 0))
+        self.c = Counters()
+        self.best_state = copy_state(self.model.policy.state_dict())
+        self.test = DeterministicEpisodes(cfg.env, cfg.env_kwargs, cfg.rollout.max_steps)
+        self._tb = None
+
+    # -- checkpointing -----------------------------------------------------------------------------
+    def checkpoint(self) -> None:
+        policy = self.model.policy
+        arrays = to_arrays(POLICY, policy.state_dict()) | to_arrays(BEST, self.best_state)
+        opt_arrays, groups = optimizer_to_arrays(policy.optimizer)
+        arrays |= opt_arrays
+        arrays[RNG] = torch.get_rng_state().numpy().copy()
+        meta = {**self.c.__dict__, "config_digest": config_digest(self.cfg), "method": "ppo",
+                "optim_param_groups": groups, "steps_per_generation": self.steps_per_generation,
+                "iterations_per_generation": self.iterations, "ppo": asdict(self.s)}
+        if not math.isfinite(meta["best_test_reward"]):
+            meta["best_test_reward"] = None
+        self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
+
+    def restore(self) -> bool:
+        loaded = self.store.load_checkpoint()
+        if loaded is None:
+            return False
+        arrays, meta = loaded
+        if meta.get("method") != "ppo" or meta.get("config_digest") != config_digest(self.cfg):
+            raise StoreError(f"checkpoint in {self.store.ckpt_dir} was made with a different config")
+        policy = self.model.policy
+        try:
+            policy.load_state_dict(from_arrays(POLICY, arrays))
+            self.best_state = from_arrays(BEST, arrays)
+            optimizer_from_arrays(policy.optimizer, arrays, meta["optim_param_groups"])
+            torch.set_rng_state(torch.from_numpy(np.array(arrays[RNG])))
+        except (KeyError, ValueError, RuntimeError) as exc:
+            msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise StoreError(f"checkpoint in {self.store.ckpt_dir} does not fit this run: {msg}") from None
+        for k in Counters.__dataclass_fields__:
+            setattr(self.c, k, meta[k] if meta[k] is not None else -math.inf)
+        self.model.num_timesteps = self.c.env_steps
+        self.model.env.seed(seeding.derive_seed(self.cfg.seed, seeding.TRAIN, self.c.generation))
+        self.store.truncate_metrics(self.c.generation - 1)
+        return True
+
+    # -- one generation = ``iterations`` PPO iterations ---------------------------------------------
+    def step(self, g: int) -> dict:
+        cfg, policy = self.cfg, self.model.policy
+        t0, cpu0 = time.perf_counter(), time.process_time()
+        before = actor_vector(policy)  # (n_actor,)
+        log = _GenerationLog()
+        self.model.learn(self.steps_per_generation, callback=log, reset_num_timesteps=False,
+                         log_interval=None)
+        train = np.asarray(log.returns or [ep["r"] for ep in self.model.ep_info_buffer] or [math.nan])
+        row = {"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
+               "train_reward_mean": float(train.mean()), "train_reward_max": float(train.max()),
+               "train_reward_min": float(train.min()), "test_reward_mean": None, "test_reward_std": None,
+               "test_reward_best_so_far": None, "test_env_steps": 0}
+        E = cfg.rollout.test_episodes
+        if E and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
+            seeds = seeding.episode_seeds(cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E) as ES
+            test_ret, test_steps = self.test.run(policy, seeds[0])
+            row.update(test_reward_mean=float(test_ret.mean()), test_reward_std=float(test_ret.std()),
+                       test_env_steps=test_steps)
+            if test_ret.mean() > self.c.best_test_reward:
+                self.c.best_test_reward = float(test_ret.mean())
+                self.best_state = copy_state(policy.state_dict())
+        elif not E:
+            self.best_state = copy_state(policy.state_dict())  # nothing to choose by: keep the latest
+        if math.isfinite(self.c.best_test_reward):
+            row["test_reward_best_so_far"] = self.c.best_test_reward
+        gen_time = time.perf_counter() - t0
+        self.c.generation = g + 1
+        self.c.env_steps += self.steps_per_generation
+        self.c.cpu_time_s += time.process_time() - cpu0  # one process, one torch thread: PPO's CPU
+        self.c.wall_time_s += gen_time
+        row.update(env_steps=self.c.env_steps, gen_env_steps=self.steps_per_generation,
+                   wall_time_s=self.c.wall_time_s, cpu_time_s=self.c.cpu_time_s, gen_time_s=gen_time,
+                   rollout_time_s=log.rollout_time_s,
+                   update_norm=float(np.linalg.norm(actor_vector(policy) - before)))
+        return row
+
+    def run(self, progress: bool = True) -> list[dict]:
+        """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
+        self.restore()
+        rows: list[dict] = []
+        bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=progress, label="ppo")
+        try:
+            for g in range(self.c.generation, self.cfg.generations):
+                row = self.step(g)
+                self.store.append_metrics(row)
+                self._log_tb(row)
+                rows.append(row)
+                if (g + 1) % self.cfg.checkpoint_every == 0 or g + 1 == self.cfg.generations:
+                    self.checkpoint()
+                bar.update(g, row)
+        finally:
+            bar.close()
+            self.close()
+        return rows
+
+    def _log_tb(self, row: dict) -> None:
+        if not self.cfg.tensorboard:
+            return
+        if self._tb is None:
+            from torch.utils.tensorboard import SummaryWriter
+
+            self._tb = SummaryWriter(str(self.store.root / "tb"), purge_step=int(row["generation"]))
+        for k, v in row.items():
+            if k != "generation" and isinstance(v, (int, float)) and math.isfinite(v):
+                self._tb.add_scalar(k, v, int(row["generation"]))
+
+    def close(self) -> None:
+        if self._tb is not None:
+            self._tb.close()
+            self._tb = None
+        self.test.close()
+        self.model.env.close()
+
+
+def train_ppo(cfg: RunConfig, store: RunStore, progress: bool = True,
+              settings: PPOSettings | None = None) -> list[dict]:
+    """Train (or resume) PPO into ``store`` on one torch thread; returns the metrics rows written."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)  # the paper's PPO: single core
+    try:
+        return PPORun(cfg, store, settings or ppo_settings(cfg)).run(progress)
+    finally:
+        torch.set_num_threads(threads)
+
+
+def load_policy(cfg: RunConfig, arrays: dict[str, np.ndarray], which: str = "best"):
+    """The SB3 policy saved in a PPO checkpoint (``which``: 'best', or 'mean' for the latest weights)."""
+    s = ppo_settings(cfg)
+    model = build_model(cfg, s)
+    prefix = BEST if which == "best" else POLICY
+    try:
+        model.policy.load_state_dict(from_arrays(prefix, arrays))
+    except RuntimeError as exc:
+        raise StoreError(f"PPO checkpoint does not fit the config's policy: {str(exc).splitlines()[0]}") from None
+    model.policy.set_training_mode(False)
+    model.env.close()
+    return model.policy

@@ -1,0 +1,117 @@
+"""Write a rollout of a run's trained policy as an animated GIF (``shaped-es render RUN --out video.gif``).
+
+The policy is the checkpoint's best one (``policy/best``: the member with the best test reward; PPO: its
+best weights), or ``mean`` for the latest search mean / PPO weights. Frames come from
+``env.render()`` with ``render_mode="rgb_array"`` (headless) and are written with Pillow. Episode seeds
+are drawn as ``evaluate`` draws them (a seed outside every training and test stream).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es import seeding
+from shaped_es.evaluate import EVAL_STREAM
+from shaped_es.rollout import EnvSpecError, _to_env_action, make_env
+from shaped_es.store import RunStore, StoreError
+
+
+def policy_fn(store: RunStore, which: str = "best"):
+    """``obs (obs_dim,) -> env action`` for the run's saved policy."""
+    cfg = store.read_config()
+    loaded = store.load_checkpoint()
+    if loaded is None:
+        raise StoreError(f"{store.root} has no checkpoint yet")
+    arrays, _ = loaded
+    if cfg.method == "ppo":
+        from shaped_es.baselines.ppo import load_policy
+
+        policy = load_policy(cfg, arrays, which)
+        return lambda obs: policy.predict(obs[None], deterministic=True)[0][0]
+    from shaped_es.policies import forward
+    from shaped_es.trainer import policy_spec
+
+    key = f"policy/{which}"
+    if key not in arrays:
+        raise StoreError(f"checkpoint of {store.root} has no {which!r} policy")
+    spec = policy_spec(cfg)
+    theta = np.asarray(arrays[key], dtype=np.float32)[None]  # (1, n)
+    if theta.shape[1] != spec.num_params:
+        raise StoreError(f"policy in {store.root} has {theta.shape[1]} params, the config's policy needs "
+                         f"{spec.num_params}")
+    probe = make_env(cfg.env, cfg.env_kwargs)
+    space = probe.action_space
+    probe.close()
+    return lambda obs: _to_env_action(space, forward(spec, theta, obs[None, None])[0, 0])  # (1,1,obs)->(a,)
+
+
+def _rgb_env(env_id: str, env_kwargs: dict) -> gym.Env:
+    probe = make_env(env_id, env_kwargs)
+    modes = probe.metadata.get("render_modes") or []
+    probe.close()
+    if "rgb_array" not in modes:
+        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames (render modes: {modes})")
+    try:
+        return make_env(env_id, {**env_kwargs, "render_mode": "rgb_array"})
+    except EnvSpecError as exc:
+        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames: {exc}") from None
+
+
+def _frame(env, env_id: str) -> np.ndarray:
+    try:
+        frame = env.render()
+    except (gym.error.Error, ImportError, RuntimeError, OSError, ValueError) as exc:  # e.g. no pygame/OpenGL
+        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames: {msg}") from None
+    frame = None if frame is None else np.asarray(frame)
+    if frame is None or frame.ndim != 3 or frame.shape[2] not in (3, 4):
+        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames (render() gave "
+                           f"{None if frame is None else frame.shape})")
+    return frame[..., :3].astype(np.uint8)
+
+
+def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: str = "best",
+               seed: int = 12345, max_steps: int | None = None, fps: float = 30.0, every: int = 1) -> dict:
+    """Roll out the run's policy for ``episodes`` episodes and write every ``every``-th frame to ``out``."""
+    if episodes <= 0 or every <= 0 or fps <= 0 or (max_steps is not None and max_steps <= 0):
+        raise StoreError("--episodes, --every, --fps and --max-steps must be positive")
+    out = Path(out)
+    if out.suffix.lower() != ".gif":
+        raise StoreError(f"--out must name a .gif file, got {out}")
+    store = RunStore(run_dir)
+    cfg = store.read_config()
+    act = policy_fn(store, which)
+    env = _rgb_env(cfg.env, cfg.env_kwargs)
+    cap = max_steps or cfg.rollout.max_steps
+    seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)[0]  # (E,)
+    frames, returns = [], []
+    try:
+        for s in seeds:
+            obs, _ = env.reset(seed=int(s))
+            frames.append(_frame(env, cfg.env))
+            total, t, done = 0.0, 0, False
+            while not done and (cap is None or t < cap):
+                obs, r, term, trunc, _ = env.step(act(np.asarray(obs, dtype=np.float32)))
+                total, t, done = total + float(r), t + 1, term or trunc
+                if t % every == 0 or done:
+                    frames.append(_frame(env, cfg.env))
+            returns.append(total)
+    finally:
+        env.close()
+    _write_gif(frames, out, fps)
+    return {"run_dir": str(run_dir), "out": str(out), "policy": which, "episodes": episodes,
+            "frames": len(frames), "returns": returns}
+
+
+def _write_gif(frames: list[np.ndarray], out: Path, fps: float) -> None:
+    from PIL import Image
+
+    images = [Image.fromarray(f) for f in frames]
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.tmp")
+    images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
+                   duration=max(20, int(round(1000.0 / fps))), loop=0)
+    tmp.replace(out)

@@ -1,0 +1,114 @@
+"""Across-seed figures of the paper: Fig. 4 and Fig. 5, one line per method with a confidence band.
+
+- Fig. 4: test reward (the best member's mean over the test episodes; PPO: its deterministic policy) vs
+  generation, vs CPU time, vs wall time. Each seed's curve is held constant between evaluations; the
+  line is the mean across seeds and the band its t-interval, over the x range all seeds cover.
+- Fig. 5: the inverse-dynamics model's train and test loss (``mphi_train_loss``, ``mphi_test_loss``)
+  vs its cumulative training iterations (``mphi_iterations``; else vs generation), for the runs that
+  log them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from shaped_es.report.stats import band, common_grid  # noqa: E402
+
+Metrics = dict[str, np.ndarray]
+X_AXES = (("generation", "generation"), ("cpu_time_s", "CPU time (s)"), ("wall_time_s", "wall time (s)"))
+MPHI_LOSSES = (("mphi_train_loss", "train loss"), ("mphi_test_loss", "test loss"))
+INTEGER_X = ("generation", "mphi_iterations")
+LOG_TIME_RATIO = 20.0
+
+
+def _x(m: Metrics, key: str) -> np.ndarray:
+    return m[key] + 1 if key == "generation" else m[key]  # generations completed, as plot_runs
+
+
+def _has(m: Metrics, key: str) -> bool:
+    return key in m and bool(np.isfinite(m[key]).any())
+
+
+def _draw(ax, runs: list[Metrics], xkey: str, ykey: str, color: str, label: str, level: float,
+          steps: bool = True) -> bool:
+    curves = [(_x(m, xkey), m[ykey]) for m in runs if _has(m, ykey) and xkey in m]
+    grid = common_grid([c[0] for c in curves], integer=xkey in INTEGER_X)
+    if not curves or grid.size == 0:
+        return False
+    mean, lo, hi, _ = band(curves, grid, level)
+    style = {"drawstyle": "steps-post"} if steps and xkey == "generation" else {}  # held between tests
+    ax.plot(grid, mean, color=color, label=label, **style)
+    ax.fill_between(grid, lo, hi, color=color, alpha=0.2, linewidth=0, step="post" if style else None)
+    return True
+
+
+def _save(fig, out: str | Path) -> Path:
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def plot_reward_bands(groups: dict[str, list[Metrics]], out: str | Path, title: str = "",
+                      level: float = 0.95) -> Path:
+    """Fig. 4: three panels, mean test reward across seeds with a ``level`` t-interval band per method.
+
+    The y range is the range of the seeds' own test rewards (a few-seed t-interval can reach far past
+    any value observed; it is clipped there). A time axis turns logarithmic when the methods' run
+    times differ by more than ``LOG_TIME_RATIO`` (ES runs of seconds next to PPO runs of minutes).
+    """
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.4), sharey=True)
+    for i, (method, runs) in enumerate(groups.items()):
+        for ax, (key, xlabel) in zip(axes, X_AXES):
+            _draw(ax, runs, key, "test_reward_mean", f"C{i}", f"{method} (seeds: {len(runs)})", level)
+            ax.set_xlabel(xlabel)
+            ax.grid(alpha=0.3)
+    runs = [m for rs in groups.values() for m in rs if _has(m, "test_reward_mean")]
+    if runs:
+        ys = np.concatenate([m["test_reward_mean"][np.isfinite(m["test_reward_mean"])] for m in runs])
+        pad = 0.05 * max(ys.max() - ys.min(), 1e-6 * max(1.0, abs(ys.max())))
+        axes[0].set_ylim(ys.min() - pad, ys.max() + pad)
+        for ax, (key, _) in zip(axes[1:], X_AXES[1:]):
+            ends = [np.nanmax(m[key]) for m in runs if key in m and np.isfinite(m[key]).any()]
+            if ends and min(ends) > 0 and max(ends) / min(ends) > LOG_TIME_RATIO:
+                ax.set_xscale("log")
+    axes[0].set_ylabel(f"test reward (mean, {level:.0%} CI over seeds)")
+    axes[0].legend(fontsize=8, framealpha=0.9)
+    fig.suptitle(title or "test reward vs generation, CPU time, wall time")
+    return _save(fig, out)
+
+
+def plot_mphi_losses(groups: dict[str, list[Metrics]], out: str | Path, title: str = "",
+                     level: float = 0.95) -> Path | None:
+    """Fig. 5: M_phi train/test loss vs iteration; None (no file) if no run logs these columns."""
+    having = {k: [m for m in runs if any(_has(m, c) for c, _ in MPHI_LOSSES)] for k, runs in groups.items()}
+    having = {k: v for k, v in having.items() if v}
+    if not having:
+        return None
+    fig, ax = plt.subplots(figsize=(7, 4.4))
+    color = 0
+    every = [m for runs in having.values() for m in runs]
+    xkey = "mphi_iterations" if all(_has(m, "mphi_iterations") for m in every) else "generation"
+    for method, runs in having.items():
+        for col, name in MPHI_LOSSES:
+            label = f"{method}: {name} (seeds: {len(runs)})"
+            if _draw(ax, runs, xkey, col, f"C{color}", label, level, steps=False):
+                color += 1
+    values = np.concatenate([m[c][np.isfinite(m[c])] for runs in having.values() for m in runs
+                             for c, _ in MPHI_LOSSES if c in m])
+    if values.size and values.min() > 0:
+        ax.set_yscale("log")
+    ax.set_xlabel("M_phi training iteration" if xkey == "mphi_iterations" else "generation")
+    ax.set_ylabel("inverse-dynamics loss")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title or "M_phi train and test loss")
+    return _save(fig, out)

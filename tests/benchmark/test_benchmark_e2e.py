@@ -1,0 +1,144 @@
+"""The whole benchmark on a tiny budget (CartPole, vanilla/cmaes/ppo, 2 seeds, 2 generations), its rerun
+semantics (skip finished, resume unfinished, refuse a changed config) and the ablation switches."""
+
+import argparse
+import json
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from shaped_es.benchmark.cli_commands import add_benchmark_parser, add_report_parser
+from shaped_es.benchmark.runner import BenchmarkSpec, run_configs
+from shaped_es.config import ConfigError
+from shaped_es.store import StoreError
+
+
+def tiny(seeds=2, generations=2):
+    return ["--env", "CartPole-v1", "--seeds", seeds, "--generations", generations, "--executor", "inline",
+            "--set", "es.pairs=4", "--set", "rollout.max_steps=100", "--set", "rollout.test_episodes=3",
+            "--set", "policy.hidden=[8]", "--set", "tensorboard=false", "--quiet",
+            # PPO with a small rollout: SB3's 2048 steps x 10 epochs would dominate a tiny benchmark
+            "--set", "ppo.n_steps=256", "--set", "ppo.n_epochs=4"]
+
+
+TINY = tiny()
+KEYS = {"final_test_reward_mean", "final_test_reward_ci", "generations_to_target", "wall_time_s", "cpu_time_s",
+        "env_steps"}
+
+
+def _cli(command, *argv):
+    p = argparse.ArgumentParser()
+    sub = p.add_subparsers(dest="command")
+    add_benchmark_parser(sub)
+    add_report_parser(sub)
+    a = p.parse_args([command, *map(str, argv)])
+    return a.fn(a)
+
+
+def _metrics(out):
+    return {d.name: (d / "metrics.csv").read_text() for d in sorted((out / "runs").iterdir())}
+
+
+@pytest.fixture(scope="module")
+def bench(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench") / "b"
+    assert _cli("benchmark", *TINY, "--methods", "vanilla,cmaes,ppo", "--out", out) == 0
+    return out
+
+
+def test_benchmark_writes_runs_summary_and_report(bench):
+    names = sorted(d.name for d in (bench / "runs").iterdir())
+    assert names == ["cmaes_s0", "cmaes_s1", "ppo_s0", "ppo_s1", "vanilla_s0", "vanilla_s1"]
+    for rows in _metrics(bench).values():
+        assert len(rows.strip().splitlines()) == 1 + 2  # header + 2 generations
+    s = json.loads((bench / "summary.json").read_text())
+    assert list(s["methods"]) == ["vanilla", "cmaes", "ppo"]
+    for m in s["methods"].values():
+        assert KEYS <= set(m) and m["seeds"] == 2
+        assert m["final_test_reward_mean"] >= 1 and m["cpu_time_s"] > 0 and m["env_steps"] > 0
+        lo, hi = m["final_test_reward_ci"]
+        assert lo <= m["final_test_reward_mean"] <= hi
+    assert s["target"]["value"] == max(m["final_test_reward_mean"] for m in s["methods"].values())
+    assert {v["status"] for v in s["this_invocation"].values()} == {"new"}
+    assert s["benchmark"]["seeds"] == [0, 1] and s["settings"]["ppo"]["pairs"] == 4
+    md = (bench / "report.md").read_text()
+    assert "![Fig. 4](figures/fig4_test_reward.png)" in md and "_Not drawn" in md
+    assert all(f"| {m} | 2 |" in md for m in ("vanilla", "cmaes", "ppo"))
+    assert (bench / "figures" / "fig4_test_reward.png").stat().st_size > 10_000
+    assert (bench / "benchmark.yaml").is_file()
+
+
+def test_rerun_skips_finished_runs(bench, capsys):
+    before = _metrics(bench)
+    assert _cli("benchmark", *TINY, "--methods", "vanilla,cmaes,ppo", "--out", bench) == 0
+    s = json.loads((bench / "summary.json").read_text())
+    assert {v["status"] for v in s["this_invocation"].values()} == {"skipped"}
+    assert _metrics(bench) == before
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["report"].endswith("report.md")
+
+
+def test_report_command_groups_runs_by_method(bench, tmp_path, capsys):
+    assert _cli("report", bench / "runs" / "vanilla_s0", bench / "runs" / "ppo_s1", bench / "runs" / "vanilla_s1",
+                "--out", tmp_path / "r" / "report.md") == 0
+    s = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert {k: v["seeds"] for k, v in s["methods"].items()} == {"vanilla": 2, "ppo": 1}
+    assert _cli("report", bench, "--out", tmp_path / "fig.png") == 0  # a benchmark dir: all its runs
+    assert (tmp_path / "fig.png").is_file() and not (tmp_path / "fig_mphi.png").exists()
+    with pytest.raises(ConfigError, match=".md"):
+        _cli("report", bench, "--out", tmp_path / "fig.txt")
+
+
+def test_unfinished_runs_resume_and_changed_configs_are_refused(tmp_path):
+    out = tmp_path / "b"
+    assert _cli("benchmark", *tiny(seeds=1, generations=1), "--methods", "vanilla,ppo", "--out", out) == 0
+    longer = [*tiny(seeds=1, generations=2), "--methods", "vanilla,ppo"]
+    assert _cli("benchmark", *longer, "--out", out) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert {v["status"] for v in s["this_invocation"].values()} == {"resumed"}
+    for rows in _metrics(out).values():
+        assert [r.split(",")[0] for r in rows.strip().splitlines()[1:]] == ["0", "1"]
+    with pytest.raises(StoreError, match="different config.*es.sigma"):
+        _cli("benchmark", *longer, "--set", "es.sigma=0.3", "--out", out)
+
+
+@dataclass(frozen=True)
+class _Cfg:
+    waypoint_spacing: float = 1.5
+
+
+class SpacingEnv(gym.Env):
+    """Stand-in for CarNav-v0: resolves its waypoint spacing into a config object."""
+
+    observation_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (1,), np.float32)
+
+    def __init__(self, preset="default", waypoint_spacing=None):
+        self.config = _Cfg(waypoint_spacing or (3.0 if preset == "coarse" else 1.5))
+
+
+gym.register("Spacing-v0", entry_point=SpacingEnv)
+
+
+def test_ablation_switches_reach_the_configs():
+    spec = dict(env="Spacing-v0", methods=("vanilla", "guided"), seeds=(0, 3), generations=5)
+    cfgs = run_configs(BenchmarkSpec(**spec, sparse_waypoints=True, alpha=0.3, eta=0.05))
+    assert list(cfgs) == ["vanilla_s0", "guided_s0", "vanilla_s3", "guided_s3"]
+    for c in cfgs.values():
+        assert c.env_kwargs == {"waypoint_spacing": 15.0} and c.es.alpha == 0.3 and c.shaping.eta == 0.05
+        assert c.generations == 5
+    preset = run_configs(BenchmarkSpec(**spec, sparse_waypoints=True, overrides={"env_kwargs.preset": "coarse"}))
+    assert preset["vanilla_s0"].env_kwargs == {"preset": "coarse", "waypoint_spacing": 30.0}
+    given = run_configs(BenchmarkSpec(**spec, sparse_waypoints=True, base={"env_kwargs": {"waypoint_spacing": 2}}))
+    assert given["guided_s3"].env_kwargs == {"waypoint_spacing": 20.0}
+
+
+def test_bad_input_is_one_clear_error(tmp_path):
+    with pytest.raises(ConfigError, match="--sparse-waypoints: env CartPole-v1"):
+        _cli("benchmark", *TINY, "--methods", "vanilla", "--sparse-waypoints", "--out", tmp_path / "x")
+    with pytest.raises(ConfigError, match="--methods: unknown"):
+        _cli("benchmark", *TINY, "--methods", "vanilla,sgd", "--out", tmp_path / "x")
+    with pytest.raises(ConfigError, match="es.pairs"):
+        _cli("benchmark", *TINY, "--methods", "vanilla", "--set", "es.pairs=0", "--out", tmp_path / "x")
+    assert not (tmp_path / "x").exists()  # nothing written before the input is known good
