@@ -65,6 +65,8 @@ class InverseDynamicsSettings(_Strict):
     steps_per_generation: int = Field(500, ge=0, description="training iterations per generation")
     min_return: float = Field(5.0, description="episodes with a lower return are left out (paper: 5)")
     max_dataset: int = Field(100_000, gt=0, description="cap on aggregated transitions (FIFO)")
+    frame: Literal["world", "motion"] = Field(
+        "world", description="displacements in the world frame (paper) or the agent's motion frame")
     query_clip: float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean one-step displacement (None: raw, as the paper)")
 

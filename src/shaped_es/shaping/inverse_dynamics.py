@@ -30,6 +30,7 @@ from torch import nn
 from torch.nn.utils import skip_init
 
 from shaped_es.data import Transitions
+from shaped_es.shaping.frames import FRAMES, to_frame
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,7 @@ class InverseDynamicsConfig:
     min_return: float = 5.0  # episodes whose cumulative reward is below this are not used (paper)
     max_dataset: int = 200_000  # cap on aggregated transitions; the oldest are dropped first (FIFO)
     clip_input: float = 10.0  # standardized inputs are clipped to [-clip, clip] (far waypoints)
+    frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
     seed: int = 0  # seeds weight init and minibatch sampling
 
     def __post_init__(self):
@@ -48,18 +50,20 @@ class InverseDynamicsConfig:
             raise ValueError(f"hidden widths must be positive, got {self.hidden}")
         if self.lr <= 0 or self.batch_size <= 0 or self.max_dataset <= 0 or self.clip_input <= 0:
             raise ValueError("lr, batch_size, max_dataset and clip_input must be positive")
+        if self.frame not in FRAMES:
+            raise ValueError(f"frame must be one of {FRAMES}, got {self.frame!r}")
 
 
-def training_pairs(tr: Transitions) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(s_t, position_{t+1} - position_t, a_t)`` for every step with a successor in its episode."""
     mask, nxt = tr.next_position()  # (T,), (T, d)
-    disp = nxt - tr.position  # (T, d)
+    disp = to_frame(tr, nxt - tr.position, frame)  # (T, d)
     return tr.state[mask], disp[mask], tr.action[mask]
 
 
-def query_displacement(tr: Transitions) -> np.ndarray:
+def query_displacement(tr: Transitions, frame: str = "world") -> np.ndarray:
     """``waypoint_t - position_t`` ``(T, d)``: the displacement M_phi is asked to produce."""
-    return (tr.waypoint - tr.position).astype(np.float32)
+    return to_frame(tr, (tr.waypoint - tr.position).astype(np.float32), frame)
 
 
 class RunningNorm:
@@ -138,7 +142,8 @@ class InverseDynamics:
             episodes, kept = episodes + eps.size, kept + good.size
             has_next, nxt = tr.next_position()  # (T,), (T, d)
             rows = has_next & np.isin(tr.episode, good)  # (T,)
-            xs.append(np.concatenate([tr.state[rows], (nxt - tr.position)[rows]], axis=1))  # (T', obs + d)
+            disp = to_frame(tr, nxt - tr.position, self.config.frame)  # (T, d)
+            xs.append(np.concatenate([tr.state[rows], disp[rows]], axis=1))  # (T', obs + d)
             ys.append(tr.action[rows])  # (T', act)
         x = np.concatenate(xs).astype(np.float32) if xs else self._x[:0]
         y = np.concatenate(ys).astype(np.float32) if ys else self._y[:0]
@@ -194,7 +199,7 @@ class InverseDynamics:
 
     def label_transitions(self, tr: Transitions) -> np.ndarray:
         """Labels ``(T, act)`` for every step of ``tr``: ``M_phi(s_t, waypoint_t - position_t)``."""
-        return self.label(tr.state, query_displacement(tr))
+        return self.label(tr.state, query_displacement(tr, self.config.frame))
 
     def test_loss(self, states: np.ndarray, displacement: np.ndarray, reference_actions: np.ndarray) -> float:
         """Mean Euclidean distance between labels and reference actions (paper, Fig. 5 test loss)."""

@@ -65,7 +65,7 @@ class ShapedGuide(NoGuide):
         self.mphi_cfg = InverseDynamicsConfig(
             hidden=tuple(mp.hidden), lr=mp.lr, batch_size=mp.batch_size,
             steps_per_generation=mp.steps_per_generation, min_return=mp.min_return,
-            max_dataset=mp.max_dataset, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
+            max_dataset=mp.max_dataset, frame=mp.frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
         )
         c = self.sh.cloning
         self.clone_cfg = CloningConfig(steps=c.steps, lr=c.lr, batch_size=c.batch_size,
@@ -87,12 +87,12 @@ class ShapedGuide(NoGuide):
             return
         data = read_generation(self.traj_root, generation - 1)
         if self.mphi.iterations > 0:  # held-out error: g-1's actual (s, dp) -> a, before training on it
-            pairs = [training_pairs(tr) for tr in data if len(tr)]
+            pairs = [training_pairs(tr, self.mphi_cfg.frame) for tr in data if len(tr)]
             if pairs:
                 s, dp, a = (np.concatenate(x) for x in zip(*pairs))
                 self._pending["mphi_test_loss"] = self.mphi.test_loss(s, dp, a)
         for tr in data:
-            _, dp, _ = training_pairs(tr)
+            _, dp, _ = training_pairs(tr, self.mphi_cfg.frame)
             norms = np.linalg.norm(dp, axis=1)  # (T',)
             cnt = self.step_norm[0] + norms.size
             if norms.size:
