@@ -43,7 +43,8 @@ class ESConfig(_Strict):
     momentum: float = Field(0.0, ge=0, lt=1, description="SGD momentum (sgd only)")
     weight_decay: float = Field(0.005, ge=0, description="L2 decay on the mean (vanilla, guided, shaped)")
     fitness_shaping: Literal["rank", "none"] = Field("rank", description="ranks in [-1, 1] (paper) or raw")
-    alpha: float = Field(0.6, ge=0, le=1, description="Guided-ES isotropic share; paper 0.6")
+    alpha: float = Field(0.9, ge=0, le=1, description="Guided-ES isotropic share (paper 0.6, which "
+                         "stalled CarNav-v0 here: see docs/shaped-results.md)")
     guided_k: int = Field(1, gt=0, description="'guided' method: past ES gradients kept as surrogates")
     cmaes_mu: int = Field(25, gt=0, description="CMA-ES parents M_best (paper 25)")
     cmaes_weight_decay: float = Field(0.05, ge=0, description="CMA-ES fitness weight decay (paper 0.05)")
@@ -65,8 +66,9 @@ class InverseDynamicsSettings(_Strict):
     steps_per_generation: int = Field(500, ge=0, description="training iterations per generation")
     min_return: float = Field(5.0, description="episodes with a lower return are left out (paper: 5)")
     max_dataset: int = Field(100_000, gt=0, description="cap on aggregated transitions (FIFO)")
-    frame: Literal["world", "motion"] = Field(
-        "world", description="displacements in the world frame (paper) or the agent's motion frame")
+    frame: Literal["auto", "world", "motion"] = Field(
+        "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, or "
+        "auto = motion for 2-D waypoint spaces (planar vehicles), world otherwise")
     query_clip: float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean one-step displacement (None: raw, as the paper)")
 

@@ -62,15 +62,17 @@ class ShapedGuide(NoGuide):
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
         self.traj_root = str(store.trajectories_dir)
         mp = self.sh.inverse_dynamics
+        pos_dim = waypoint_dim(cfg)
+        frame = mp.frame if mp.frame != "auto" else ("motion" if pos_dim == 2 else "world")
         self.mphi_cfg = InverseDynamicsConfig(
             hidden=tuple(mp.hidden), lr=mp.lr, batch_size=mp.batch_size,
             steps_per_generation=mp.steps_per_generation, min_return=mp.min_return,
-            max_dataset=mp.max_dataset, frame=mp.frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
+            max_dataset=mp.max_dataset, frame=frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
         )
         c = self.sh.cloning
         self.clone_cfg = CloningConfig(steps=c.steps, lr=c.lr, batch_size=c.batch_size,
                                        optimizer=c.optimizer, max_samples=c.max_samples)
-        self.mphi = InverseDynamics(spec.obs_dim, waypoint_dim(cfg), spec.act_dim, self.mphi_cfg)
+        self.mphi = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
         self.step_norm = np.zeros(2)  # (count, mean) of one-step displacement norms, for query_clip
         self._thread: threading.Thread | None = None
         self._pending: dict = {}
