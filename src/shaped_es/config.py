@@ -119,6 +119,13 @@ class RunConfig(_Strict):
     address: str | None = Field(None, description="ray: 'auto' or HOST:PORT; None starts a local Ray")
     task_timeout_s: float | None = Field(None, gt=0, description="a task running longer is retried")
     max_retries: int = Field(3, ge=0, description="retries of tasks whose worker died or hung")
+    eval_overlap: bool = Field(
+        True, description="run the best member's test episodes while the next generation rolls out "
+        "(its metrics row is written once they finish); false: evaluate before moving on")
+    eval_workers: int = Field(
+        0, ge=0, description="process executor: a separate pool of this many workers for test episodes "
+        "(the paper's evaluation workers); 0 shares the training workers. ray/mpi schedule test "
+        "episodes on the same cluster")
     checkpoint_every: int = Field(1, gt=0, description="checkpoint every N generations")
     keep_checkpoints: int = Field(3, gt=0, description="checkpoints kept on disk (newest)")
     tensorboard: bool = Field(True, description="also write TensorBoard events")

@@ -8,6 +8,12 @@ One generation::
     guide.after_tell(...)                    # guided / shaped: surrogate subspace for the next ask
     evaluate the best member on test episodes; append a metrics row; checkpoint atomically
 
+The test episodes of generation g (``eval_overlap``, the default) are submitted as soon as its best
+member is known and collected after generation g+1's rollouts, so they overlap the update, the shaping
+work and the next rollouts (the paper's separate evaluation workers; ``eval_workers`` gives them their
+own pool). Rows are still written in generation order and hold exactly what a blocking evaluation
+gives; a checkpoint first collects every pending evaluation, so resume is unaffected.
+
 A checkpoint holds the strategy's and the guide's state; ``resume`` reloads the newest one, drops
 metrics rows written after it, and continues, giving the rows an uninterrupted run would have given.
 """
@@ -17,7 +23,8 @@ from __future__ import annotations
 import hashlib
 import math
 import time
-from dataclasses import dataclass
+from concurrent.futures import Future
+from dataclasses import dataclass, field
 
 import numpy as np
 from threadpoolctl import threadpool_limits
@@ -74,7 +81,7 @@ def config_digest(cfg: RunConfig) -> str:
     """Hash of the fields that determine results (not where or how the run executes)."""
     d = cfg.model_dump(mode="json")
     for k in ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
-              "checkpoint_every", "keep_checkpoints", "tensorboard"):
+              "eval_overlap", "eval_workers", "checkpoint_every", "keep_checkpoints", "tensorboard"):
         d.pop(k, None)
     return hashlib.sha256(repr(sorted(d.items())).encode()).hexdigest()[:16]
 
@@ -88,6 +95,16 @@ class Counters:
     best_test_reward: float = -math.inf
 
 
+@dataclass
+class _Row:
+    """A metrics row waiting for its generation's test episodes (``futures`` empty: none due)."""
+
+    row: dict
+    theta: np.ndarray | None = None
+    tasks: list = field(default_factory=list)
+    futures: list[Future] = field(default_factory=list)
+
+
 class Trainer:
     def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
                  progress: bool = True):
@@ -96,6 +113,11 @@ class Trainer:
         self.executor = executor or make_executor(
             cfg.executor, workers=cfg.workers, **_executor_options(cfg)
         )
+        self.eval_executor = self.executor
+        if cfg.eval_workers and cfg.executor == "process" and self._own_executor:
+            self.eval_executor = make_executor("process", workers=cfg.eval_workers,
+                                               **_executor_options(cfg))
+        self._waiting: list[_Row] = []  # rows of finished generations, in order, awaiting test results
         self.spec = policy_spec(cfg)
         x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
         self.strategy = build_strategy(cfg, x0)
@@ -115,6 +137,11 @@ class Trainer:
                            "hidden": list(self.spec.hidden)}}
         if not math.isfinite(meta["best_test_reward"]):
             meta["best_test_reward"] = None
+        # Rows whose test episodes are still running: resume submits them again (same seeds).
+        meta["waiting_rows"] = [_jsonable(item.row) for item in self._waiting]
+        for i, item in enumerate(self._waiting):
+            if item.theta is not None:
+                arrays[f"waiting/{i}"] = item.theta
         self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
 
     def restore(self) -> bool:
@@ -133,7 +160,17 @@ class Trainer:
             raise StoreError(f"checkpoint in {self.store.ckpt_dir} does not fit this run: {exc}") from None
         for k in Counters.__dataclass_fields__:
             setattr(self.c, k, meta[k] if meta[k] is not None else -math.inf)
-        self.store.truncate_metrics(self.c.generation - 1)
+        self._waiting = []
+        for i, row in enumerate(meta.get("waiting_rows", [])):
+            item = _Row(dict(row))
+            if f"waiting/{i}" in arrays:
+                item.theta = np.asarray(arrays[f"waiting/{i}"], dtype=np.float32)
+                item.tasks = self._eval_tasks(item.theta, int(row["generation"]))
+                item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
+            self._waiting.append(item)
+        # Rows after the checkpoint's last written one are dropped; waiting rows are written again.
+        written = [int(i.row["generation"]) for i in self._waiting] or [self.c.generation]
+        self.store.truncate_metrics(min(written) - 1)
         return True
 
     # -- one generation ----------------------------------------------------------------------------
@@ -145,18 +182,44 @@ class Trainer:
             for idx in np.array_split(np.arange(len(members)), n_tasks)
         ]
 
-    def _evaluate(self, theta: np.ndarray, g: int) -> tuple[np.ndarray, int, float]:
+    def _eval_tasks(self, theta: np.ndarray, g: int) -> list[RolloutTask]:
         E = self.cfg.rollout.test_episodes
         seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
-        chunks = np.array_split(np.arange(E), max(1, min(E, self.executor.workers)))
-        tasks = [RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, theta[None], np.zeros(1, int),
-                             seeds[:, c], generation=g, max_steps=self.cfg.rollout.max_steps)
-                 for c in chunks]
-        res = self.executor.map(run_task, tasks)
-        returns = np.concatenate([r.returns[0] for r in res])  # (E,)
-        return returns, int(sum(r.lengths.sum() for r in res)), sum(r.cpu_time_s for r in res)
+        chunks = np.array_split(np.arange(E), max(1, min(E, self.eval_executor.workers)))
+        return [RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, theta[None], np.zeros(1, int),
+                            seeds[:, c], generation=g, max_steps=self.cfg.rollout.max_steps)
+                for c in chunks]
 
-    def step(self, g: int) -> dict:
+    def _collect(self, item: _Row) -> dict:
+        """Finish a waiting row: gather its test episodes (rerun through ``map``, which retries, if a
+        submitted attempt was lost with its worker) and update the best-so-far policy."""
+        row = item.row
+        if item.tasks:
+            try:
+                res = [f.result() for f in item.futures]
+            except Exception:  # noqa: BLE001 - a lost worker; a task's own error recurs in map
+                res = self.eval_executor.map(run_task, item.tasks)
+            test_ret = np.concatenate([r.returns[0] for r in res])  # (E,)
+            test_cpu = 0.0 if _in_process(self.eval_executor) else sum(r.cpu_time_s for r in res)
+            self.c.cpu_time_s += test_cpu
+            row["cpu_time_s"] += test_cpu
+            row["test_reward_mean"], row["test_reward_std"] = float(test_ret.mean()), float(test_ret.std())
+            row["test_env_steps"] = int(sum(r.lengths.sum() for r in res))
+            if test_ret.mean() > self.c.best_test_reward:
+                self.c.best_test_reward, self.best_params = float(test_ret.mean()), item.theta
+        row["test_reward_best_so_far"] = self.c.best_test_reward if math.isfinite(
+            self.c.best_test_reward) else None
+        return row
+
+    def _drain(self) -> list[dict]:
+        """Every waiting row, completed, in generation order."""
+        rows = [self._collect(item) for item in self._waiting]
+        self._waiting.clear()
+        return rows
+
+    def step(self, g: int) -> list[dict]:
+        """Run generation ``g``; returns the metrics rows completed meanwhile (in order; with
+        ``eval_overlap`` the row of ``g`` itself usually arrives with the next generation's)."""
         t0, cpu0 = time.perf_counter(), time.process_time()
         cfg = self.cfg
         X = np.asarray(self.strategy.ask(), dtype=np.float32)  # (P, n)
@@ -169,39 +232,40 @@ class Trainer:
         t_roll = time.perf_counter()
         results = self.executor.map(fn, self._tasks(X, members, seeds, g, self.guide.record))
         rollout_time = time.perf_counter() - t_roll
+        done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
         returns = np.concatenate([r.returns for r in results])  # (P, E) in member order
         fitness = returns.mean(axis=1)  # (P,) mean over the member's episodes (paper: 2 seeds)
         steps = int(sum(r.lengths.sum() for r in results))
         worker_cpu = sum(r.cpu_time_s for r in results)
+        item = _Row({"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
+                     "train_reward_mean": float(fitness.mean()), "train_reward_max": float(fitness.max()),
+                     "train_reward_min": float(fitness.min()), "test_reward_mean": None,
+                     "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
+        if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
+            item.theta = X[int(np.argmax(fitness))].copy()  # (n,) the generation's best member
+            item.tasks = self._eval_tasks(item.theta, g)
+            item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness)
         extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
-        row = {"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
-               "train_reward_mean": float(fitness.mean()), "train_reward_max": float(fitness.max()),
-               "train_reward_min": float(fitness.min()), "test_reward_mean": None,
-               "test_reward_std": None, "test_reward_best_so_far": None}
-        best = int(np.argmax(fitness))
-        if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
-            test_ret, test_steps, test_cpu = self._evaluate(X[best], g)
-            worker_cpu += test_cpu
-            row["test_reward_mean"], row["test_reward_std"] = float(test_ret.mean()), float(test_ret.std())
-            row["test_env_steps"] = test_steps
-            if test_ret.mean() > self.c.best_test_reward:
-                self.c.best_test_reward, self.best_params = float(test_ret.mean()), X[best].copy()
-        else:
-            row["test_env_steps"] = 0
-        row["test_reward_best_so_far"] = self.c.best_test_reward if math.isfinite(
-            self.c.best_test_reward) else None
         master_cpu = time.process_time() - cpu0
         self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps
         self.c.cpu_time_s += master_cpu + (0.0 if _in_process(self.executor) else worker_cpu)
-        self.c.wall_time_s += time.perf_counter() - t0
-        row.update(env_steps=self.c.env_steps, gen_env_steps=steps, wall_time_s=self.c.wall_time_s,
-                   cpu_time_s=self.c.cpu_time_s, gen_time_s=time.perf_counter() - t0,
-                   rollout_time_s=rollout_time,
+        row = item.row
+        if not cfg.eval_overlap:
+            self._waiting.append(item)
+            done += self._drain()
+        row.update(env_steps=self.c.env_steps, gen_env_steps=steps, cpu_time_s=self.c.cpu_time_s,
+                   gen_time_s=0.0, rollout_time_s=rollout_time,
                    update_norm=float(np.linalg.norm(np.asarray(self.strategy.mean) - old_mean)))
         row.update(extra)
-        return row
+        self.c.wall_time_s += time.perf_counter() - t0
+        row.update(wall_time_s=self.c.wall_time_s, gen_time_s=time.perf_counter() - t0)
+        if cfg.eval_overlap:
+            self._waiting.append(item)
+            if not item.tasks:  # nothing to wait for: written now, after the rows before it
+                done += self._drain()
+        return done
 
     def run(self) -> list[dict]:
         """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
@@ -217,13 +281,17 @@ class Trainer:
         bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress)
         try:
             for g in range(self.c.generation, self.cfg.generations):
-                row = self.step(g)
-                self.store.append_metrics(row)
-                self._log_tb(row)
-                rows.append(row)
-                if (g + 1) % self.cfg.checkpoint_every == 0 or g + 1 == self.cfg.generations:
+                done = self.step(g)
+                last = g + 1 == self.cfg.generations
+                if last:
+                    done += self._drain()
+                for row in done:
+                    self.store.append_metrics(row)
+                    self._log_tb(row)
+                    rows.append(row)
+                    bar.update(int(row["generation"]), row)
+                if (g + 1) % self.cfg.checkpoint_every == 0 or last:
                     self._checkpoint()
-                bar.update(g, row)
         finally:
             bar.close()
             self.close()
@@ -246,6 +314,8 @@ class Trainer:
             self._tb = None
         self.guide.close()
         if self._own_executor:
+            if self.eval_executor is not self.executor:
+                self.eval_executor.shutdown()
             self.executor.shutdown()
 
 
@@ -254,6 +324,11 @@ def _limit_torch_threads() -> None:
 
     if "torch" in sys.modules:  # only the shaped method and TensorBoard load torch in the master
         sys.modules["torch"].set_num_threads(1)
+
+
+def _jsonable(row: dict) -> dict:
+    """A metrics row with plain Python numbers (numpy scalars are not JSON)."""
+    return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in row.items()}
 
 
 def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:

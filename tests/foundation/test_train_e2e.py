@@ -53,6 +53,63 @@ def test_inline_equals_process(tmp_path):
     assert _strip(a) == _strip(b)
 
 
+def test_overlapped_and_separate_evaluation_equal_blocking(tmp_path):
+    blocking = _train(tmp_path, "blocking", executor="process", workers=2, eval_overlap=False)
+    overlap = _train(tmp_path, "overlap", executor="process", workers=2)
+    separate = _train(tmp_path, "separate", executor="process", workers=1, eval_workers=1)
+    assert _strip(overlap) == _strip(blocking) == _strip(separate)
+    assert all(r["test_reward_mean"] != "" for r in overlap)
+
+
+class _Crash(Exception):
+    pass
+
+
+def test_resume_resubmits_test_episodes_in_flight_at_the_checkpoint(tmp_path, monkeypatch):
+    over = dict(executor="inline", generations=8, checkpoint_every=2)
+    full = _train(tmp_path, "full", **over)
+    cfg = build_config({**TINY, **over})
+    store = RunStore(tmp_path / "crashed")
+    store.create(cfg)
+    step = Trainer.step
+
+    def crashing(self, g):
+        if g == 4:  # the checkpoint after g=3 holds row 3, its test episodes still in flight
+            raise _Crash
+        return step(self, g)
+
+    monkeypatch.setattr(Trainer, "step", crashing)
+    with pytest.raises(_Crash):
+        Trainer(cfg, store, progress=False).run()
+    written = [int(r["generation"]) for r in store.read_metrics()]
+    assert written == [0, 1, 2], written  # row 3 waited for its test episodes when the run died
+    monkeypatch.setattr(Trainer, "step", step)
+    Trainer(cfg, store, progress=False).run()
+    assert _strip(store.read_metrics()) == _strip(full)
+
+
+def test_resume_drops_rows_written_after_the_checkpoint(tmp_path, monkeypatch):
+    over = dict(executor="inline", generations=8, checkpoint_every=3)
+    full = _train(tmp_path, "full", **over)
+    cfg = build_config({**TINY, **over})
+    store = RunStore(tmp_path / "crashed")
+    store.create(cfg)
+    step = Trainer.step
+
+    def crashing(self, g):
+        if g == 5:  # checkpoint after g=2 held row 2 in flight; step 3 and 4 wrote rows 2 and 3
+            raise _Crash
+        return step(self, g)
+
+    monkeypatch.setattr(Trainer, "step", crashing)
+    with pytest.raises(_Crash):
+        Trainer(cfg, store, progress=False).run()
+    assert [int(r["generation"]) for r in store.read_metrics()] == [0, 1, 2, 3]
+    monkeypatch.setattr(Trainer, "step", step)
+    Trainer(cfg, store, progress=False).run()
+    assert _strip(store.read_metrics()) == _strip(full)
+
+
 def _cli(*args, **kw):
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "src")}
     return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args], env=env,

@@ -3,13 +3,16 @@
 If a worker dies (a crashing simulator, the OOM killer), the pool is rebuilt and every task that had
 not finished is submitted again, up to ``max_retries`` times; a task that runs longer than
 ``task_timeout_s`` is treated the same way. Seeds travel inside tasks, so a retry gives the result the
-lost attempt would have given.
+lost attempt would have given. A new pool starts all its workers before tasks are submitted, so the
+timeout never counts process start-up; an exception raised by the task function itself propagates.
 """
 
 from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import sys
+import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -21,12 +24,18 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "N
 
 
 def _init_worker() -> None:
-    try:
-        import torch
-
+    # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
+    # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
+    for var in _THREAD_VARS:
+        os.environ[var] = "1"
+    torch = sys.modules.get("torch")
+    if torch is not None:
         torch.set_num_threads(1)
-    except ImportError:  # pragma: no cover - torch is a dependency
-        pass
+
+
+def _pid_after(delay_s: float) -> int:
+    time.sleep(delay_s)
+    return os.getpid()
 
 
 class ProcessExecutor(Executor):
@@ -36,14 +45,17 @@ class ProcessExecutor(Executor):
         start_method: str = "forkserver",
         max_retries: int = 3,
         task_timeout_s: float | None = None,
+        startup_timeout_s: float = 120.0,
     ):
         self.workers = int(workers or os.cpu_count() or 1)
         if start_method not in ("spawn", "forkserver"):
             raise ExecutorError(f"start_method must be 'spawn' or 'forkserver', got {start_method!r}")
         self.start_method = start_method
         self.max_retries = max_retries
-        self.task_timeout_s = task_timeout_s
-        self.restarts = 0
+        self.task_timeout_s = task_timeout_s  # counted from submission to a started pool
+        self.startup_timeout_s = startup_timeout_s  # longest wait for all workers to come up
+        self.restarts = 0  # pools rebuilt after a dead worker or a timeout
+        self.retries = 0  # task resubmissions
         self._pool: ProcessPoolExecutor | None = None
 
     def _get_pool(self) -> ProcessPoolExecutor:
@@ -53,7 +65,21 @@ class ProcessExecutor(Executor):
                 os.environ.setdefault(var, "1")
             ctx = mp.get_context(self.start_method)
             self._pool = ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=_init_worker)
+            self._warm_up(self._pool)
         return self._pool
+
+    def _warm_up(self, pool: ProcessPoolExecutor) -> None:
+        """Start every worker before any task is timed, so ``task_timeout_s`` never counts start-up."""
+        seen: set[int] = set()
+        deadline = time.monotonic() + self.startup_timeout_s
+        while len(seen) < self.workers:
+            futures = [pool.submit(_pid_after, 0.02) for _ in range(self.workers)]
+            try:
+                seen.update(f.result(timeout=max(0.0, deadline - time.monotonic())) for f in futures)
+            except TimeoutError:
+                raise ExecutorError(
+                    f"worker processes did not start within {self.startup_timeout_s:g} s"
+                ) from None
 
     def _reset_pool(self) -> None:
         if self._pool is not None:
@@ -68,26 +94,39 @@ class ProcessExecutor(Executor):
         return self._get_pool().submit(fn, task)
 
     def map(self, fn: Callable[[Any], Any], tasks: Sequence[Any]) -> list[Any]:
+        """Results in task order. Each round submits the unfinished tasks; a dead worker or a round
+        running past ``task_timeout_s`` (counted from submission) rebuilds the pool for the next round.
+        An exception raised by ``fn`` itself propagates unchanged."""
         results: dict[int, Any] = {}
         pending = list(range(len(tasks)))
-        for attempt in range(self.max_retries + 1):
-            pool = self._get_pool()
-            futures = {pool.submit(fn, tasks[i]): i for i in pending}
+        why = ""
+        for _ in range(self.max_retries + 1):
+            if not pending:
+                break
+            try:
+                pool = self._get_pool()
+                futures = {pool.submit(fn, tasks[i]): i for i in pending}
+            except BrokenProcessPool:  # a worker died while the pool sat idle
+                self._reset_pool()
+                why = "worker died"
+                continue
             done, not_done = wait(futures, timeout=self.task_timeout_s)
-            broken = bool(not_done)
+            why = f"timed out after {self.task_timeout_s:g} s" if not_done else "worker died"
             for fut in done:
                 try:
                     results[futures[fut]] = fut.result()
                 except BrokenProcessPool:
-                    broken = True
+                    pass
             pending = [i for i in pending if i not in results]
-            if not pending:
-                return [results[i] for i in range(len(tasks))]
-            if broken:
+            if pending:
+                self.retries += len(pending)
                 self._reset_pool()
-        raise ExecutorError(
-            f"{len(pending)} task(s) failed after {self.max_retries} retries (worker died or timed out)"
-        )
+        if pending:
+            raise ExecutorError(
+                f"{len(pending)} task(s) failed {self.max_retries + 1} time(s), last: {why}; giving up "
+                f"(max_retries={self.max_retries})"
+            )
+        return [results[i] for i in range(len(tasks))]
 
     def shutdown(self) -> None:
         if self._pool is not None:

@@ -1,0 +1,72 @@
+"""The default ``process`` executor survives dead and hung workers, and gives up with one clear line."""
+
+import time
+
+import pytest
+from executor_faults import FailAlways, FailOnce, raise_on_three, square
+
+from shaped_es.executors import ExecutorError, ProcessExecutor, make_executor
+
+TASKS = list(range(6))
+EXPECTED = [x * x for x in TASKS]
+
+
+@pytest.fixture
+def pool():
+    ex = ProcessExecutor(workers=2, max_retries=2, task_timeout_s=2.0)
+    yield ex
+    ex.shutdown()
+
+
+@pytest.mark.parametrize("mode", ["exit", "kill"])
+def test_worker_death_costs_a_retry_not_the_run(pool, tmp_path, mode):
+    marker = tmp_path / "died"
+    assert pool.map(FailOnce(square, str(marker), mode, only_value=4), TASKS) == EXPECTED
+    assert marker.exists(), "the first attempt must have run (and died)"
+    assert pool.restarts == 1 and pool.retries >= 1
+    assert pool.map(square, TASKS) == EXPECTED  # the rebuilt pool keeps working
+
+
+def test_hung_task_is_cut_off_and_retried(pool, tmp_path):
+    marker = tmp_path / "hung"
+    t0 = time.perf_counter()
+    assert pool.map(FailOnce(square, str(marker), "hang", only_value=2), TASKS) == EXPECTED
+    assert marker.exists() and pool.restarts == 1
+    assert time.perf_counter() - t0 < 60, "the hung attempt was not cut off"
+
+
+def test_retries_run_out_with_one_line_error(tmp_path):
+    with ProcessExecutor(workers=2, max_retries=1) as ex:
+        with pytest.raises(ExecutorError) as err:
+            ex.map(FailAlways("exit"), [1, 2])
+    msg = str(err.value)
+    assert "\n" not in msg and "2 task(s) failed 2 time(s)" in msg and "worker died" in msg
+
+
+def test_task_exception_propagates_unchanged(pool):
+    with pytest.raises(ValueError, match="task three is broken"):
+        pool.map(raise_on_three, TASKS)
+    assert pool.restarts == 0
+    assert pool.map(square, TASKS) == EXPECTED
+
+
+def test_make_executor_passes_fault_options():
+    ex = make_executor("process", workers=2, max_retries=5, task_timeout_s=1.5)
+    try:
+        assert (ex.workers, ex.max_retries, ex.task_timeout_s) == (2, 5, 1.5)
+    finally:
+        ex.shutdown()
+
+
+def test_missing_extras_give_one_line(monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    hidden = ("ray", "mpi4py")
+    monkeypatch.setattr(importlib.util, "find_spec", lambda n, *a: None if n in hidden else real(n, *a))
+    with pytest.raises(ExecutorError, match=r"^ray is not installed: pip install 'shaped-es\[ray\]'$"):
+        make_executor("ray", workers=1)
+    with pytest.raises(ExecutorError, match=r"^mpi4py is not installed: pip install 'shaped-es\[mpi\]'$"):
+        make_executor("mpi", workers=1)
+    with pytest.raises(ExecutorError, match="unknown executor 'dask'"):
+        make_executor("dask")
