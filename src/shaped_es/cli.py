@@ -136,6 +136,16 @@ def cmd_bench(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bench_executors(a: argparse.Namespace) -> int:
+    from shaped_es.benchmarks.executor_overhead import bench_executors
+
+    names = [n.strip() for n in a.executors.split(",") if n.strip()]
+    res = bench_executors(tuple(names), env_id=a.env, pairs=a.pairs, workers=a.workers,
+                          generations=a.generations)
+    print(json.dumps(res) if a.json else json.dumps(res, indent=2))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from shaped_es.config import EXECUTORS, METHODS
 
@@ -187,6 +197,14 @@ def build_parser() -> argparse.ArgumentParser:
     be.add_argument("--seconds", type=float, default=6.0)
     be.add_argument("--json", action="store_true")
     be.set_defaults(fn=cmd_bench)
+    bx = bsub.add_parser("executors", help="generation time and overhead per executor (population 64)")
+    bx.add_argument("--executors", default="process,ray,mpi", help="comma-separated (default: all)")
+    bx.add_argument("--env", help="env id (default: CarNav-v0)")
+    bx.add_argument("--pairs", type=int, default=32, help="antithetic pairs (population = 2 x pairs)")
+    bx.add_argument("--workers", type=int)
+    bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
+    bx.add_argument("--json", action="store_true", help="one line of JSON")
+    bx.set_defaults(fn=cmd_bench_executors)
     return p
 
 

@@ -87,6 +87,9 @@ class ShapingConfig(_Strict):
         "paper", description="Delta = (theta* - mu_{g+1})/eta (paper), theta* - theta (each clone step), "
         "or the mean clone step (k = 1)")
     history: int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
+    trajectory_root: str | None = Field(
+        None, description="where workers write trajectory shards: a path every node sees, or a URI "
+        "pyarrow understands (s3://...); None: RUN_DIR/trajectories")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
     cloning: CloningSettings = Field(default_factory=CloningSettings)
 

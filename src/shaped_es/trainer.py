@@ -39,7 +39,7 @@ from shaped_es.rollout import RolloutTask, env_dims, make_env, run_task
 from shaped_es.store import RunStore, StoreError
 from shaped_es.strategies import make_strategy
 
-TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s")
+TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
 
 
 def policy_spec(cfg: RunConfig) -> MLPSpec:
@@ -248,6 +248,7 @@ class Trainer:
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness)
         extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
+        worker_cpu += float(extra.get("clone_cpu_time_s") or 0.0)  # shaped: cloning ran on the workers
         master_cpu = time.process_time() - cpu0
         self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps
         self.c.cpu_time_s += master_cpu + (0.0 if _in_process(self.executor) else worker_cpu)

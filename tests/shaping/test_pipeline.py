@@ -57,6 +57,16 @@ def test_shaped_changes_search_and_resumes_exactly(tmp_path):
     assert gens == ["gen_000002", "gen_000003"]  # only shards a (re-)run of a later generation reads
 
 
+def test_trajectories_on_a_uri_root_give_the_same_run(tmp_path):
+    local = _run(tmp_path, "local", method="shaped", generations=3)
+    uri = f"file://{tmp_path / 'shared'}"
+    remote = _run(tmp_path, "remote", method="shaped", generations=3,
+                  shaping={**TINY["shaping"], "trajectory_root": uri})
+    assert _rewards(remote.read_metrics()) == _rewards(local.read_metrics())
+    assert not (remote.root / "trajectories").exists()
+    assert sorted(p.name for p in (tmp_path / "shared").iterdir()) == ["gen_000001", "gen_000002"]
+
+
 def test_shaped_needs_the_waypoint_contract(tmp_path):
     cfg = build_config({**TINY, "env": "CartPole-v1", "method": "shaped"})
     store = RunStore(tmp_path / "cp")

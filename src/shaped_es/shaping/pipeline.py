@@ -60,7 +60,7 @@ class ShapedGuide(NoGuide):
 
     def __init__(self, cfg: RunConfig, spec: MLPSpec, store):
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
-        self.traj_root = str(store.trajectories_dir)
+        self.traj_root = self.sh.trajectory_root or str(store.trajectories_dir)
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg)
         frame = mp.frame if mp.frame != "auto" else ("motion" if pos_dim == 2 else "world")
@@ -120,6 +120,7 @@ class ShapedGuide(NoGuide):
             self._thread.join()
             self._thread = None
         out = dict(self._pending, time_mphi_wait_s=time.perf_counter() - t_wait, time_cloning_s=0.0,
+                   clone_cpu_time_s=0.0,
                    time_update_s=0.0, surrogate_rank=0)
         if self.mphi.iterations == 0:  # no data kept yet: this generation stays Vanilla-ES
             self._prune(generation)
@@ -127,6 +128,7 @@ class ShapedGuide(NoGuide):
         t0 = time.perf_counter()
         theta_star, outs = self._clone(generation, params, map_tasks, n_tasks=len(results))
         out["time_cloning_s"] = time.perf_counter() - t0
+        out["clone_cpu_time_s"] = float(sum(o.cpu_time_s for o in outs))  # on the workers
         t1 = time.perf_counter()
         mean = np.asarray(strategy.mean, dtype=np.float64)
         if self.sh.surrogate == "paper":
