@@ -23,6 +23,17 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
     if loaded is None:
         raise StoreError(f"{run_dir} has no checkpoint yet")
     arrays, meta = loaded
+    seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)  # (1, E)
+    if cfg.method == "ppo":  # one process, as PPO trains (SB3 policy, deterministic actions)
+        from shaped_es.baselines.ppo import load_policy
+        from shaped_es.baselines.ppo_state import DeterministicEpisodes
+
+        runner = DeterministicEpisodes(cfg.env, cfg.env_kwargs, cfg.rollout.max_steps)
+        try:
+            returns, _ = runner.run(load_policy(cfg, arrays, which), seeds[0])  # (E,)
+        finally:
+            runner.close()
+        return _summary(run_dir, which, meta, returns)
     key = f"policy/{which}"
     if key not in arrays:
         raise StoreError(f"checkpoint of {run_dir} has no {which!r} policy")
@@ -31,13 +42,17 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
     if theta.shape != (spec.num_params,):
         raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
                          f"{spec.num_params}")
-    seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)  # (1, E)
     with make_executor(executor, workers=workers) as ex:
         chunks = np.array_split(np.arange(episodes), max(1, min(episodes, ex.workers)))
         tasks = [RolloutTask(cfg.env, cfg.env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
                              max_steps=cfg.rollout.max_steps) for c in chunks]
         res = ex.map(run_task, tasks)
     returns = np.concatenate([r.returns[0] for r in res])  # (E,)
+    return _summary(run_dir, which, meta, returns)
+
+
+def _summary(run_dir, which: str, meta: dict, returns: np.ndarray) -> dict:
     return {"run_dir": str(run_dir), "policy": which, "generation": meta["generation"],
-            "episodes": episodes, "reward_mean": float(returns.mean()), "reward_std": float(returns.std()),
-            "reward_min": float(returns.min()), "reward_max": float(returns.max())}
+            "episodes": int(len(returns)), "reward_mean": float(returns.mean()),
+            "reward_std": float(returns.std()), "reward_min": float(returns.min()),
+            "reward_max": float(returns.max())}

@@ -119,3 +119,14 @@ def test_ppo_refuses_a_checkpoint_of_another_config(tmp_path):
     other = build_config({**cfg.model_dump(mode="json"), "generations": 3, "seed": 2})
     with pytest.raises(StoreError, match="different config"):
         train_ppo(other, store, progress=False, settings=FAST)
+
+
+def test_evaluate_a_ppo_run(tmp_path):
+    from shaped_es.evaluate import evaluate_run
+
+    _, store = _run(tmp_path, "ppo", "ppo")
+    a = evaluate_run(store.root, episodes=3)
+    b = evaluate_run(store.root, episodes=3, which="mean")
+    assert a["episodes"] == 3 and np.isfinite(a["reward_mean"]) and a["generation"] == 2
+    assert a == evaluate_run(store.root, episodes=3)  # deterministic policy, fixed seeds
+    assert np.isfinite(b["reward_mean"])
