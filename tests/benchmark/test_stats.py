@@ -44,6 +44,7 @@ def test_step_hold_and_band():
     grid = np.array([0.5, 1.0, 2.5, 3.0, 4.0, 5.0])
     held = step_hold(x, y, grid)
     np.testing.assert_array_equal(held, [np.nan, 10.0, 10.0, 30.0, 30.0, np.nan])
+    np.testing.assert_array_equal(step_hold(x, y, grid, hold_end=True), [np.nan, 10, 10, 30, 30, 30])
 
     curves = [(x, np.array([0.0, 2.0, 4.0, 6.0])), (x, np.array([2.0, 4.0, 6.0, 8.0]))]
     mean, lo, hi, n = band(curves, np.array([1.0, 2.0]))
@@ -59,3 +60,5 @@ def test_common_grid_covers_the_shortest_run():
     g = common_grid(xs, points=5)
     assert g[0] == 0.5 and g[-1] == 3.0 and g.size == 5
     np.testing.assert_array_equal(common_grid(xs, integer=True), [0.5, 1.0, 2.0, 3.0])
+    g = common_grid(xs, points=3, longest=True, log=True)
+    np.testing.assert_allclose(g, [0.5, np.sqrt(2.5), 5.0])

@@ -48,8 +48,8 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
             f"Intervals: {level:.0%} Student-t over seeds.", ""]
     out += ["## Fig. 4: test reward vs generation, CPU time and wall time", "",
             "Mean across seeds of the test reward (ES: the generation's best member over the test episodes; "
-            "PPO: the deterministic policy on the same test seeds), band: confidence interval; the time "
-            "panels cover the range every seed reached.", "", f"![Fig. 4]({figures['fig4']})", ""]
+            "PPO: the deterministic policy on the same test seeds), band: confidence interval; on the time "
+            "panels a seed that finished sooner keeps its final reward up to the slowest seed's end.", "", f"![Fig. 4]({figures['fig4']})", ""]
     out += ["## Fig. 5: inverse-dynamics model loss", ""]
     if figures.get("fig5"):
         out += ["M_phi train loss and test loss vs its training iterations (mean over seeds, CI band).", "",

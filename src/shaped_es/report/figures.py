@@ -36,12 +36,15 @@ def _has(m: Metrics, key: str) -> bool:
 
 
 def _draw(ax, runs: list[Metrics], xkey: str, ykey: str, color: str, label: str, level: float,
-          steps: bool = True) -> bool:
+          steps: bool = True, hold_end: bool = False, log: bool = False) -> bool:
+    """Mean and band across seeds; ``hold_end``: a run that finished early keeps its final value up to
+    the longest run's end (time axes: seeds of one method take different times)."""
     curves = [(_x(m, xkey), m[ykey]) for m in runs if _has(m, ykey) and xkey in m]
-    grid = common_grid([c[0] for c in curves], integer=xkey in INTEGER_X)
+    grid = common_grid([c[0] for c in curves], points=400, integer=xkey in INTEGER_X, longest=hold_end,
+                       log=log)
     if not curves or grid.size == 0:
         return False
-    mean, lo, hi, _ = band(curves, grid, level)
+    mean, lo, hi, _ = band(curves, grid, level, hold_end=hold_end)
     style = {"drawstyle": "steps-post"} if steps and xkey == "generation" else {}  # held between tests
     ax.plot(grid, mean, color=color, label=label, **style)
     ax.fill_between(grid, lo, hi, color=color, alpha=0.2, linewidth=0, step="post" if style else None)
@@ -66,20 +69,24 @@ def plot_reward_bands(groups: dict[str, list[Metrics]], out: str | Path, title: 
     times differ by more than ``LOG_TIME_RATIO`` (ES runs of seconds next to PPO runs of minutes).
     """
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.4), sharey=True)
-    for i, (method, runs) in enumerate(groups.items()):
+    runs = [m for rs in groups.values() for m in rs if _has(m, "test_reward_mean")]
+    log = {}
+    for key, _ in X_AXES[1:]:
+        ends = [np.nanmax(m[key]) for m in runs if key in m and np.isfinite(m[key]).any()]
+        log[key] = bool(ends and min(ends) > 0 and max(ends) / min(ends) > LOG_TIME_RATIO)
+    for i, (method, rs) in enumerate(groups.items()):
         for ax, (key, xlabel) in zip(axes, X_AXES):
-            _draw(ax, runs, key, "test_reward_mean", f"C{i}", f"{method} (seeds: {len(runs)})", level)
+            timed = key != "generation"
+            _draw(ax, rs, key, "test_reward_mean", f"C{i}", f"{method} (seeds: {len(rs)})", level,
+                  hold_end=timed, log=log.get(key, False))
             ax.set_xlabel(xlabel)
             ax.grid(alpha=0.3)
-    runs = [m for rs in groups.values() for m in rs if _has(m, "test_reward_mean")]
+            if log.get(key):
+                ax.set_xscale("log")
     if runs:
         ys = np.concatenate([m["test_reward_mean"][np.isfinite(m["test_reward_mean"])] for m in runs])
         pad = 0.05 * max(ys.max() - ys.min(), 1e-6 * max(1.0, abs(ys.max())))
         axes[0].set_ylim(ys.min() - pad, ys.max() + pad)
-        for ax, (key, _) in zip(axes[1:], X_AXES[1:]):
-            ends = [np.nanmax(m[key]) for m in runs if key in m and np.isfinite(m[key]).any()]
-            if ends and min(ends) > 0 and max(ends) / min(ends) > LOG_TIME_RATIO:
-                ax.set_xscale("log")
     axes[0].set_ylabel(f"test reward (mean, {level:.0%} CI over seeds)")
     axes[0].legend(fontsize=8, framealpha=0.9)
     fig.suptitle(title or "test reward vs generation, CPU time, wall time")

@@ -80,27 +80,28 @@ def t_interval(values, level: float = 0.95) -> tuple[float, float]:
     return float(v.mean()), float(half)
 
 
-def step_hold(x: np.ndarray, y: np.ndarray, grid: np.ndarray) -> np.ndarray:
+def step_hold(x: np.ndarray, y: np.ndarray, grid: np.ndarray, hold_end: bool = False) -> np.ndarray:
     """Value of the curve at each grid point: the last finite ``y`` at or before it (NaN before the first
-    point and after the last ``x``: the run did not exist there)."""
+    point, and after the last ``x`` unless ``hold_end``: a finished run keeps its final value there)."""
     ok = np.isfinite(x) & np.isfinite(y)
     xs, ys = x[ok], y[ok]
     out = np.full(grid.shape, np.nan)
     if xs.size == 0:
         return out
     idx = np.searchsorted(xs, grid, side="right") - 1  # (G,) index of the last point <= grid
-    inside = (idx >= 0) & (grid <= x[np.isfinite(x)].max())
+    inside = (idx >= 0) & (hold_end | (grid <= x[np.isfinite(x)].max()))
     out[inside] = ys[idx[inside]]
     return out
 
 
-def band(curves: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray, level: float = 0.95):
+def band(curves: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray, level: float = 0.95,
+         hold_end: bool = False):
     """Mean and ``level`` t-interval bounds across seeds of step-held curves on ``grid``.
 
     Returns ``(mean, lo, hi, n)``, each ``(G,)``; ``n`` counts the seeds defined at each grid point
     (lo = hi = mean where n < 2).
     """
-    Y = np.stack([step_hold(x, y, grid) for x, y in curves]) if curves else np.zeros((0, grid.size))  # (S, G)
+    Y = np.stack([step_hold(x, y, grid, hold_end) for x, y in curves]) if curves else np.zeros((0, grid.size))  # (S, G)
     n = np.isfinite(Y).sum(axis=0)  # (G,)
     mean = np.full(grid.shape, np.nan)
     half = np.zeros(grid.shape)
@@ -110,13 +111,18 @@ def band(curves: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray, level: f
     return mean, mean - half, mean + half, n
 
 
-def common_grid(xs: list[np.ndarray], points: int = 200, integer: bool = False) -> np.ndarray:
-    """Grid over the x range every curve covers (first point of any curve .. end of the shortest)."""
+def common_grid(xs: list[np.ndarray], points: int = 200, integer: bool = False, longest: bool = False,
+                log: bool = False) -> np.ndarray:
+    """Grid from the first point of any curve to the end of the shortest (``longest``: of the longest);
+    ``log`` spaces it geometrically (a log axis) when it starts above 0."""
     xs = [x[np.isfinite(x)] for x in xs]
     xs = [x for x in xs if x.size]
     if not xs:
         return np.zeros(0)
-    lo, hi = min(x.min() for x in xs), min(x.max() for x in xs)
+    ends = [x.max() for x in xs]
+    lo, hi = min(x.min() for x in xs), (max(ends) if longest else min(ends))
     if integer:
         return np.unique(np.concatenate([x[(x >= lo) & (x <= hi)] for x in xs]))
-    return np.linspace(lo, hi, points) if hi > lo else np.array([hi])
+    if hi <= lo:
+        return np.array([hi])
+    return np.geomspace(lo, hi, points) if log and lo > 0 else np.linspace(lo, hi, points)
