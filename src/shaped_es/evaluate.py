@@ -6,7 +6,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import make_executor
-from shaped_es.rollout import RolloutTask, run_task
+from shaped_es.rollout import policy_episode_tasks, run_task
 from shaped_es.store import RunStore, StoreError
 from shaped_es.trainer import policy_spec
 
@@ -43,9 +43,8 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
         raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
                          f"{spec.num_params}")
     with make_executor(executor, workers=workers) as ex:
-        chunks = np.array_split(np.arange(episodes), max(1, min(episodes, ex.workers)))
-        tasks = [RolloutTask(cfg.env, cfg.env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
-                             max_steps=cfg.rollout.max_steps) for c in chunks]
+        tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds, ex.workers,
+                                     max_steps=cfg.rollout.max_steps)
         res = ex.map(run_task, tasks)
     returns = np.concatenate([r.returns[0] for r in res])  # (E,)
     return _summary(run_dir, which, meta, returns)

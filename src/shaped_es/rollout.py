@@ -54,6 +54,18 @@ class RolloutResult:
     transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
 
 
+def policy_episode_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, theta: np.ndarray,
+                         seeds: np.ndarray, workers: int, generation: int = 0,
+                         max_steps: int | None = None) -> list[RolloutTask]:
+    """One policy ``theta`` ``(n,)`` on episode seeds ``(E,)``, split into at most ``workers`` tasks
+    (test and evaluation episodes; each task is "member 0" of its own chunk of seeds)."""
+    seeds = np.asarray(seeds).reshape(1, -1)  # (1, E)
+    E = seeds.shape[1]
+    return [RolloutTask(env_id, env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
+                        generation=generation, max_steps=max_steps)
+            for c in np.array_split(np.arange(E), max(1, min(E, workers)))]
+
+
 _ENV_CACHE: dict[str, list[gym.Env]] = {}
 
 

@@ -12,7 +12,8 @@ The test episodes of generation g (``eval_overlap``, the default) are submitted 
 member is known and collected after generation g+1's rollouts, so they overlap the update, the shaping
 work and the next rollouts (the paper's separate evaluation workers; ``eval_workers`` gives them their
 own pool). Rows are still written in generation order and hold exactly what a blocking evaluation
-gives; a checkpoint first collects every pending evaluation, so resume is unaffected.
+gives; a checkpoint stores the rows still waiting (and their members), and resume submits their test
+episodes again.
 
 A checkpoint holds the strategy's and the guide's state; ``resume`` reloads the newest one, drops
 metrics rows written after it, and continues, giving the rows an uninterrupted run would have given.
@@ -35,7 +36,7 @@ from shaped_es.executors import Executor, make_executor
 from shaped_es.guides import NoGuide, PastUpdateGuide
 from shaped_es.policies import MLPSpec
 from shaped_es.progress import ProgressDisplay
-from shaped_es.rollout import RolloutTask, env_dims, make_env, run_task
+from shaped_es.rollout import RolloutTask, env_dims, make_env, policy_episode_tasks, run_task
 from shaped_es.store import RunStore, StoreError
 from shaped_es.strategies import make_strategy
 
@@ -164,9 +165,8 @@ class Trainer:
         for i, row in enumerate(meta.get("waiting_rows", [])):
             item = _Row(dict(row))
             if f"waiting/{i}" in arrays:
-                item.theta = np.asarray(arrays[f"waiting/{i}"], dtype=np.float32)
-                item.tasks = self._eval_tasks(item.theta, int(row["generation"]))
-                item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
+                self._submit_eval(item, np.asarray(arrays[f"waiting/{i}"], dtype=np.float32),
+                                  int(row["generation"]))
             self._waiting.append(item)
         # Rows after the checkpoint's last written one are dropped; waiting rows are written again.
         written = [int(i.row["generation"]) for i in self._waiting] or [self.c.generation]
@@ -182,13 +182,14 @@ class Trainer:
             for idx in np.array_split(np.arange(len(members)), n_tasks)
         ]
 
-    def _eval_tasks(self, theta: np.ndarray, g: int) -> list[RolloutTask]:
+    def _submit_eval(self, item: _Row, theta: np.ndarray, g: int) -> None:
+        """Start generation ``g``'s test episodes of ``theta`` ``(n,)`` for ``item``'s row."""
         E = self.cfg.rollout.test_episodes
         seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
-        chunks = np.array_split(np.arange(E), max(1, min(E, self.eval_executor.workers)))
-        return [RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, theta[None], np.zeros(1, int),
-                            seeds[:, c], generation=g, max_steps=self.cfg.rollout.max_steps)
-                for c in chunks]
+        item.theta = theta
+        item.tasks = policy_episode_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, theta, seeds,
+                                          self.eval_executor.workers, g, self.cfg.rollout.max_steps)
+        item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
 
     def _collect(self, item: _Row) -> dict:
         """Finish a waiting row: gather its test episodes (rerun through ``map``, which retries, if a
@@ -242,9 +243,7 @@ class Trainer:
                      "train_reward_min": float(fitness.min()), "test_reward_mean": None,
                      "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
         if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
-            item.theta = X[int(np.argmax(fitness))].copy()  # (n,) the generation's best member
-            item.tasks = self._eval_tasks(item.theta, g)
-            item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
+            self._submit_eval(item, X[int(np.argmax(fitness))].copy(), g)  # the generation's best member
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness)
         extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)

@@ -65,8 +65,8 @@ class _Crash(Exception):
     pass
 
 
-def test_resume_resubmits_test_episodes_in_flight_at_the_checkpoint(tmp_path, monkeypatch):
-    over = dict(executor="inline", generations=8, checkpoint_every=2)
+def _crash_and_resume(tmp_path, monkeypatch, crash_at: int, **over):
+    """Run until ``step(crash_at)`` raises; returns (full run's rows, rows the crash left, rows after resume)."""
     full = _train(tmp_path, "full", **over)
     cfg = build_config({**TINY, **over})
     store = RunStore(tmp_path / "crashed")
@@ -74,40 +74,33 @@ def test_resume_resubmits_test_episodes_in_flight_at_the_checkpoint(tmp_path, mo
     step = Trainer.step
 
     def crashing(self, g):
-        if g == 4:  # the checkpoint after g=3 holds row 3, its test episodes still in flight
+        if g == crash_at:
             raise _Crash
         return step(self, g)
 
     monkeypatch.setattr(Trainer, "step", crashing)
     with pytest.raises(_Crash):
         Trainer(cfg, store, progress=False).run()
-    written = [int(r["generation"]) for r in store.read_metrics()]
-    assert written == [0, 1, 2], written  # row 3 waited for its test episodes when the run died
+    left = [int(r["generation"]) for r in store.read_metrics()]
     monkeypatch.setattr(Trainer, "step", step)
     Trainer(cfg, store, progress=False).run()
-    assert _strip(store.read_metrics()) == _strip(full)
+    return full, left, store.read_metrics()
+
+
+def test_resume_resubmits_test_episodes_in_flight_at_the_checkpoint(tmp_path, monkeypatch):
+    # the checkpoint after g=3 holds row 3, its test episodes still in flight; step 4 dies before them
+    full, left, resumed = _crash_and_resume(tmp_path, monkeypatch, 4, executor="inline", generations=8,
+                                            checkpoint_every=2)
+    assert left == [0, 1, 2], left  # row 3 waited for its test episodes when the run died
+    assert _strip(resumed) == _strip(full)
 
 
 def test_resume_drops_rows_written_after_the_checkpoint(tmp_path, monkeypatch):
-    over = dict(executor="inline", generations=8, checkpoint_every=3)
-    full = _train(tmp_path, "full", **over)
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / "crashed")
-    store.create(cfg)
-    step = Trainer.step
-
-    def crashing(self, g):
-        if g == 5:  # checkpoint after g=2 held row 2 in flight; step 3 and 4 wrote rows 2 and 3
-            raise _Crash
-        return step(self, g)
-
-    monkeypatch.setattr(Trainer, "step", crashing)
-    with pytest.raises(_Crash):
-        Trainer(cfg, store, progress=False).run()
-    assert [int(r["generation"]) for r in store.read_metrics()] == [0, 1, 2, 3]
-    monkeypatch.setattr(Trainer, "step", step)
-    Trainer(cfg, store, progress=False).run()
-    assert _strip(store.read_metrics()) == _strip(full)
+    # the checkpoint after g=2 held row 2 in flight; steps 3 and 4 wrote rows 2 and 3, then step 5 dies
+    full, left, resumed = _crash_and_resume(tmp_path, monkeypatch, 5, executor="inline", generations=8,
+                                            checkpoint_every=3)
+    assert left == [0, 1, 2, 3]
+    assert _strip(resumed) == _strip(full)
 
 
 def _cli(*args, **kw):

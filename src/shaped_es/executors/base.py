@@ -6,6 +6,8 @@ seed is part of the task (``seeding.py``), a retried task reproduces the result 
 
 from __future__ import annotations
 
+import os
+import time
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future
@@ -14,6 +16,12 @@ from typing import Any
 
 class ExecutorError(RuntimeError):
     """Tasks could not be completed (retries exhausted, or the backend is unavailable)."""
+
+
+def pid_after(delay_s: float) -> int:
+    """Warm-up probe: the worker's pid after a short sleep (so one call cannot serve every probe)."""
+    time.sleep(delay_s)
+    return os.getpid()
 
 
 class Executor(ABC):

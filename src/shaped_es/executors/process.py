@@ -18,7 +18,7 @@ from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
-from shaped_es.executors.base import Executor, ExecutorError
+from shaped_es.executors.base import Executor, ExecutorError, pid_after
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
@@ -31,11 +31,6 @@ def _init_worker() -> None:
     torch = sys.modules.get("torch")
     if torch is not None:
         torch.set_num_threads(1)
-
-
-def _pid_after(delay_s: float) -> int:
-    time.sleep(delay_s)
-    return os.getpid()
 
 
 class ProcessExecutor(Executor):
@@ -73,7 +68,7 @@ class ProcessExecutor(Executor):
         seen: set[int] = set()
         deadline = time.monotonic() + self.startup_timeout_s
         while len(seen) < self.workers:
-            futures = [pool.submit(_pid_after, 0.02) for _ in range(self.workers)]
+            futures = [pool.submit(pid_after, 0.02) for _ in range(self.workers)]
             try:
                 seen.update(f.result(timeout=max(0.0, deadline - time.monotonic())) for f in futures)
             except TimeoutError:

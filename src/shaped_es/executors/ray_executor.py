@@ -41,7 +41,7 @@ from typing import Any
 import ray
 import ray.exceptions as rex
 
-from shaped_es.executors.base import Executor, ExecutorError
+from shaped_es.executors.base import Executor, ExecutorError, pid_after
 
 LOOPBACK = "127.0.0.1"
 
@@ -60,14 +60,9 @@ def _apply(fn: Callable[[Any], Any], task: Any) -> Any:
     return fn(task)
 
 
-def _pid_after(delay_s: float) -> int:
-    time.sleep(delay_s)
-    return os.getpid()
-
-
 # One CPU per task; retries are ours (uniform counting with timeouts), so Ray's are off.
 _remote_apply = ray.remote(num_cpus=1, max_retries=0, retry_exceptions=False)(_apply)
-_remote_pid = ray.remote(num_cpus=1, max_retries=0)(_pid_after)
+_remote_pid = ray.remote(num_cpus=1, max_retries=0)(pid_after)
 
 
 @contextmanager

@@ -69,7 +69,8 @@ def label_and_clone(task: CloneTask) -> CloneOutput:
     for m in task.members:
         hist = read_member_history(task.traj_root, int(m), task.generations)
         s = [h.state for h in hist]
-        a = [mphi.label(h.state, clip_norm(query_displacement(h, task.mphi_config.frame), task.max_displacement)) for h in hist]
+        frame = task.mphi_config.frame
+        a = [mphi.label(h.state, clip_norm(query_displacement(h, frame), task.max_displacement)) for h in hist]
         states.append(np.concatenate(s) if s else np.zeros((0, task.spec.obs_dim), np.float32))
         labels.append(np.concatenate(a) if a else np.zeros((0, task.spec.act_dim), np.float32))
     res = clone_population(task.spec, task.theta, states, labels, config=task.cloning, seeds=task.seeds)
