@@ -24,16 +24,20 @@ def tiny(seeds=2, generations=2):
 
 
 TINY = tiny()
-KEYS = {"final_test_reward_mean", "final_test_reward_ci", "generations_to_target", "wall_time_s", "cpu_time_s",
-        "env_steps"}
+KEYS = {"final_test_reward_mean", "final_test_reward_ci", "final_test_reward_iqm", "final_test_reward_iqm_ci",
+        "success_rate", "successes", "to_threshold", "wall_time_s", "cpu_time_s", "env_steps"}
 
 
-def _cli(command, *argv):
+def _parse(command, *argv):
     p = argparse.ArgumentParser()
     sub = p.add_subparsers(dest="command")
     add_benchmark_parser(sub)
     add_report_parser(sub)
-    a = p.parse_args([command, *map(str, argv)])
+    return p.parse_args([command, *map(str, argv)])
+
+
+def _cli(command, *argv):
+    a = _parse(command, *argv)
     return a.fn(a)
 
 
@@ -60,23 +64,44 @@ def test_benchmark_writes_runs_summary_and_report(bench):
         assert m["final_test_reward_mean"] >= 1 and m["cpu_time_s"] > 0 and m["env_steps"] > 0
         lo, hi = m["final_test_reward_ci"]
         assert lo <= m["final_test_reward_mean"] <= hi
-    assert s["target"]["value"] == max(m["final_test_reward_mean"] for m in s["methods"].values())
+        assert set(m["to_threshold"]) == {"reached", "generations", "wall_time_s", "cpu_time_s", "env_steps"}
+        lo, hi = m["final_test_reward_iqm_ci"]
+        assert lo <= m["final_test_reward_iqm"] <= hi
+    # CartPole has no default threshold: the best final mean (no 'shaped' in the set)
+    assert s["threshold"]["value"] == max(m["final_test_reward_mean"] for m in s["methods"].values())
+    assert s["budget_generations"] == 2
+    assert set(s["probability_of_improvement"]["ppo"]) == {"vanilla", "cmaes"}
     assert {v["status"] for v in s["this_invocation"].values()} == {"new"}
     assert s["benchmark"]["seeds"] == [0, 1] and s["settings"]["ppo"]["pairs"] == 4
     md = (bench / "report.md").read_text()
     assert "![Fig. 4](figures/fig4_test_reward.png)" in md and "_Not drawn" in md
     assert all(f"| {m} | 2 |" in md for m in ("vanilla", "cmaes", "ppo"))
     assert (bench / "figures" / "fig4_test_reward.png").stat().st_size > 10_000
+    assert (bench / "figures" / "profile_final_reward.png").stat().st_size > 10_000
     assert (bench / "benchmark.yaml").is_file()
 
 
 def test_rerun_skips_finished_runs(bench, capsys):
     before = _metrics(bench)
-    assert _cli("benchmark", *TINY, "--methods", "vanilla,cmaes,ppo", "--out", bench) == 0
+    assert _cli("benchmark", *TINY, "--methods", "vanilla,cmaes,ppo", "--threshold", 1e6, "--out", bench) == 0
     s = json.loads((bench / "summary.json").read_text())
     assert {v["status"] for v in s["this_invocation"].values()} == {"skipped"}
     assert _metrics(bench) == before
-    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["report"].endswith("report.md")
+    printed = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert printed["report"].endswith("report.md") and printed["profile"].endswith("profile_final_reward.png")
+    # --threshold reaches the summary: nobody reaches 1e6, every seed censored at 2 + 1 generations
+    assert s["threshold"] == {"value": 1e6, "source": "--threshold"}
+    for m in s["methods"].values():
+        assert m["success_rate"] == 0.0 and m["to_threshold"]["generations"]["per_seed"] == [3.0, 3.0]
+    assert "test reward >= 1000000.00 (--threshold)" in (bench / "report.md").read_text()
+
+
+def test_defaults_and_threshold_flags():
+    a = _parse("benchmark", "--env", "CarNav-v0", "--out", "x")
+    assert a.seeds == 10 and a.threshold is None
+    assert _parse("report", "x", "--threshold", "40").threshold == 40.0
+    with pytest.raises(ConfigError, match="--threshold"):
+        _cli("report", "x", "--threshold", "nan")
 
 
 def test_report_command_groups_runs_by_method(bench, tmp_path, capsys):
@@ -86,6 +111,7 @@ def test_report_command_groups_runs_by_method(bench, tmp_path, capsys):
     assert {k: v["seeds"] for k, v in s["methods"].items()} == {"vanilla": 2, "ppo": 1}
     assert _cli("report", bench, "--out", tmp_path / "fig.png") == 0  # a benchmark dir: all its runs
     assert (tmp_path / "fig.png").is_file() and not (tmp_path / "fig_mphi.png").exists()
+    assert (tmp_path / "fig_profile.png").stat().st_size > 10_000
     with pytest.raises(ConfigError, match=".md"):
         _cli("report", bench, "--out", tmp_path / "fig.txt")
 

@@ -1,11 +1,15 @@
-"""Exact values of the across-seed statistics (t quantiles, intervals, step-held bands)."""
+"""Exact values of the across-seed statistics (t quantiles, intervals, step-held bands) and of the robust
+aggregates (IQM, bootstrap intervals, probability of improvement, performance profiles)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from shaped_es.report.stats import band, betainc, common_grid, step_hold, student_t_ppf, t_interval
+from shaped_es.report.aggregate import (bootstrap_ci, iqm, iqm_with_ci, performance_profile,
+                                        probability_of_improvement, profile_band)
+from shaped_es.report.figures import plot_performance_profile
+from shaped_es.report.stats import band, common_grid, step_hold, student_t_ppf, t_interval
 
 
 @pytest.mark.parametrize("df, q, expected", [
@@ -19,13 +23,6 @@ from shaped_es.report.stats import band, betainc, common_grid, step_hold, studen
 def test_student_t_quantiles(df, q, expected):
     assert student_t_ppf(q, df) == pytest.approx(expected, rel=1e-9)
     assert student_t_ppf(1 - q, df) == pytest.approx(-expected, rel=1e-9)
-
-
-def test_betainc_identities():
-    assert betainc(1.0, 1.0, 0.3) == pytest.approx(0.3, abs=1e-14)  # uniform CDF
-    assert betainc(2.0, 1.0, 0.5) == pytest.approx(0.25, abs=1e-14)  # x^a for b = 1
-    a, b, x = 2.5, 0.5, 0.7
-    assert betainc(a, b, x) == pytest.approx(1 - betainc(b, a, 1 - x), abs=1e-13)
 
 
 def test_t_interval():
@@ -62,3 +59,63 @@ def test_common_grid_covers_the_shortest_run():
     np.testing.assert_array_equal(common_grid(xs, integer=True), [0.5, 1.0, 2.0, 3.0])
     g = common_grid(xs, points=3, longest=True, log=True)
     np.testing.assert_allclose(g, [0.5, np.sqrt(2.5), 5.0])
+
+
+def test_iqm_of_known_arrays():
+    assert iqm(np.arange(1.0, 9.0)) == 4.5  # middle half of 1..8: mean(3, 4, 5, 6)
+    assert iqm([100.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, -50.0]) == 3.5  # outliers cut: mean(2, 3, 4, 5)
+    assert iqm(np.arange(10.0)) == 4.5  # n = 10: 2 cut at each end (as rliable), mean(2..7)
+    assert iqm([7.0]) == 7.0
+    assert math.isnan(iqm([]))
+
+
+def test_bootstrap_ci_contains_the_point_estimate():
+    rng = np.random.default_rng(3)
+    for n in (3, 10, 40):
+        v = rng.normal(50.0, 20.0, n)
+        est = iqm_with_ci(v)
+        lo, hi = est["ci"]
+        assert lo <= est["iqm"] <= hi and lo < hi
+        assert v.min() <= lo and hi <= v.max()  # resamples of v: the IQM never leaves v's range
+    assert bootstrap_ci([[2.0, 2.0, 2.0]], iqm) == (2.0, 2.0)  # no spread, no width
+    assert bootstrap_ci([[2.0]], iqm) is None  # one seed: no interval
+    assert iqm_with_ci([2.0]) == {"iqm": 2.0, "ci": None}
+    # more seeds, a narrower interval
+    wide, narrow = (np.diff(bootstrap_ci([rng.normal(0, 1, n)], np.mean)) for n in (5, 500))
+    assert narrow < wide
+
+
+def test_probability_of_improvement():
+    hi, lo = np.arange(10.0) + 100.0, np.arange(10.0)
+    win = probability_of_improvement(hi, lo)
+    assert win["p"] == 1.0 and win["ci"] == [1.0, 1.0]
+    assert win["p_value"] == pytest.approx(2 / math.comb(20, 10))  # exact two-sided: 2 of C(20, 10) orders
+    assert probability_of_improvement(lo, hi)["p"] == 0.0
+    same = probability_of_improvement(lo, lo)
+    assert same["p"] == 0.5 and same["p_value"] == pytest.approx(1.0)
+    assert same["ci"][0] < 0.5 < same["ci"][1]  # the interval of no difference straddles 0.5
+    ties = probability_of_improvement([1.0, 1.0], [1.0, 1.0, 1.0])
+    assert ties["p"] == 0.5 and ties["ci"] == [0.5, 0.5]
+    # one overlap: x = (1, 3), y = (2,): pairs 1 < 2, 3 > 2 -> 1/2; x = (2, 3) vs (1, 2): 3.5 / 4
+    assert probability_of_improvement([2.0, 3.0], [1.0, 2.0])["p"] == 0.875
+    p = probability_of_improvement([2.0, 3.0, 5.0], [1.0, 4.0])
+    assert p["p"] == pytest.approx(4 / 6) and p["ci"][0] <= p["p"] <= p["ci"][1]
+
+
+def test_performance_profile_and_band():
+    v = [1.0, 2.0, 3.0, 4.0]
+    np.testing.assert_array_equal(performance_profile(v, [0.0, 1.0, 2.5, 4.0]), [1.0, 0.75, 0.5, 0.0])
+    prof, lo, hi = profile_band(v, [0.0, 2.5, 5.0])
+    np.testing.assert_array_equal(prof, [1.0, 0.5, 0.0])
+    assert (lo <= prof).all() and (prof <= hi).all()
+    assert lo[0] == hi[0] == 1.0 and lo[2] == hi[2] == 0.0  # every resample is above 0 and below 5
+    assert lo[1] < 0.5 < hi[1]
+    prof, lo, hi = profile_band([3.0], [2.0, 4.0])
+    np.testing.assert_array_equal(np.stack([prof, lo, hi]), [[1.0, 0.0]] * 3)
+
+
+def test_profile_figure_is_written(tmp_path):
+    out = plot_performance_profile({"shaped": [200.0, 210.0, -25.0], "vanilla": [190.0, -25.0, 230.0],
+                                    "mystery": [5.0]}, tmp_path / "f" / "profile.png", threshold=200.0,
+                                   title="CarNav-v0: final test reward profile (3 seeds per method)")
+    assert out == tmp_path / "f" / "profile.png" and out.stat().st_size > 10_000

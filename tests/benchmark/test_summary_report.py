@@ -60,16 +60,60 @@ def test_summary_values(runs):
     assert van["final_test_reward_ci"] == pytest.approx([5.0 - half, 5.0 + half])
     assert cma["final_test_reward_ci"] == [2.0, 2.0]  # identical seeds: zero width
     assert ours["final_test_reward_ci"] is None  # one seed: no interval
-    # target: best baseline (not 'shaped') final mean = vanilla's 5.0
-    assert s["target"] == {"value": 5.0, "method": "vanilla", "reference": "shaped"}
-    assert ours["generations_to_target"] == 1.0 and ours["reached_target"] == "1/1"
-    assert van["generations_to_target"] == 3.0 and van["reached_target"] == "1/2"  # seed 1 jumps to 6 at gen 3
-    assert van["wall_time_to_target_s"] == 3.0 and van["env_steps_to_target"] == 300.0
-    assert cma["generations_to_target"] is None and cma["reached_target"] == "0/2"
+    assert van["final_test_reward_iqm"] == 5.0 and 4.0 <= van["final_test_reward_iqm_ci"][0] <= 5.0
+    assert cma["final_test_reward_iqm_ci"] == [2.0, 2.0] and ours["final_test_reward_iqm_ci"] is None
+    # CartPole has no default threshold: the best baseline's (not 'shaped') final mean = vanilla's 5.0
+    assert s["threshold"] == {"value": 5.0, "method": "vanilla", "reference": "shaped",
+                              "source": "best baseline's final mean test reward"}
+    assert s["budget_generations"] == 3  # the longest run
+    assert ours["success_rate"] == 1.0 and ours["to_threshold"]["generations"]["per_seed"] == [1.0]
+    assert van["successes"] == 1 and van["success_rate"] == 0.5  # seed 1 jumps to 6 at gen 3
+    tt = van["to_threshold"]
+    assert tt["reached"] == [False, True]
+    assert tt["generations"] == {"mean": 3.5, "median": 3.5, "per_seed": [4.0, 3.0]}  # seed 0 censored: 3 + 1
+    assert tt["wall_time_s"]["per_seed"] == [3.0, 3.0] and tt["env_steps"]["per_seed"] == [300.0, 300.0]
+    assert cma["success_rate"] == 0.0 and cma["to_threshold"]["generations"]["median"] == 4.0
+    assert cma["to_threshold"]["wall_time_s"]["mean"] == 6.0  # censored at the whole run's wall time
     assert cma["wall_time_s"] == 6.0 and cma["cpu_time_s"] == 12.0 and cma["env_steps"] == 300.0
     assert ours["time_split_s"] == pytest.approx({"gen_time_s": 3.0, "rollout_time_s": 1.5, "time_mphi_s": 0.3})
     assert ours["final_mphi_test_loss"] == 0.5
+    poi = s["probability_of_improvement"]
+    assert poi["vanilla"]["cmaes"]["p"] == 1.0 and poi["vanilla"]["cmaes"]["ci"] == [1.0, 1.0]
+    assert poi["cmaes"]["vanilla"]["p"] == 0.0 and poi["shaped"]["vanilla"]["p"] == 1.0
+    assert poi["shaped"]["vanilla"]["ci"] is None  # one shaped seed: no interval
+    assert set(poi["shaped"]) == {"vanilla", "cmaes"}
     json.dumps(s, allow_nan=False)  # NaN-free
+
+
+def test_threshold_and_budget(runs):
+    from shaped_es.benchmark.summary import load_runs
+
+    groups, _ = group_runs(runs)
+    metrics = {k: load_runs(v) for k, v in groups.items()}
+    s = summarize(metrics, threshold=2.0, budget=10)
+    assert s["threshold"] == {"value": 2.0, "source": "--threshold"}
+    van, cma = s["methods"]["vanilla"], s["methods"]["cmaes"]
+    assert van["to_threshold"]["generations"]["per_seed"] == [2.0, 3.0]  # seed 1 not evaluated at gen 2
+    assert cma["successes"] == 2 and cma["to_threshold"]["env_steps"]["mean"] == 300.0
+    s = summarize(metrics, threshold=6.5, budget=10)
+    assert s["methods"]["vanilla"]["to_threshold"]["generations"] == {"mean": 11.0, "median": 11.0,
+                                                                       "per_seed": [11.0, 11.0]}
+    assert s["methods"]["shaped"]["to_threshold"]["generations"]["per_seed"] == [3.0]
+
+
+@pytest.mark.parametrize("env, kwargs, value", [
+    ("CarNav-v0", {}, 200.0), ("shaped_es:CarNav-v0", {"waypoint_spacing": 15.0}, 200.0),
+    ("UR5Reach-v0", {"preset": "default"}, 40.0),
+    ("CarNav-v0", {"preset": "paper"}, 5.0), ("UR5Reach-v0", {"max_steps": 400}, 5.0),  # rescaled: fallback
+])
+def test_env_default_thresholds(runs, env, kwargs, value):
+    from shaped_es.benchmark.summary import load_runs
+
+    groups, _ = group_runs(runs)
+    cfg = build_config({"env": env, "method": "vanilla", "env_kwargs": kwargs})
+    s = summarize({k: load_runs(v) for k, v in groups.items()}, config=cfg)
+    assert s["threshold"]["value"] == value
+    assert ("default" in s["threshold"]["source"]) == (value != 5.0)
 
 
 def test_summary_cut_to_generations(runs):
@@ -83,16 +127,25 @@ def test_summary_cut_to_generations(runs):
 
 def test_report_files(runs, tmp_path):
     groups, configs = group_runs(runs)
-    out = write_report(tmp_path / "rep" / "report.md", groups, configs)
+    out = write_report(tmp_path / "rep" / "report.md", groups, configs, threshold=2.0)
     md = (tmp_path / "rep" / "report.md").read_text()
     assert (tmp_path / "rep" / "figures" / "fig4_test_reward.png").stat().st_size > 10_000
     assert out["fig5"] and (tmp_path / "rep" / "figures" / "fig5_mphi_loss.png").is_file()
+    assert out["profile"] and (tmp_path / "rep" / "figures" / "profile_final_reward.png").stat().st_size > 10_000
     assert "![Fig. 5](figures/fig5_mphi_loss.png)" in md
-    assert "| vanilla | 2 | 5.00 ± " in md
+    assert "![Performance profile](figures/profile_final_reward.png)" in md
+    assert "| vanilla | 2 | 5.00 [" in md  # IQM and its interval
+    assert "5.00 ± " in md
+    assert "| vanilla | 2 | 2/2 (100%) | 2.5 / 2.5 |" in md  # success, generations to 2.0
+    assert "| vanilla | – | 1.00 [1.00, 1.00] | 0.00 – |" in md  # P(row > column); 1 shaped seed: no CI
+    assert "| cmaes | 0.00 [0.00, 0.00] | – |" in md
+    assert "no pair does" in md  # 2 seeds a side: the interval is [1, 1] but Mann-Whitney p = 0.22
+    assert "test reward >= 2.00 (--threshold)" in md and "3 + 1 = 4 generations" in md
     assert "time_mphi_s" in md
     summary = json.loads((tmp_path / "rep" / "summary.json").read_text())
     assert set(summary["methods"]) == {"vanilla", "cmaes", "shaped"}
     assert summary["figures"]["fig4"] == "figures/fig4_test_reward.png"
+    assert summary["figures"]["profile"] == "figures/profile_final_reward.png"
 
 
 def test_report_without_mphi_columns_notes_it(runs, tmp_path):
@@ -102,3 +155,23 @@ def test_report_without_mphi_columns_notes_it(runs, tmp_path):
     md = (tmp_path / "rep" / "report.md").read_text()
     assert "_Not drawn: no run logs `mphi_train_loss`" in md
     assert not (tmp_path / "rep" / "figures" / "fig5_mphi_loss.png").exists()
+
+
+def test_report_says_which_method_beats_which(tmp_path):
+    """6 seeds a side, every vanilla seed above every cmaes seed: P = 1 [1, 1], exact Mann-Whitney
+    p = 2 / C(12, 6) = 0.0022 -> 'vanilla > cmaes'; the reverse and identical methods are not verdicts."""
+    dirs = [make_run(tmp_path / f"v{s}", "vanilla", s, [0.0, 10.0 + s]) for s in range(6)]
+    dirs += [make_run(tmp_path / f"c{s}", "cmaes", s, [0.0, float(s)]) for s in range(6)]
+    dirs += [make_run(tmp_path / f"g{s}", "guided", s, [0.0, float(s)]) for s in range(6)]
+    groups, configs = group_runs(dirs)
+    write_report(tmp_path / "rep" / "report.md", groups, configs)
+    md = (tmp_path / "rep" / "report.md").read_text()
+    s = json.loads((tmp_path / "rep" / "summary.json").read_text())
+    poi = s["probability_of_improvement"]
+    assert poi["vanilla"]["cmaes"]["p_value"] == pytest.approx(2 / 924)
+    assert poi["cmaes"]["guided"]["p"] == 0.5 and poi["cmaes"]["guided"]["p_value"] == pytest.approx(1.0)
+    assert "vanilla > cmaes (P = 1.00, Mann-Whitney p = 0.002)" in md
+    assert "vanilla > guided" in md and "cmaes > guided" not in md and "cmaes > vanilla" not in md
+    # threshold = best baseline final mean (no 'shaped'): vanilla's 12.5; 3 of its 6 seeds reach it
+    assert s["threshold"]["value"] == 12.5 and s["methods"]["vanilla"]["successes"] == 3
+    assert s["methods"]["cmaes"]["to_threshold"]["generations"]["per_seed"] == [3.0] * 6  # budget 2 + 1

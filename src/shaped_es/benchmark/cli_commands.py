@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+from dataclasses import fields
 from pathlib import Path
 
 DEFAULT_METHODS = "shaped,vanilla,cmaes,ppo"
@@ -21,7 +23,8 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     b = sub.add_parser("benchmark", help="run every (method, seed), then write summary.json and report.md")
     b.add_argument("--env", required=True, help="Gymnasium id, e.g. CarNav-v0 or Pendulum-v1")
     b.add_argument("--methods", default=DEFAULT_METHODS, help=f"comma-separated (default {DEFAULT_METHODS})")
-    b.add_argument("--seeds", type=int, default=3, help="number of seeds per method (seeds FIRST..FIRST+N-1)")
+    b.add_argument("--seeds", type=int, default=10,
+                   help="number of seeds per method (seeds FIRST..FIRST+N-1; default 10)")
     b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
     b.add_argument("--generations", type=int, help="generations per run (default: the config's)")
     b.add_argument("--out", required=True, help="benchmark directory (rerun to skip finished runs)")
@@ -35,9 +38,23 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
                    help="ablation: waypoint_spacing x 10 (paper: planner resolution / 10)")
     b.add_argument("--alpha", type=float, help="ablation: es.alpha, Guided-ES isotropic share (paper 0.6)")
     b.add_argument("--eta", type=float, help="ablation: shaping.eta, surrogate normalization (paper 0.01)")
+    _add_threshold(b)
     b.add_argument("--quiet", action="store_true", help="no per-run progress display")
     b.set_defaults(fn=cmd_benchmark)
     return b
+
+
+def _add_threshold(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--threshold", type=float,
+                   help="success threshold on the test reward (default: CarNav-v0 200, UR5Reach-v0 40, "
+                        "other envs the best baseline's final mean)")
+
+
+def _check_threshold(threshold: float | None) -> None:
+    from shaped_es.config import ConfigError
+
+    if threshold is not None and not math.isfinite(threshold):
+        raise ConfigError(f"--threshold must be a finite number, got {threshold}")
 
 
 def cmd_benchmark(a: argparse.Namespace) -> int:
@@ -55,14 +72,35 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     overrides.update(_parse_set(a.set))
     generations = a.generations if a.generations is not None else base.get(
         "generations", RunConfig.model_fields["generations"].default)
+    _check_threshold(a.threshold)
+    # a runner whose BenchmarkSpec carries the threshold reports with it; an older one reports with the
+    # default threshold, and the report is then rewritten with --threshold (figures drawn twice)
+    native = "threshold" in {f.name for f in fields(BenchmarkSpec)}
+    threshold = {"threshold": a.threshold} if native else {}
     spec = BenchmarkSpec(
         env=a.env, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),
         seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=int(generations), base=base,
-        overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
+        overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta, **threshold,
     )
     res = run_benchmark(spec, a.out, progress=not a.quiet)
-    print(json.dumps({k: res[k] for k in ("report", "summary", "fig4", "fig5")}))
+    if a.threshold is not None and not native:
+        res = _rewrite_report(spec, Path(a.out), a.threshold)
+    print(json.dumps({k: res.get(k) for k in ("report", "summary", "fig4", "profile", "fig5")}))
     return 0
+
+
+def _rewrite_report(spec, out: Path, threshold: float) -> dict:
+    """The benchmark's report again, with ``threshold`` (the invocation record kept from the first)."""
+    from shaped_es.benchmark.markdown import write_report
+    from shaped_es.benchmark.runner import run_configs, run_name
+
+    cfgs = run_configs(spec)
+    old = json.loads((out / "summary.json").read_text())
+    groups = {m: [out / "runs" / run_name(m, s) for s in spec.seeds] for m in spec.methods}
+    configs = {m: cfgs[run_name(m, spec.seeds[0])] for m in spec.methods}
+    extra = {k: old[k] for k in ("benchmark", "this_invocation") if k in old}
+    return write_report(out / "report.md", groups, configs, generations=spec.generations,
+                        title=f"Benchmark on {spec.env}", extra=extra, threshold=threshold)
 
 
 # -- report ----------------------------------------------------------------------------------------------
@@ -72,6 +110,7 @@ def add_report_parser(sub) -> argparse.ArgumentParser:
     r.add_argument("--out", default="report.png",
                    help="a figure (.png/.pdf/.svg: Fig. 4 there, Fig. 5 beside it) or a .md report")
     r.add_argument("--title", default="", help="figure / report title")
+    _add_threshold(r)
     r.set_defaults(fn=cmd_report)
     return r
 
@@ -88,23 +127,26 @@ def expand_run_dirs(paths: list[str]) -> list[Path]:
 
 
 def cmd_report(a: argparse.Namespace) -> int:
-    from shaped_es.benchmark.markdown import write_report
-    from shaped_es.benchmark.summary import group_runs, load_runs
+    from shaped_es.benchmark.markdown import draw_figures, write_report
+    from shaped_es.benchmark.summary import group_runs, load_runs, summarize
     from shaped_es.config import ConfigError
-    from shaped_es.report.figures import plot_mphi_losses, plot_reward_bands
 
+    _check_threshold(a.threshold)
     groups, configs = group_runs(expand_run_dirs(a.run_dirs))
     out = Path(a.out)
     suffix = out.suffix.lower()
     if suffix == ".md":
-        print(json.dumps(write_report(out, groups, configs, title=a.title)))
+        print(json.dumps(write_report(out, groups, configs, title=a.title, threshold=a.threshold)))
         return 0
     if suffix not in FIGURE_SUFFIXES:
         raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
     metrics = {k: load_runs(dirs) for k, dirs in groups.items()}
-    fig4 = plot_reward_bands(metrics, out, title=a.title)
-    fig5 = plot_mphi_losses(metrics, out.with_name(f"{out.stem}_mphi{out.suffix}"), title=a.title)
-    print(json.dumps({"fig4": str(fig4), "fig5": str(fig5) if fig5 else None}))
+    first = next(iter(configs.values()))
+    summary = summarize(metrics, threshold=a.threshold, config=first)
+    figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
+                                           "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
+                        first.env, a.title)
+    print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
     return 0
 
 

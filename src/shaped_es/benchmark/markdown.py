@@ -1,4 +1,5 @@
-"""The benchmark report: figures (Fig. 4, Fig. 5), ``summary.json`` and a Markdown page beside them.
+"""The benchmark report: figures (Fig. 4, Fig. 5, the performance profile), ``summary.json`` and a
+Markdown page beside them.
 
 ``write_report`` works on any run directories grouped by method, so ``shaped-es benchmark`` and
 ``shaped-es report RUN... --out report.md`` produce the same page.
@@ -13,10 +14,12 @@ from pathlib import Path
 
 from shaped_es.benchmark.summary import load_runs, method_settings, summarize
 from shaped_es.config import RunConfig
-from shaped_es.report.figures import plot_mphi_losses, plot_reward_bands
+from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
+from shaped_es.report.style import figure_title
 from shaped_es.store import atomic_write_text
 
-FIG4, FIG5 = "fig4_test_reward.png", "fig5_mphi_loss.png"
+MPHI_COLUMNS = ("mphi_train_loss", "mphi_test_loss")
+FIG4, FIG5, PROFILE = "fig4_test_reward.png", "fig5_mphi_loss.png", "profile_final_reward.png"
 
 
 def _num(v, digits: int = 2) -> str:
@@ -34,6 +37,20 @@ def _reward(s: dict) -> str:
     return f"{_num(mean)} ± {_num((ci[1] - ci[0]) / 2)}"
 
 
+def _interval(ci, digits: int = 2) -> str:
+    return f"[{_num(ci[0], digits)}, {_num(ci[1], digits)}]" if ci else "–"
+
+
+def _censored(d: dict, digits: int = 1) -> str:
+    return f"{_num(d['mean'], digits)} / {_num(d['median'], digits)}"
+
+
+def beats(poi: dict, alpha: float = 0.05) -> bool:
+    """X beats Y: P(X > Y)'s bootstrap interval lies above 0.5 and the Mann-Whitney p-value < alpha."""
+    ci, p = poi.get("ci"), poi.get("p_value")
+    return bool(ci and ci[0] > 0.5 and p is not None and p < alpha)
+
+
 def _table(header: list[str], rows: list[list[str]]) -> list[str]:
     return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header),
             *["| " + " | ".join(r) + " |" for r in rows]]
@@ -41,35 +58,70 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
 
 def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[str, list[str]],
                     settings: dict[str, dict], title: str) -> str:
-    level, target, methods = summary["ci_level"], summary["target"], summary["methods"]
+    level, thr, methods = summary["ci_level"], summary["threshold"], summary["methods"]
+    budget, poi = summary["budget_generations"], summary["probability_of_improvement"]
     out = [f"# {title}", ""]
     seeds = ", ".join(f"{k} {v['seeds']}" for k, v in methods.items())
-    out += [f"Methods: {', '.join(methods)}; seeds per method: {seeds}. "
-            f"Intervals: {level:.0%} Student-t over seeds.", ""]
-    out += ["## Fig. 4: test reward vs generation, CPU time and wall time", "",
+    out += [f"Methods: {', '.join(methods)}; seeds per method: {seeds}. Intervals: {level:.0%}; Student-t "
+            f"over seeds for means and curves, percentile bootstrap ({summary['bootstrap']['resamples']} "
+            "resamples, each method's seeds resampled on their own) for the IQM and the probability of "
+            "improvement.", ""]
+    out += ["## Fig. 4: test reward vs generation, env steps, CPU time and wall time", "",
             "Mean across seeds of the test reward (ES: the generation's best member over the test episodes; "
-            "PPO: the deterministic policy on the same test seeds), band: confidence interval; on the time "
-            "panels a seed that finished sooner keeps its final reward up to the slowest seed's end.", "", f"![Fig. 4]({figures['fig4']})", ""]
+            "PPO: the deterministic policy on the same test seeds), band: confidence interval; on the cost "
+            "panels a seed that finished sooner keeps its final reward up to the longest seed's end.", "",
+            f"![Fig. 4]({figures['fig4']})", ""]
+    out += ["## Performance profile of the final test reward", "",
+            "Fraction of seeds whose final test reward exceeds tau, per method (band: pointwise bootstrap "
+            f"{level:.0%} interval; dashed line: the success threshold). A curve above another everywhere "
+            "is better at every level of performance.", "", f"![Performance profile]({figures['profile']})", ""]
     out += ["## Fig. 5: inverse-dynamics model loss", ""]
     if figures.get("fig5"):
-        out += ["M_phi train loss and test loss vs its training iterations (mean over seeds, CI band).", "",
-                f"![Fig. 5]({figures['fig5']})", ""]
+        out += ["M_phi train loss (solid) and test loss (dashed) vs its training iterations (mean over seeds, "
+                "CI band).", "", f"![Fig. 5]({figures['fig5']})", ""]
     else:
         out += ["_Not drawn: no run logs `mphi_train_loss` / `mphi_test_loss` (the shaped method's "
                 "columns)._", ""]
-    ref = f" (reference method: {target['reference']})" if target.get("reference") else ""
-    out += ["## Results per method", "",
-            f"Target: the best baseline's final test reward, {_num(target['value'])} "
-            f"({target['method']}){ref}. 'to target': first evaluation reaching it, mean over the seeds "
-            "that did.", ""]
-    header = ["method", "seeds", f"final test reward (± {level:.0%} CI)", "best test reward", "reached",
-              "generations to target", "wall time to target (s)", "env steps to target", "generations",
-              "env steps", "CPU time (s)", "wall time (s)"]
-    rows = [[k, str(s["seeds"]), _reward(s), _num(s["best_test_reward_mean"]), s["reached_target"],
-             _num(s["generations_to_target"], 1), _num(s["wall_time_to_target_s"], 1),
-             _num(s["env_steps_to_target"], 0), _num(s["generations"], 0), _num(s["env_steps"], 0),
+    src = thr.get("source", "")
+    if thr.get("method"):
+        src += f", {thr['method']}" + (f"; reference method {thr['reference']}" if thr.get("reference") else "")
+    out += ["## Success and cost to the threshold", "",
+            f"Threshold: test reward >= {_num(thr['value'])} ({src}). A seed succeeds if any of its test "
+            f"evaluations reaches it. Costs to the threshold are each seed's first evaluation reaching it, "
+            f"**censored**: a seed that never does counts as {budget} + 1 = {budget + 1} generations (the "
+            "budget + 1) and as its whole run's wall time and env steps, so the mean / median over all "
+            "seeds are lower bounds when seeds are censored (the median is exact while under half are).", ""]
+    header = ["method", "seeds", "success", "generations to threshold (mean / median)",
+              "wall time to threshold (s, mean / median)", "env steps to threshold (mean / median)"]
+    rows = [[k, str(s["seeds"]), f"{s['successes']}/{s['seeds']} ({_num(s['success_rate'] * 100, 0)}%)",
+             _censored(s["to_threshold"]["generations"]), _censored(s["to_threshold"]["wall_time_s"]),
+             _censored(s["to_threshold"]["env_steps"], 0)] for k, s in methods.items()]
+    out += [*_table(header, rows), ""]
+    out += ["## Final test reward and cost per run", "",
+            "IQM: interquartile mean of the seeds' final test rewards (mean of the middle 50%), robust to a "
+            "stray seed; mean ± the Student-t half width. Costs: a whole run, mean over seeds.", ""]
+    header = ["method", "seeds", f"final reward IQM [{level:.0%} CI]", f"final reward mean (± {level:.0%} CI)",
+              "best test reward", "generations", "env steps", "CPU time (s)", "wall time (s)"]
+    rows = [[k, str(s["seeds"]), f"{_num(s['final_test_reward_iqm'])} {_interval(s['final_test_reward_iqm_ci'])}",
+             _reward(s), _num(s["best_test_reward_mean"]), _num(s["generations"], 0), _num(s["env_steps"], 0),
              _num(s["cpu_time_s"], 1), _num(s["wall_time_s"], 1)] for k, s in methods.items()]
     out += [*_table(header, rows), ""]
+    if len(methods) > 1:
+        out += ["## Probability of improvement", "",
+                "Row X, column Y: P(X > Y), the chance that a random seed of X ends with a higher final test "
+                f"reward than a random seed of Y (ties count half; Mann-Whitney U / (n_X n_Y)), with its "
+                f"{level:.0%} bootstrap interval. 0.5 is no difference.", ""]
+        names = list(methods)
+        rows = [[x, *["–" if x == y else f"{_num(poi[x][y]['p'])} {_interval(poi[x][y]['ci'])}" for y in names]]
+                for x in names]
+        out += [*_table(["P(row > column)", *names], rows), ""]
+        alpha = 1.0 - level
+        wins = [f"{x} > {y} (P = {_num(poi[x][y]['p'])}, Mann-Whitney p = {_num(poi[x][y]['p_value'], 3)})"
+                for x in names for y in names if x != y and beats(poi[x][y], alpha)]
+        rule = (f"X beats Y when the interval lies above 0.5 and the two-sided Mann-Whitney test rejects "
+                f"equal distributions at p < {alpha:g} (with 3 seeds a side the smallest possible p is 0.1)")
+        out += [(f"{rule}: " + "; ".join(wins) + ".") if wins else
+                f"{rule}: no pair does, so these seeds show no method beating another.", ""]
     phases = sorted({p for s in methods.values() for p in s["time_split_s"]})
     if phases:
         out += ["## Time per phase", "", "Seconds per run summed over generations, mean over seeds "
@@ -88,19 +140,40 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
     return "\n".join(out)
 
 
+def draw_figures(metrics: dict[str, list], summary: dict, paths: dict[str, Path], env: str, title: str = "",
+                 level: float = 0.95) -> dict[str, Path | None]:
+    """Fig. 4, the performance profile and Fig. 5 (None if no run logs M_phi losses) at ``paths``."""
+    finals = {k: s["final_test_reward_per_seed"] for k, s in summary["methods"].items()}
+    thr = summary["threshold"]["value"]
+    with_mphi = {k: rs for k, rs in metrics.items() if any(c in m for m in rs for c in MPHI_COLUMNS)}
+    return {
+        "fig4": plot_reward_bands(metrics, paths["fig4"], level=level,
+                                  title=figure_title("test reward", env, metrics, title)),
+        "profile": plot_performance_profile(finals, paths["profile"], level=level, threshold=thr,
+                                            title=figure_title("final test reward profile", env, metrics, title)),
+        "fig5": plot_mphi_losses(metrics, paths["fig5"], level=level,
+                                 title=figure_title("M_phi loss", env, with_mphi, title)),
+    }
+
+
 def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dict[str, RunConfig],
                  generations: int | None = None, title: str = "", level: float = 0.95,
-                 summary_path: str | Path | None = None, extra: dict | None = None) -> dict:
-    """Draw the figures into ``<out_md dir>/figures/``, write ``summary.json`` and the Markdown report."""
+                 summary_path: str | Path | None = None, extra: dict | None = None,
+                 threshold: float | None = None) -> dict:
+    """Draw the figures into ``<out_md dir>/figures/``, write ``summary.json`` and the Markdown report.
+
+    ``threshold``: the success threshold (default: the env's, else the best baseline's final mean);
+    ``generations``: the budget (runs are cut to it; censored seeds count as ``generations + 1``)."""
     out_md = Path(out_md)
     root = out_md.parent
     metrics = {k: load_runs(dirs, generations) for k, dirs in groups.items()}
-    env = next(iter(configs.values())).env if configs else ""
+    first = next(iter(configs.values()), None)
+    env = first.env if first else ""
     title = title or f"Benchmark on {env}"
-    summary = {**(extra or {}), **summarize(metrics, level)}
-    fig4 = plot_reward_bands(metrics, root / "figures" / FIG4, title=title, level=level)
-    fig5 = plot_mphi_losses(metrics, root / "figures" / FIG5, title=f"{env}: M_phi loss", level=level)
-    rel = {"fig4": fig4.relative_to(root).as_posix(), "fig5": fig5.relative_to(root).as_posix() if fig5 else None}
+    summary = {**(extra or {}), **summarize(metrics, level, threshold=threshold, budget=generations, config=first)}
+    figs = draw_figures(metrics, summary, {"fig4": root / "figures" / FIG4, "fig5": root / "figures" / FIG5,
+                                           "profile": root / "figures" / PROFILE}, env, title, level)
+    rel = {k: f.relative_to(root).as_posix() if f else None for k, f in figs.items()}
     runs = {k: [_rel(d, root) for d in dirs] for k, dirs in groups.items()}
     summary["figures"] = rel
     summary["runs"] = runs
@@ -112,8 +185,8 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
     summary_path = Path(summary_path) if summary_path else root / "summary.json"
     atomic_write_text(summary_path, json.dumps(summary, indent=2))
     atomic_write_text(out_md, render_markdown(summary, rel, runs, summary["settings"], title))
-    return {"report": str(out_md), "summary": str(summary_path), "fig4": str(fig4),
-            "fig5": str(fig5) if fig5 else None}
+    return {"report": str(out_md), "summary": str(summary_path),
+            **{k: str(f) if f else None for k, f in figs.items()}}
 
 
 def _rel(d: Path, root: Path) -> str:

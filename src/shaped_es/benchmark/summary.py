@@ -1,16 +1,25 @@
 """Across-seed summary of runs grouped by method (``summary.json`` of a benchmark).
 
-Per method (seeds pooled; intervals are Student-t, ``report/stats.py``):
+Per method, over its seeds:
 
-- ``final_test_reward_mean`` / ``final_test_reward_ci`` ([lo, hi]): the last test evaluation of each seed
-  (ES: the generation's best member over the test episodes; PPO: its deterministic policy);
-- ``generations_to_target``, ``wall_time_to_target_s``, ``cpu_time_to_target_s``, ``env_steps_to_target``:
-  mean over the seeds that reached the target of the first evaluation with a test reward >= target,
-  where target = the best final mean among the baselines (every method but ``shaped``; without
-  ``shaped`` in the set: the best final mean of all), ``reached_target`` = how many seeds did;
+- ``final_test_reward_mean`` / ``final_test_reward_ci`` ([lo, hi], Student-t) and
+  ``final_test_reward_iqm`` / ``final_test_reward_iqm_ci`` (interquartile mean, percentile-bootstrap
+  interval; ``report/aggregate.py``) of each seed's last test evaluation (ES: the generation's best member
+  over the test episodes; PPO: its deterministic policy);
+- ``success_rate`` / ``successes``: the seeds whose test reward reached the threshold at some evaluation;
+- ``to_threshold``: ``generations``, ``wall_time_s``, ``cpu_time_s``, ``env_steps`` at each seed's first
+  evaluation with test reward >= threshold, **censored**: a seed that never reaches it counts as
+  ``budget + 1`` generations and as its whole run's wall time / CPU time / env steps (lower bounds), so
+  the ``mean`` and ``median`` over all seeds are censored statistics (the median is exact while fewer
+  than half the seeds are censored); ``per_seed`` and ``reached`` list each seed;
 - ``wall_time_s``, ``cpu_time_s``, ``env_steps``, ``generations``: cost of a whole run, mean over seeds;
 - ``time_split_s``: per-phase seconds (``gen_time_s``, ``rollout_time_s`` and every ``time_*_s``
   column) summed over a run's generations, mean over seeds.
+
+Across methods: ``threshold`` (value and where it comes from: ``--threshold``, the env's default in
+``DEFAULT_THRESHOLDS``, else the best baseline's final mean), ``budget_generations``, and
+``probability_of_improvement[X][Y]``: P(final reward of a seed of X > one of Y) with a bootstrap
+interval and the Mann-Whitney p-value.
 """
 
 from __future__ import annotations
@@ -22,14 +31,27 @@ from pathlib import Path
 import numpy as np
 
 from shaped_es.config import RunConfig
+from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement
 from shaped_es.report.plots import load_metrics
 from shaped_es.report.stats import t_interval
 from shaped_es.store import RunStore, StoreError
 
 Metrics = dict[str, np.ndarray]
-REFERENCE = "shaped"  # the paper's method: the target is the best of the *other* methods
+REFERENCE = "shaped"  # the paper's method: the fallback threshold is the best of the *other* methods
 PHASE_COLUMN = re.compile(r"^(time_.+_s|gen_time_s|rollout_time_s)$")
-
+COST_COLUMNS = ("wall_time_s", "cpu_time_s", "env_steps")
+# Success thresholds of the built-in envs at their default reward scale (any preset or env setting that
+# rescales the reward, e.g. preset=paper or max_steps, falls back to the best baseline's final mean):
+# - CarNav-v0: +M/H per route waypoint, M = 250 over the whole route, -0.1 a step: 200 = the route
+#   driven to (nearly) its end; stalling or crashing scores about -25 (docs/benchmarks/carnav).
+# - UR5Reach-v0: +1 per Bezier waypoint (M = H = 100), -0.1 a step, -50 on a collision: 40 = half the
+#   path followed without a collision (the hand-written follower scores 90, standing still about -4);
+#   in docs/benchmarks/ur5 the final rewards of 3 seeds x 3 methods spread 9.6-61.9 and 7 of 9 end above it.
+DEFAULT_THRESHOLDS = {
+    "CarNav-v0": (200.0, "CarNav-v0 default: the route driven"),
+    "UR5Reach-v0": (40.0, "UR5Reach-v0 default: half the Bezier path followed without a collision"),
+}
+REWARD_SCALE_KEYS = ("preset", "max_steps", "num_waypoints", "step_penalty", "collision_penalty")
 
 def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
     """Run directories grouped by the method in their ``config.yaml`` (first-seen order), and one config
@@ -64,17 +86,32 @@ def last_finite(v: np.ndarray) -> float:
     return float(v[ok[-1]]) if ok.size else math.nan
 
 
-def first_reach(m: Metrics, target: float) -> dict | None:
-    """Costs at the first test evaluation reaching ``target`` (None if never)."""
+def first_reach(m: Metrics, threshold: float) -> dict | None:
+    """Costs at the first test evaluation reaching ``threshold`` (None if never)."""
     test = m.get("test_reward_mean")
-    if test is None or not math.isfinite(target):
+    if test is None or not math.isfinite(threshold):
         return None
-    hit = np.flatnonzero(np.isfinite(test) & (test >= target))
+    hit = np.flatnonzero(np.isfinite(test) & (test >= threshold))
     if not hit.size:
         return None
     i = int(hit[0])
-    return {"generations": float(m["generation"][i] + 1), "wall_time_s": float(m["wall_time_s"][i]),
-            "cpu_time_s": float(m["cpu_time_s"][i]), "env_steps": float(m["env_steps"][i])}
+    return {"generations": float(m["generation"][i] + 1),
+            **{k: float(m[k][i]) if k in m else math.nan for k in COST_COLUMNS}}
+
+
+def time_to_threshold(runs: list[Metrics], threshold: float, budget: int) -> dict:
+    """Per cost, each seed's cost to the first evaluation >= ``threshold``, censored at ``budget + 1``
+    generations (and the run's whole cost in the other units) for seeds that never reach it."""
+    hits = [first_reach(m, threshold) for m in runs]
+    out: dict = {"reached": [h is not None for h in hits]}
+    for key in ("generations", *COST_COLUMNS):
+        per_seed = [h[key] if h is not None else
+                    (float(budget + 1) if key == "generations" else last_finite(m.get(key, np.full(1, np.nan))))
+                    for h, m in zip(hits, runs)]
+        v = np.asarray([x for x in per_seed if math.isfinite(x)], dtype=np.float64)
+        out[key] = {"mean": float(v.mean()) if v.size else math.nan,
+                    "median": float(np.median(v)) if v.size else math.nan, "per_seed": per_seed}
+    return out
 
 
 def _mean(values) -> float:
@@ -86,23 +123,31 @@ def final_rewards(runs: list[Metrics]) -> list[float]:
     return [last_finite(m.get("test_reward_mean", np.full(1, np.nan))) for m in runs]
 
 
-def summarize_method(runs: list[Metrics], target: float, level: float) -> dict:
+def run_generations(m: Metrics) -> int:
+    g = m.get("generation")
+    return int(np.nanmax(g)) + 1 if g is not None and np.isfinite(g).any() else 0
+
+
+def summarize_method(runs: list[Metrics], threshold: float, budget: int, level: float,
+                     resamples: int = RESAMPLES) -> dict:
     finals = final_rewards(runs)
     mean, half = t_interval(finals, level)
-    reached = [r for r in (first_reach(m, target) for m in runs) if r is not None]
+    robust = iqm_with_ci(finals, level, resamples)
+    tt = time_to_threshold(runs, threshold, budget)
+    successes = int(sum(tt["reached"]))
     phases = sorted({k for m in runs for k in m if PHASE_COLUMN.match(k)})
     out = {
         "seeds": len(runs),
         "final_test_reward_mean": mean,
         "final_test_reward_ci": [mean - half, mean + half] if math.isfinite(half) else None,
+        "final_test_reward_iqm": robust["iqm"],
+        "final_test_reward_iqm_ci": robust["ci"],
         "final_test_reward_per_seed": finals,
         "best_test_reward_mean": _mean(last_finite(m["test_reward_best_so_far"]) for m in runs
                                        if "test_reward_best_so_far" in m),
-        "reached_target": f"{len(reached)}/{len(runs)}",
-        "generations_to_target": _mean(r["generations"] for r in reached),
-        "wall_time_to_target_s": _mean(r["wall_time_s"] for r in reached),
-        "cpu_time_to_target_s": _mean(r["cpu_time_s"] for r in reached),
-        "env_steps_to_target": _mean(r["env_steps"] for r in reached),
+        "successes": successes,
+        "success_rate": successes / len(runs) if runs else math.nan,
+        "to_threshold": tt,
         "generations": _mean(float(len(m["generation"])) for m in runs),
         "wall_time_s": _mean(last_finite(m["wall_time_s"]) for m in runs),
         "cpu_time_s": _mean(last_finite(m["cpu_time_s"]) for m in runs),
@@ -126,11 +171,46 @@ def pick_target(finals: dict[str, float], reference: str = REFERENCE) -> dict:
     return {"value": pool[best], "method": best, "reference": reference if reference in finals else None}
 
 
-def summarize(groups: dict[str, list[Metrics]], level: float = 0.95, reference: str = REFERENCE) -> dict:
+def env_threshold(cfg: RunConfig | None) -> tuple[float, str] | None:
+    """The env's default success threshold, if it has one at this config's reward scale."""
+    if cfg is None:
+        return None
+    env = cfg.env.rsplit(":", 1)[-1]
+    kwargs = cfg.env_kwargs or {}
+    rescaled = [k for k in REWARD_SCALE_KEYS if k in kwargs and not (k == "preset" and kwargs[k] == "default")]
+    return None if rescaled else DEFAULT_THRESHOLDS.get(env)
+
+
+def resolve_threshold(threshold: float | None, finals: dict[str, float], cfg: RunConfig | None = None,
+                      reference: str = REFERENCE) -> dict:
+    """{"value", "source", ...}: ``threshold`` if given, else the env's default, else the best baseline's
+    final mean test reward (then also ``method`` and ``reference``)."""
+    if threshold is not None:
+        return {"value": float(threshold), "source": "--threshold"}
+    default = env_threshold(cfg)
+    if default is not None:
+        return {"value": default[0], "source": default[1]}
+    return {**pick_target(finals, reference), "source": "best baseline's final mean test reward"}
+
+
+def summarize(groups: dict[str, list[Metrics]], level: float = 0.95, reference: str = REFERENCE,
+              threshold: float | None = None, budget: int | None = None, config: RunConfig | None = None,
+              resamples: int = RESAMPLES) -> dict:
+    """The summary of ``groups`` (method -> each seed's metrics). ``threshold``: see
+    ``resolve_threshold`` (``config``: any run's, for the env's default); ``budget``: generations per
+    run for the censoring (default: the longest run's)."""
     finals = {k: t_interval(final_rewards(runs), level)[0] for k, runs in groups.items()}
-    target = pick_target(finals, reference)
-    methods = {k: summarize_method(runs, target["value"], level) for k, runs in groups.items()}
-    return clean_json({"ci_level": level, "target": target, "methods": methods})
+    thr = resolve_threshold(threshold, finals, config, reference)
+    if budget is None:
+        budget = max((run_generations(m) for runs in groups.values() for m in runs), default=0)
+    methods = {k: summarize_method(runs, thr["value"], budget, level, resamples) for k, runs in groups.items()}
+    per_seed = {k: final_rewards(runs) for k, runs in groups.items()}
+    poi = {x: {y: probability_of_improvement(per_seed[x], per_seed[y], level, resamples)
+               for y in groups if y != x} for x in groups}
+    return clean_json({"ci_level": level, "threshold": thr, "budget_generations": budget,
+                       "bootstrap": {"method": "percentile, each method's seeds resampled on their own",
+                                     "resamples": resamples},
+                       "methods": methods, "probability_of_improvement": poi})
 
 
 def method_settings(cfg: RunConfig) -> dict:

@@ -10,6 +10,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+from shaped_es.report.style import method_color  # noqa: E402
 
 
 def load_metrics(run_dir: str | Path) -> dict[str, np.ndarray]:
@@ -31,18 +34,42 @@ def load_metrics(run_dir: str | Path) -> dict[str, np.ndarray]:
     return cols
 
 
+def run_identity(run_dir: str | Path) -> dict:
+    """``method``, ``env`` and ``seed`` from the run's ``config.yaml`` (missing keys: absent)."""
+    try:
+        cfg = yaml.safe_load((Path(run_dir) / "config.yaml").read_text()) or {}
+    except (OSError, yaml.YAMLError):
+        return {}
+    return {k: cfg[k] for k in ("method", "env", "seed") if isinstance(cfg, dict) and k in cfg}
+
+
+def run_title(run_dir: str | Path, title: str = "") -> str:
+    """'<method> on <env>, seed <seed>' from the run's config, after ``title`` unless ``title`` only
+    repeats the env or the method."""
+    ident = run_identity(run_dir)
+    parts = [ident.get("method"), f"on {ident['env']}" if "env" in ident else None,
+             f"seed {ident['seed']}" if "seed" in ident else None]
+    own = " ".join(p for p in parts[:2] if p) + (f", {parts[2]}" if parts[2] else "")
+    if not title or title in (ident.get("env"), ident.get("method")):
+        return own or title
+    return f"{title}: {own}" if own else title
+
+
 def plot_runs(runs: dict[str, str | Path], out: str | Path, title: str = "") -> Path:
     """One figure, three panels (the paper's Fig. 4 axes); one line per labelled run.
 
-    Solid: test reward of the best member (where evaluated); dotted: mean training reward.
+    Solid: test reward of the best member (where evaluated); dotted: mean training reward. A label that
+    names a method takes its fixed colour. One run: the title names its method, env and seed.
     """
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), sharey=True)
     xs = [("generation", "generation"), ("cpu_time_s", "CPU time (s)"), ("wall_time_s", "wall time (s)")]
+    if len(runs) == 1:
+        title = run_title(next(iter(runs.values())), title)
     for i, (label, run_dir) in enumerate(runs.items()):
         m = load_metrics(run_dir)
         if not m:
             continue
-        color = f"C{i}"
+        color = method_color(label, i)
         for ax, (key, xlabel) in zip(axes, xs):
             x = m[key] + (1 if key == "generation" else 0)
             test = m.get("test_reward_mean")

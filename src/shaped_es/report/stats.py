@@ -1,10 +1,9 @@
 """Across-seed statistics: Student-t confidence intervals and mean + CI bands of step-held curves.
 
-The t quantile is computed here (regularized incomplete beta by Lentz's continued fraction, Numerical
-Recipes 6.4, then bisection) so the package needs no SciPy:
-
-    F_t(t; nu) = 1 - I_{nu / (nu + t^2)}(nu / 2, 1 / 2) / 2        for t >= 0
     CI = mean +- t_{(1 + level) / 2, n - 1} * s / sqrt(n)          (s: sample std, ddof = 1)
+
+The t quantile is SciPy's (``scipy.stats.t.ppf``). Robust aggregates (IQM, bootstrap intervals,
+probability of improvement, performance profiles) live in ``aggregate.py``.
 """
 
 from __future__ import annotations
@@ -12,60 +11,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-
-def _betacf(a: float, b: float, x: float) -> float:
-    """Continued fraction of the incomplete beta function (modified Lentz)."""
-    tiny, eps = 1e-300, 1e-15
-    qab, qap, qam = a + b, a + 1.0, a - 1.0
-    c, d = 1.0, 1.0 - qab * x / qap
-    d = 1.0 / (d if abs(d) > tiny else tiny)
-    h = d
-    for m in range(1, 500):
-        m2 = 2 * m
-        for num in (m * (b - m) * x / ((qam + m2) * (a + m2)), -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2))):
-            d = 1.0 + num * d
-            d = 1.0 / (d if abs(d) > tiny else tiny)
-            c = 1.0 + num / c
-            c = c if abs(c) > tiny else tiny
-            h *= d * c
-        if abs(d * c - 1.0) < eps:
-            break
-    return h
-
-
-def betainc(a: float, b: float, x: float) -> float:
-    """Regularized incomplete beta I_x(a, b) for a, b > 0 and 0 <= x <= 1."""
-    if x <= 0.0:
-        return 0.0
-    if x >= 1.0:
-        return 1.0
-    ln_front = math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b) + a * math.log(x) + b * math.log1p(-x)
-    if x < (a + 1.0) / (a + b + 2.0):
-        return math.exp(ln_front) * _betacf(a, b, x) / a
-    return 1.0 - math.exp(ln_front) * _betacf(b, a, 1.0 - x) / b
-
-
-def student_t_cdf(t: float, df: float) -> float:
-    tail = 0.5 * betainc(df / 2.0, 0.5, df / (df + t * t))
-    return 1.0 - tail if t >= 0 else tail
+from scipy import stats as sps
 
 
 def student_t_ppf(q: float, df: float) -> float:
-    """Quantile of Student's t with ``df`` degrees of freedom (bisection on the CDF)."""
+    """Quantile of Student's t with ``df`` degrees of freedom."""
     if not 0.0 < q < 1.0:
         raise ValueError(f"quantile level must lie in (0, 1), got {q}")
-    if q < 0.5:
-        return -student_t_ppf(1.0 - q, df)
-    lo, hi = 0.0, 1.0
-    while student_t_cdf(hi, df) < q:
-        lo, hi = hi, hi * 2.0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if student_t_cdf(mid, df) < q else (lo, mid)
-        if hi - lo < 1e-12 * max(1.0, hi):
-            break
-    return 0.5 * (lo + hi)
+    return float(sps.t.ppf(q, df))
 
 
 def t_interval(values, level: float = 0.95) -> tuple[float, float]:
@@ -105,9 +58,11 @@ def band(curves: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray, level: f
     n = np.isfinite(Y).sum(axis=0)  # (G,)
     mean = np.full(grid.shape, np.nan)
     half = np.zeros(grid.shape)
-    for j in np.flatnonzero(n > 0):
-        m, h = t_interval(Y[:, j], level)
-        mean[j], half[j] = m, (h if math.isfinite(h) else 0.0)
+    some, two = n > 0, n > 1
+    mean[some] = np.nanmean(Y[:, some], axis=0)
+    if two.any():
+        sd = np.nanstd(Y[:, two], axis=0, ddof=1)  # (G2,)
+        half[two] = sps.t.ppf(0.5 + level / 2.0, n[two] - 1) * sd / np.sqrt(n[two])
     return mean, mean - half, mean + half, n
 
 
