@@ -87,6 +87,10 @@ class ShapingConfig(_Strict):
         "paper", description="Delta = (theta* - mu_{g+1})/eta (paper), theta* - theta (each clone step), "
         "or the mean clone step (k = 1)")
     history: int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
+    placement: Literal["auto", "master", "workers"] = Field(
+        "auto", description="where labels and cloning run: the master, in one batched computation on "
+        "the data the rollouts send back (one machine), or the workers, on data read from the trajectory "
+        "store (cluster); auto = master for inline/process executors and P x n <= 20M")
     trajectory_root: str | None = Field(
         None, description="where workers write trajectory shards: a path every node sees, or a URI "
         "pyarrow understands (s3://...); None: RUN_DIR/trajectories")

@@ -72,7 +72,7 @@ def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore):
     if cfg.method == "guided":
         return PastUpdateGuide(k=cfg.es.guided_k)
     if cfg.method == "shaped":
-        from shaped_es.shaping.pipeline import ShapedGuide
+        from shaped_es.guides.shaped import ShapedGuide
 
         return ShapedGuide(cfg, spec, store)
     return NoGuide()

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from shaped_es.policies import MLPSpec, forward
-from shaped_es.shaping.cloning import CloningConfig, clone_population, pad_population
+from shaped_es.shaping.cloning import CloningConfig, clone_population, clone_sampled, pad_population
 
 SPEC = MLPSpec(obs_dim=5, act_dim=2, hidden=(8, 8))
 
@@ -106,3 +106,40 @@ def test_config_validation():
         CloningConfig(optimizer="rmsprop")
     with pytest.raises(ValueError):
         CloningConfig(lr=0.0)
+
+
+def test_clone_sampled_equals_cloning_fully_labelled_data():
+    """Labelling only the drawn rows gives the theta* of labelling all of D_i (same draws, same steps)."""
+    theta, states, _ = _population()
+    rng = np.random.default_rng(7)
+    queries = [rng.normal(size=(len(s), 2)).astype(np.float32) for s in states]
+    teacher = MLPSpec(obs_dim=7, act_dim=2, hidden=(6,))
+    t_theta = teacher.init(3)[None] * 4
+
+    def label_fn(s, q):
+        x = np.concatenate([s, q], axis=-1)
+        lead = x.shape[:-1]
+        return forward(teacher, t_theta, x.reshape(1, -1, 7))[0].reshape(*lead, 2)
+
+    cfg = CloningConfig(steps=15, lr=1e-2, batch_size=16, max_samples=50)
+    seeds = np.array([11, 12, 13, 14])
+    full = clone_population(SPEC, theta, states, [label_fn(s, q) for s, q in zip(states, queries)],
+                            config=cfg, seeds=seeds)
+    fast = clone_sampled(SPEC, theta, states, queries, label_fn, cfg, seeds)
+    np.testing.assert_allclose(fast.theta_star, full.theta_star, rtol=1e-5, atol=1e-6)
+    assert np.all(fast.loss_after < fast.loss_before)
+    np.testing.assert_array_equal(fast.samples, [50, 45, 50, 30])
+    assert fast.label_std > 0.05
+    one = clone_sampled(SPEC, theta[2:3], states[2:3], queries[2:3], label_fn, cfg, seeds[2:3])
+    np.testing.assert_allclose(one.theta_star[0], fast.theta_star[2], rtol=1e-5, atol=1e-6)
+
+
+def test_clone_sampled_member_without_data_is_unchanged():
+    theta, states, _ = _population()
+    states[1] = states[1][:0]
+    queries = [np.zeros((len(s), 2), np.float32) for s in states]
+    res = clone_sampled(SPEC, theta, states, queries, lambda s, q: np.full(s.shape[:-1] + (2,), 0.5, np.float32),
+                        CloningConfig(steps=5, lr=1e-2), np.arange(4))
+    np.testing.assert_array_equal(res.theta_star[1], theta[1].astype(np.float32))
+    assert np.isnan(res.loss_before[1]) and not np.isnan(res.loss_before[0])
+    assert not np.array_equal(res.theta_star[0], theta[0].astype(np.float32))

@@ -16,6 +16,7 @@ from shaped_es.shaping.trajectories import (
     list_generations,
     read_generation,
     read_member_history,
+    read_members,
     read_shard,
     shard_path,
     write_shard,
@@ -40,9 +41,9 @@ def tr(make_transitions):
 
 def test_roundtrip_is_exact_and_layout_as_documented(tr, tmp_path):
     path = write_shard(tmp_path / "trajectories", tr)
-    assert path == str(tmp_path / "trajectories" / "gen_000003" / "member_0007.parquet")
-    assert os.listdir(os.path.dirname(path)) == ["member_0007.parquet"]  # no temp file left behind
-    back = read_shard(path)
+    assert path == str(tmp_path / "trajectories" / "gen_000003" / "members_0007-0007.parquet")
+    assert os.listdir(os.path.dirname(path)) == ["members_0007-0007.parquet"]  # no temp file left behind
+    (back,) = read_shard(path)
     _assert_same(tr, back)
     schema = pq.read_schema(path)
     assert schema.names == list(COLUMNS)
@@ -52,8 +53,8 @@ def test_roundtrip_is_exact_and_layout_as_documented(tr, tmp_path):
 
 def test_roundtrip_through_a_filesystem_uri(tr, tmp_path):
     path = write_shard(f"file://{tmp_path}/store", tr)
-    assert path == f"file://{tmp_path}/store/gen_000003/member_0007.parquet"
-    _assert_same(tr, read_shard(path))
+    assert path == f"file://{tmp_path}/store/gen_000003/members_0007-0007.parquet"
+    _assert_same(tr, read_shard(path)[0])
     assert list_generations(f"file://{tmp_path}/store") == [3]
 
 
@@ -61,9 +62,9 @@ def test_overwrite_replaces_and_empty_shard_roundtrips(tr, make_transitions, tmp
     write_shard(tmp_path, tr)
     rng = np.random.default_rng(5)
     other = make_transitions(rng, episodes=1, steps=4, obs_dim=38, generation=3, member=7)
-    _assert_same(other, read_shard(write_shard(tmp_path, other)))
+    _assert_same(other, read_shard(write_shard(tmp_path, other))[0])
     empty = make_transitions(rng, episodes=1, steps=0, obs_dim=38, generation=4, member=1)
-    _assert_same(empty, read_shard(write_shard(tmp_path, empty)))
+    _assert_same(empty, read_shard(write_shard(tmp_path, empty))[0])
 
 
 def test_generation_and_member_history_reads(make_transitions, tmp_path):
@@ -74,7 +75,7 @@ def test_generation_and_member_history_reads(make_transitions, tmp_path):
             if (g, m) != (1, 1):  # member 1 has no shard in generation 1
                 written[g, m] = make_transitions(rng, episodes=1, steps=5, generation=g, member=m)
                 write_shard(tmp_path, written[g, m])
-    (tmp_path / "gen_000002" / ".member_0003.parquet.abc.tmp").write_bytes(b"partial")  # ignored
+    (tmp_path / "gen_000002" / ".members_0003-0003.parquet.abc.tmp").write_bytes(b"partial")  # ignored
     assert list_generations(tmp_path) == [0, 1, 2, 4]
     gen2 = read_generation(tmp_path, 2)
     assert [t.member for t in gen2] == [0, 1, 2]
@@ -131,7 +132,7 @@ def test_missing_or_foreign_or_malformed_shard_raises(tr, tmp_path):
     wide_step = good.set_column(3, "step", good.column("step").cast(pa.int64()))
     pq.write_table(wide_step, tmp_path / "type.parquet")
     _expect_error(tmp_path / "type.parquet", "'step' has type int64")
-    meta = {**good.schema.metadata, b"member": b"8"}
+    meta = {**good.schema.metadata, b"members": b"8"}
     pq.write_table(good.replace_schema_metadata(meta), tmp_path / "meta.parquet")
     _expect_error(tmp_path / "meta.parquet", "disagree")
 
@@ -142,3 +143,22 @@ def test_writing_transitions_without_positions_is_a_clear_error(make_transitions
     with pytest.raises(TrajectoryStoreError, match="'position'"):
         write_shard(tmp_path, tr)
     assert not any(tmp_path.rglob("*.parquet"))
+
+
+def test_one_shard_holds_many_members_and_reads_split_them(make_transitions, tmp_path):
+    rng = np.random.default_rng(3)
+    trs = {m: make_transitions(rng, episodes=2, steps=6 + m, generation=5, member=m) for m in (4, 2, 3)}
+    trs[9] = make_transitions(rng, episodes=1, steps=0, generation=5, member=9)  # a member with no steps
+    path = write_shard(tmp_path, list(trs.values()))
+    assert path.endswith("gen_000005/members_0002-0009.parquet")
+    back = read_shard(path)
+    assert [t.member for t in back] == [2, 3, 4, 9]
+    for t in back:
+        _assert_same(trs[t.member], t)
+    write_shard(tmp_path, make_transitions(rng, episodes=1, steps=3, generation=5, member=10))
+    assert [t.member for t in read_generation(tmp_path, 5)] == [2, 3, 4, 9, 10]
+    got = read_members(tmp_path, [3, 10, 11], [5, 6])
+    assert [len(got[m]) for m in (3, 10, 11)] == [1, 1, 0]
+    _assert_same(trs[3], got[3][0])
+    with pytest.raises(TrajectoryStoreError, match="distinct members of one generation"):
+        write_shard(tmp_path, [trs[2], trs[2]])

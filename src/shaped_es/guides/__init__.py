@@ -3,7 +3,7 @@
 - ``vanilla`` / ``cmaes``: :class:`NoGuide` (nothing extra).
 - ``guided``: :class:`PastUpdateGuide`, Guided ES with the last ``k`` ES updates of the mean as the
   surrogate subspace (no waypoints needed; a cheap, environment-agnostic baseline).
-- ``shaped``: the paper's Algorithm 1 (``shaping/pipeline.py``): inverse dynamics + behaviour cloning.
+- ``shaped``: the paper's Algorithm 1 (``guides/shaped.py``): inverse dynamics + behaviour cloning.
 
 A guide sees the strategy and a ``map_tasks(fn, tasks)`` callable from the trainer, never an executor.
 """

@@ -1,0 +1,311 @@
+"""Master side of the paper's Algorithm 1 (``--method shaped``), as a guide of the generation loop.
+
+Per generation ``g`` (timeline; ``||`` = concurrently)::
+
+    begin_generation(g):  M_phi.add(trajectories of g-1)  ->  train M_phi in a thread  ||  workers roll
+                          out Theta_g (recording transitions)
+    strategy.tell(R_g)    -> mu_{g+1}
+    after_tell(g):        join M_phi; label every member's D_i with M_phi and clone theta_i -> theta*_i;
+                          Delta = (Theta* - mu_{g+1}) / eta  (paper Eq. for Delta_g);  strategy.guide(Delta)
+                          -> the next ask samples from Sigma = alpha/n I + (1 - alpha)/k U U^T (scaled by n)
+
+M_phi lags one generation behind the rollouts (it trains on g-1 while g runs), as the paper overlaps
+its training with the workers. Labels are taken only after the training thread has joined, so results
+do not depend on timing.
+
+Where the shaping work runs (``shaping.placement``; both give the same numbers, tested):
+
+- ``master``: the rollouts send their transitions back with the returns (~4 MiB a generation for
+  CarNav-v0); the master keeps the last ``history`` generations in memory, labels and clones the whole
+  population in one batched computation, and writes one trajectory shard per generation in a
+  background thread (joined before each checkpoint: the durable copy is what resume reads).
+- ``workers``: the paper's cluster picture. Each worker writes its chunk's shard to the trajectory
+  store (any pyarrow URI) and, for cloning, reads its members' ``D_i`` from its own in-memory cache or
+  the store; only returns and ``theta*`` travel.
+- ``auto`` (default): ``master`` on one machine (``inline`` / ``process`` executors) while the
+  population's parameters ``P x n`` stay below ``MASTER_MAX_PARAMS`` (the batched cloning then fits in a
+  few hundred MB), ``workers`` on ``ray`` / ``mpi`` or beyond that size.
+"""
+
+from __future__ import annotations
+
+import functools
+import threading
+import time
+from concurrent.futures import Future, ThreadPoolExecutor
+
+import numpy as np
+
+from shaped_es import seeding
+from shaped_es.config import ConfigError, RunConfig
+from shaped_es.data import Transitions
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
+from shaped_es.guides import NoGuide
+from shaped_es.guides.shaped_tasks import CloneTask, clip_norm, label_and_clone, rollout_and_store
+from shaped_es.guides.shaped_tasks import states_and_queries
+from shaped_es.policies import MLPSpec
+from shaped_es.rollout import make_env
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, training_pairs
+from shaped_es.shaping.surrogate import cosine, subspace_alignment, surrogate_gradients
+from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
+
+MASTER_MAX_PARAMS = 20_000_000  # P x n above which ``auto`` clones on the workers
+
+
+def waypoint_dim(cfg: RunConfig) -> int:
+    """Dimension of the env's waypoint space; one clear error if it lacks the contract."""
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        _, info = env.reset(seed=0)
+    finally:
+        env.close()
+    if POSITION_KEY not in info or WAYPOINT_KEY not in info:
+        raise ConfigError(f"--method shaped needs info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] "
+                          f"from {cfg.env} (see the README's environment contract)")
+    return int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
+
+
+def placement(cfg: RunConfig, spec: MLPSpec) -> str:
+    """Where labels and cloning run: ``master`` or ``workers`` (the size rule of the module docstring)."""
+    if cfg.shaping.placement != "auto":
+        return cfg.shaping.placement
+    population = 2 * cfg.es.pairs
+    one_machine = cfg.executor in ("inline", "process")
+    return "master" if one_machine and population * spec.num_params <= MASTER_MAX_PARAMS else "workers"
+
+
+METRIC_KEYS = (
+    "mphi_train_loss", "mphi_test_loss", "mphi_iterations", "mphi_dataset_size", "mphi_kept_fraction",
+    "clone_loss_before", "clone_loss_after", "label_std", "surrogate_rank", "surrogate_update_alignment",
+    "clone_step_update_cosine", "time_mphi_s", "time_mphi_wait_s", "time_cloning_s", "time_update_s",
+    "time_store_write_s",
+)
+
+
+class ShapedGuide(NoGuide):
+    record = True
+
+    def __init__(self, cfg: RunConfig, spec: MLPSpec, store):
+        self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
+        self.traj_root = self.sh.trajectory_root or str(store.trajectories_dir)
+        self.placement = placement(cfg, spec)
+        mp = self.sh.inverse_dynamics
+        pos_dim = waypoint_dim(cfg)
+        frame = mp.frame if mp.frame != "auto" else ("motion" if pos_dim == 2 else "world")
+        self.mphi_cfg = InverseDynamicsConfig(
+            hidden=tuple(mp.hidden), lr=mp.lr, batch_size=mp.batch_size,
+            steps_per_generation=mp.steps_per_generation, min_return=mp.min_return,
+            max_dataset=mp.max_dataset, frame=frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
+        )
+        c = self.sh.cloning
+        self.clone_cfg = CloningConfig(steps=c.steps, lr=c.lr, batch_size=c.batch_size,
+                                       optimizer=c.optimizer, max_samples=c.max_samples)
+        self.mphi = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
+        self.step_norm = np.zeros(2)  # (count, mean) of one-step displacement norms, for query_clip
+        self._thread: threading.Thread | None = None
+        self._pending: dict = {}
+        self._last_generation = -1  # the newest generation whose after_tell ran
+        # master placement: generation -> {member: (transitions, states, raw queries)}
+        self._cache: dict[int, dict[int, tuple[Transitions, np.ndarray, np.ndarray]]] = {}
+        self._writer = ThreadPoolExecutor(1, thread_name_prefix="trajectory-writer")
+        self._writes: list[Future] = []
+        self._write_time = 0.0  # background write time not yet reported
+
+    def rollout_fn(self):
+        if self.placement == "workers":
+            return functools.partial(rollout_and_store, traj_root=self.traj_root)
+        return None  # the plain rollout; with record=True its transitions come back to the master
+
+    # -- data of a generation ----------------------------------------------------------------------
+    def _remember(self, generation: int, trs: list[Transitions]) -> None:
+        frame = self.mphi_cfg.frame
+        entry = {}
+        for tr in trs:
+            s, q = states_and_queries([tr], frame, self.spec.obs_dim, self.mphi.pos_dim, None)
+            entry[tr.member] = (tr, s, q)
+        self._cache[generation] = entry
+
+    def _generation(self, generation: int) -> list[Transitions]:
+        """Every member's transitions of ``generation``: from memory (master placement) or the store."""
+        if generation not in self._cache:
+            trs = read_generation(self.traj_root, generation)
+            if self.placement == "workers":
+                return trs
+            self._remember(generation, trs)
+        return [v[0] for _, v in sorted(self._cache[generation].items())]
+
+    def _write(self, trs: list[Transitions]) -> float:
+        t0 = time.perf_counter()
+        write_shard(self.traj_root, trs)
+        return time.perf_counter() - t0
+
+    def _join_writes(self) -> float:
+        """Wait for the background shard writes; returns their total time (raises their errors)."""
+        done, self._writes = self._writes, []
+        t = float(sum(f.result() for f in done))
+        self._write_time += t
+        return t
+
+    # -- M_phi, concurrently with the rollouts -----------------------------------------------------
+    def begin_generation(self, generation: int) -> None:
+        self._pending = dict.fromkeys(METRIC_KEYS)
+        self._join_writes()
+        self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
+                             mphi_dataset_size=self.mphi.dataset_size, time_store_write_s=self._write_time)
+        self._write_time = 0.0
+        # shards a killed run left for this generation (maybe laid out by another placement) go first
+        delete_generations(self.traj_root, [generation])
+        if generation == 0:
+            return
+        data = self._generation(generation - 1)
+        if self.mphi.iterations > 0:  # held-out error: g-1's actual (s, dp) -> a, before training on it
+            pairs = [training_pairs(tr, self.mphi_cfg.frame) for tr in data if len(tr)]
+            if pairs:
+                s, dp, a = (np.concatenate(x) for x in zip(*pairs))
+                self._pending["mphi_test_loss"] = self.mphi.test_loss(s, dp, a)
+        norms = [np.linalg.norm(training_pairs(tr, self.mphi_cfg.frame)[1], axis=1) for tr in data]
+        norms = np.concatenate(norms) if norms else np.zeros(0)  # (T',) one-step displacement norms
+        if norms.size:
+            cnt = self.step_norm[0] + norms.size
+            self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
+                                                                  self.step_norm[1]) / cnt])
+        stats = self.mphi.add(data)
+        self._pending.update(mphi_dataset_size=stats["dataset_size"],
+                             mphi_kept_fraction=stats["kept_fraction"])
+        self._thread = threading.Thread(target=self._train, name="mphi-train", daemon=True)
+        self._thread.start()
+
+    def _train(self) -> None:
+        t0 = time.perf_counter()
+        losses = self.mphi.train()
+        self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
+        self._pending["mphi_iterations"] = self.mphi.iterations
+        self._pending["time_mphi_s"] = time.perf_counter() - t0
+
+    # -- cloning and the surrogate subspace ----------------------------------------------------------
+    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
+        if self.placement == "master":  # keep the generation in memory, write it in the background
+            trs = sorted((tr for r in results for tr in r.transitions), key=lambda t: t.member)
+            for r in results:
+                r.transitions = []
+            self._remember(generation, trs)
+            if trs:
+                self._writes.append(self._writer.submit(self._write, trs))
+        t_wait = time.perf_counter()
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+        out = dict(self._pending, time_mphi_wait_s=time.perf_counter() - t_wait, time_cloning_s=0.0,
+                   clone_cpu_time_s=0.0, time_update_s=0.0, surrogate_rank=0)
+        self._last_generation = generation
+        if self.mphi.iterations == 0:  # no data kept yet: this generation stays Vanilla-ES
+            self._trim_cache(generation)
+            return out
+        t0 = time.perf_counter()
+        theta_star, res, worker_cpu = self._clone(generation, params, map_tasks, n_tasks=len(results))
+        out["time_cloning_s"] = time.perf_counter() - t0
+        out["clone_cpu_time_s"] = worker_cpu  # on the workers (0 when the master clones)
+        t1 = time.perf_counter()
+        mean = np.asarray(strategy.mean, dtype=np.float64)
+        if self.sh.surrogate == "paper":
+            G = surrogate_gradients(theta_star, mean, self.sh.eta)  # (k, n): (Theta* - mu_{g+1}) / eta
+        elif self.sh.surrogate == "clone_step":
+            G = theta_star.astype(np.float64) - params  # (k, n): the cloning steps alone
+        else:
+            G = (theta_star.astype(np.float64) - params).mean(axis=0, keepdims=True)  # (1, n)
+        strategy.guide(G)
+        update = mean - np.asarray(old_mean, dtype=np.float64)  # (n,) this generation's ES step
+        U = strategy.U  # (n, k') the basis the next ask samples in (QR of G, computed by guide)
+        out.update(
+            time_update_s=time.perf_counter() - t1, surrogate_rank=int(U.shape[1]),
+            surrogate_update_alignment=subspace_alignment(U, update) if np.any(update) else None,
+            clone_step_update_cosine=cosine((theta_star - params).mean(axis=0), update),
+            clone_loss_before=_nanmean(res.loss_before), clone_loss_after=_nanmean(res.loss_after),
+            label_std=res.label_std,
+        )
+        self._trim_cache(generation)
+        return out
+
+    def _labeller(self, max_disp: float | None):
+        def label(states: np.ndarray, queries: np.ndarray) -> np.ndarray:
+            return self.mphi.label(states, clip_norm(queries, max_disp))  # clip per row, as the paper's raw
+        return label
+
+    def _clone(self, generation, params, map_tasks, n_tasks) -> tuple[np.ndarray, CloneResult, float]:
+        P = params.shape[0]
+        gens = list(range(max(0, generation - self.sh.history + 1), generation + 1))
+        qc = self.sh.inverse_dynamics.query_clip
+        max_disp = None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
+        seeds = np.array([seeding.derive_seed(self.cfg.seed, seeding.SHAPING, generation, m) for m in range(P)])
+        if self.placement == "master":
+            for g in gens:
+                self._generation(g)  # after a restart: read what memory lacks from the store
+            states, queries = [], []
+            for m in range(P):
+                parts = [self._cache[g][m] for g in gens if m in self._cache[g]]
+                states.append(np.concatenate([p[1] for p in parts]) if parts else
+                              np.zeros((0, self.spec.obs_dim), np.float32))
+                queries.append(np.concatenate([p[2] for p in parts]) if parts else
+                               np.zeros((0, self.mphi.pos_dim), np.float32))
+            res = clone_sampled(self.spec, params, states, queries, self._labeller(max_disp),
+                                self.clone_cfg, seeds)
+            return res.theta_star, res, 0.0
+        self._join_writes()
+        snap = self.mphi.state_dict(with_training=False)
+        tasks = [CloneTask(self.spec, params[idx], idx, seeds[idx], gens, self.traj_root, snap,
+                           self.mphi_cfg, self.clone_cfg, max_disp)
+                 for idx in np.array_split(np.arange(P), max(1, min(P, n_tasks)))]
+        outs = map_tasks(label_and_clone, tasks)
+        theta_star = np.empty_like(params, dtype=np.float32)  # (P, n)
+        before, after, samples = np.empty(P), np.empty(P), np.empty(P, np.int64)
+        for o in outs:
+            theta_star[o.members], before[o.members], after[o.members] = (
+                o.result.theta_star, o.result.loss_before, o.result.loss_after)
+            samples[o.members] = o.result.samples
+        weights = np.array([max(o.result.samples.sum(), 1) for o in outs], float)
+        label_std = float(np.average([o.result.label_std for o in outs], weights=weights))
+        res = CloneResult(theta_star, before, after, samples, label_std)
+        return theta_star, res, float(sum(o.cpu_time_s for o in outs))
+
+    def _trim_cache(self, generation: int) -> None:
+        """Memory keeps what the next generation reads: ``g`` (M_phi) and ``g-history+2 .. g`` (D_i)."""
+        keep_from = generation + 2 - max(self.sh.history, 2)
+        for g in [g for g in self._cache if g < keep_from]:
+            del self._cache[g]
+
+    def _prune(self) -> None:
+        """At a checkpoint after generation ``g``: drop shards no re-run from it reads (a re-run of
+        ``g+1`` reads ``g`` for M_phi and ``g-history+2 .. g`` for D_i); between checkpoints keep all."""
+        g = self._last_generation
+        old = [x for x in list_generations(self.traj_root) if x <= g + 1 - max(self.sh.history, 2)]
+        if old:
+            delete_generations(self.traj_root, old)
+
+    # -- checkpoint ---------------------------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        self._join_writes()  # the checkpoint may only name generations whose shards are durable
+        self._prune()
+        st = {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True).items()}
+        st["step_norm"] = self.step_norm
+        return st
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.mphi.load_state_dict({k[5:]: v for k, v in state.items() if k.startswith("mphi/")})
+        self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
+        self._cache.clear()
+
+    def close(self) -> None:
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+        try:
+            self._join_writes()
+        finally:
+            self._writer.shutdown(wait=True)
+
+
+def _nanmean(x: np.ndarray) -> float | None:
+    x = np.asarray(x, dtype=np.float64)
+    x = x[np.isfinite(x)]
+    return float(x.mean()) if x.size else None

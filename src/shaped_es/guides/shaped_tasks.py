@@ -1,0 +1,109 @@
+"""Worker side of the paper's Algorithm 1 on a cluster (``shaping.placement = workers``): roll out and
+write trajectories; label and behaviour-clone.
+
+Both functions take one picklable task and return small summaries; trajectories travel through the
+trajectory store (the paper's NFS), never back to the master. Each worker process also keeps the
+transitions it wrote or read in a small in-memory cache keyed by (store, generation, member), so a
+task that lands where its members' data already are reads nothing; a cache miss (another worker, or a
+restart) reads the store. Both give the same arrays, hence the same ``theta*``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from shaped_es.data import Transitions
+from shaped_es.policies import MLPSpec
+from shaped_es.rollout import RolloutResult, RolloutTask, run_task
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
+from shaped_es.shaping.trajectories import read_members, write_shard
+
+# (traj_root, generation, member) -> transitions; per worker process, bounded by _CACHE_GENERATIONS
+_CACHE: dict[tuple[str, int, int], Transitions] = {}
+_CACHE_GENERATIONS = 8
+
+
+def _remember(root: str, trs: list[Transitions]) -> None:
+    for tr in trs:
+        _CACHE[(root, tr.generation, tr.member)] = tr
+    newest = max((k[1] for k in _CACHE), default=0)
+    for k in [k for k in _CACHE if k[1] <= newest - _CACHE_GENERATIONS]:
+        del _CACHE[k]
+
+
+def rollout_and_store(task: RolloutTask, traj_root: str) -> RolloutResult:
+    """Evaluate the chunk, write its transitions as one shard, return returns only (Alg. 1, l. 4-6)."""
+    task.record = True
+    res = run_task(task)
+    if res.transitions:
+        write_shard(traj_root, res.transitions)
+        _remember(traj_root, res.transitions)
+    res.transitions = []
+    return res
+
+
+def member_data(traj_root: str, members, generations) -> dict[int, list[Transitions]]:
+    """``D_i`` of each member (oldest first) from this process's cache, else from the store."""
+    members = [int(m) for m in members]
+    gens = sorted(set(int(g) for g in generations))
+    found = {(g, m): _CACHE[(traj_root, g, m)] for g in gens for m in members if (traj_root, g, m) in _CACHE}
+    missing = sorted({g for g in gens for m in members if (g, m) not in found})
+    fresh = [tr for trs in (read_members(traj_root, members, missing) if missing else {}).values() for tr in trs]
+    found |= {(tr.generation, tr.member): tr for tr in fresh}
+    _remember(traj_root, fresh)
+    return {m: [found[(g, m)] for g in gens if (g, m) in found] for m in members}
+
+
+def clip_norm(d: np.ndarray, max_norm: float | None) -> np.ndarray:
+    """Scale rows of ``d`` ``(T, k)`` down to at most ``max_norm`` in Euclidean norm."""
+    if max_norm is None:
+        return d
+    n = np.linalg.norm(d, axis=-1, keepdims=True)  # (T, 1)
+    return d * np.minimum(1.0, max_norm / np.maximum(n, 1e-12))
+
+
+def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_dim: int,
+                       max_displacement: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """One member's ``D_i`` as states ``(T, obs)`` and M_phi queries ``w_t - p_t`` ``(T, d)``."""
+    if not hist:
+        return np.zeros((0, obs_dim), np.float32), np.zeros((0, pos_dim), np.float32)
+    s = np.concatenate([h.state for h in hist])
+    q = np.concatenate([clip_norm(query_displacement(h, frame), max_displacement) for h in hist])
+    return s, q.astype(np.float32)
+
+
+@dataclass
+class CloneTask:
+    spec: MLPSpec
+    theta: np.ndarray  # (m, n) float32, the members as evaluated (cloning starts here)
+    members: np.ndarray  # (m,) population slots
+    seeds: np.ndarray  # (m,) per-member minibatch seeds (chunking-independent)
+    generations: list[int]  # generations whose data form D_i (DAgger-style aggregation)
+    traj_root: str
+    mphi_state: dict[str, np.ndarray]  # M_phi network + normalizer (no training state)
+    mphi_config: InverseDynamicsConfig
+    cloning: CloningConfig
+    max_displacement: float | None = None  # clip |w_t - p_t| (None: raw, as the paper)
+
+
+@dataclass
+class CloneOutput:
+    members: np.ndarray  # (m,)
+    result: CloneResult  # theta_star (m, n), losses, samples, label_std
+    cpu_time_s: float
+
+
+def label_and_clone(task: CloneTask) -> CloneOutput:
+    """Label each member's aggregated data D_i with M_phi and clone from theta_i (Alg. 1, l. 7-10)."""
+    t_cpu = time.process_time()
+    mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
+    data = member_data(task.traj_root, task.members, task.generations)
+    sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
+                             task.max_displacement) for m in task.members]
+    res = clone_sampled(task.spec, task.theta, [s for s, _ in sq], [q for _, q in sq], mphi.label,
+                        task.cloning, task.seeds)
+    return CloneOutput(members=np.asarray(task.members), result=res, cpu_time_s=time.process_time() - t_cpu)

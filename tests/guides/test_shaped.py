@@ -1,0 +1,164 @@
+"""The shaped method end to end on UR5Reach-v0 (tiny budgets): alpha=1 is Vanilla-ES, resume is exact,
+both placements of the shaping work give the same run."""
+
+import numpy as np
+import pytest
+
+from shaped_es.config import ConfigError, build_config
+from shaped_es.store import RunStore
+from shaped_es.trainer import TIME_COLUMNS, Trainer
+
+TINY = {
+    "env": "UR5Reach-v0",
+    "executor": "inline",
+    "generations": 4,
+    "seed": 1,
+    "es": {"pairs": 6},
+    "policy": {"hidden": [8]},
+    "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40},
+    "shaping": {"inverse_dynamics": {"steps_per_generation": 30, "min_return": -1e9},
+                "cloning": {"steps": 5}, "history": 2},
+    "tensorboard": False,
+}
+
+
+def _run(tmp_path, name, **over):
+    cfg = build_config({**TINY, **over})
+    store = RunStore(tmp_path / name)
+    store.create(cfg)
+    Trainer(cfg, store, progress=False).run()
+    return store
+
+
+def _rewards(rows):
+    return [(r["train_reward_mean"], r["train_reward_max"], r["test_reward_mean"]) for r in rows]
+
+
+def test_alpha_one_reduces_to_vanilla(tmp_path):
+    es = {**TINY["es"], "alpha": 1.0}
+    shaped = _run(tmp_path, "shaped", method="shaped", es=es).read_metrics()
+    vanilla = _run(tmp_path, "vanilla", method="vanilla", es=es).read_metrics()
+    assert _rewards(shaped) == _rewards(vanilla)
+    # ... while the shaped machinery really ran
+    assert float(shaped[-1]["mphi_iterations"]) > 0 and int(shaped[-1]["surrogate_rank"]) > 0
+    assert float(shaped[-1]["clone_loss_after"]) < float(shaped[-1]["clone_loss_before"])
+
+
+def test_shaped_changes_search_and_resumes_exactly(tmp_path):
+    full = _run(tmp_path, "full", method="shaped")
+    vanilla = _run(tmp_path, "van", method="vanilla")
+    assert _rewards(full.read_metrics())[2:] != _rewards(vanilla.read_metrics())[2:]
+    part = _run(tmp_path, "part", method="shaped", generations=2)
+    cfg = build_config({**TINY, "method": "shaped", "generations": 4})
+    Trainer(cfg, part, progress=False).run()
+    strip = lambda rows: [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")}
+                          for r in rows]
+    assert strip(part.read_metrics()) == strip(full.read_metrics())
+    gens = sorted(p.name for p in (full.root / "trajectories").iterdir())
+    assert gens == ["gen_000003"]  # only what a re-run from the last checkpoint reads (history 2)
+
+
+def test_trajectories_on_a_uri_root_give_the_same_run(tmp_path):
+    local = _run(tmp_path, "local", method="shaped", generations=3)
+    uri = f"file://{tmp_path / 'shared'}"
+    remote = _run(tmp_path, "remote", method="shaped", generations=3,
+                  shaping={**TINY["shaping"], "trajectory_root": uri})
+    assert _rewards(remote.read_metrics()) == _rewards(local.read_metrics())
+    assert not (remote.root / "trajectories").exists()
+    assert sorted(p.name for p in (tmp_path / "shared").iterdir()) == ["gen_000002"]
+
+
+def test_shaped_needs_the_waypoint_contract(tmp_path):
+    cfg = build_config({**TINY, "env": "CartPole-v1", "method": "shaped"})
+    store = RunStore(tmp_path / "cp")
+    store.create(cfg)
+    with pytest.raises(ConfigError, match="info\\['position'\\]"):
+        Trainer(cfg, store, progress=False)
+
+
+def _strip(rows):
+    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")} for r in rows]
+
+
+def _close(a, b, rel=1e-4):
+    """Rows equal, numbers within a relative float tolerance (the placements batch the same maths
+    differently)."""
+    assert [r.keys() for r in a] == [r.keys() for r in b]
+    for ra, rb in zip(a, b):
+        for k in ra:
+            if ra[k] == rb[k]:
+                continue
+            assert float(ra[k]) == pytest.approx(float(rb[k]), rel=rel, abs=1e-6), (ra["generation"], k)
+
+
+@pytest.mark.parametrize("worker_cache", [True, False])
+def test_master_and_worker_placement_give_the_same_run(tmp_path, monkeypatch, worker_cache):
+    from shaped_es.guides import shaped_tasks
+
+    if not worker_cache:  # every clone task reads its members' data from the store
+        monkeypatch.setattr(shaped_tasks, "_CACHE_GENERATIONS", 0)
+    shaped_tasks._CACHE.clear()
+    sh = TINY["shaping"]
+    master = _run(tmp_path, "master", method="shaped", shaping={**sh, "placement": "master"})
+    workers = _run(tmp_path, "workers", method="shaped", shaping={**sh, "placement": "workers"})
+    a, b = _strip(master.read_metrics()), _strip(workers.read_metrics())
+    assert float(a[-1]["mphi_iterations"]) > 0 and int(a[-1]["surrogate_rank"]) > 0
+    _close(a, b)
+    assert sorted(p.name for p in (master.root / "trajectories" / "gen_000003").iterdir()) == [
+        "members_0000-0011.parquet"]  # the master writes one shard per generation
+    assert sorted(p.name for p in (workers.root / "trajectories" / "gen_000003").iterdir()) == [
+        "members_0000-0011.parquet"]  # inline: one task, one chunk
+
+
+def test_resume_between_sparse_checkpoints_is_exact(tmp_path, monkeypatch):
+    """checkpoint_every=3: a crash at generation 4 re-runs 3 from the checkpoint after 2; the shards
+    generation 3 and 4 read must still be there (they were pruned before)."""
+    over = dict(method="shaped", generations=6, checkpoint_every=3,
+                shaping={**TINY["shaping"], "history": 3})
+    full = _run(tmp_path, "full", **over)
+    cfg = build_config({**TINY, **over})
+    store = RunStore(tmp_path / "crashed")
+    store.create(cfg)
+    step = Trainer.step
+
+    class Crash(Exception):
+        pass
+
+    def crashing(self, g):
+        if g == 4:
+            raise Crash
+        return step(self, g)
+
+    monkeypatch.setattr(Trainer, "step", crashing)
+    with pytest.raises(Crash):
+        Trainer(cfg, store, progress=False).run()
+    monkeypatch.setattr(Trainer, "step", step)
+    Trainer(cfg, store, progress=False).run()
+    assert _strip(store.read_metrics()) == _strip(full.read_metrics())
+
+
+def test_a_crash_while_the_shard_is_written_resumes_exactly(tmp_path, monkeypatch):
+    """The background write of generation 2 dies: no checkpoint may name generation 2, and resume
+    rebuilds the same run from the store."""
+    from shaped_es.guides.shaped import ShapedGuide
+
+    over = dict(method="shaped", generations=5, shaping={**TINY["shaping"], "placement": "master"})
+    full = _run(tmp_path, "full", **over)
+    cfg = build_config({**TINY, **over})
+    store = RunStore(tmp_path / "crashed")
+    store.create(cfg)
+    write = ShapedGuide._write
+
+    def dying(self, trs):
+        if trs[0].generation == 2:
+            raise OSError("disk gone")
+        return write(self, trs)
+
+    monkeypatch.setattr(ShapedGuide, "_write", dying)
+    with pytest.raises(OSError, match="disk gone"):
+        Trainer(cfg, store, progress=False).run()
+    arrays_meta = store.load_checkpoint()
+    assert arrays_meta is not None and arrays_meta[1]["generation"] == 2  # the checkpoint after g=1
+    monkeypatch.setattr(ShapedGuide, "_write", write)
+    Trainer(cfg, store, progress=False).run()
+    assert _strip(store.read_metrics()) == _strip(full.read_metrics())
