@@ -1,7 +1,8 @@
 """shaped-es: shaped policy search with evolution strategies and waypoints (Lekkala & Itti).
 
 Importing the package registers the built-in environments with Gymnasium, so
-``gymnasium.make("shaped_es:CarNav-v0")`` works.
+``gymnasium.make("shaped_es:CarNav-v0")`` works. ``load_policy(run_dir)`` loads a trained policy
+(``shaped_es.load``; imported on first use, so ``import shaped_es`` stays light for workers).
 """
 
 from shaped_es.envs import register_envs as _register_envs
@@ -9,3 +10,14 @@ from shaped_es.envs import register_envs as _register_envs
 __version__ = "0.1.0"
 
 _register_envs()
+
+_LAZY = {"load_policy": "shaped_es.load", "Policy": "shaped_es.load"}
+__all__ = ["Policy", "__version__", "load_policy"]
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'shaped_es' has no attribute {name!r}")

@@ -7,7 +7,9 @@ with code 2; nothing already saved is touched.
 from __future__ import annotations
 
 import argparse
+import copy
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -44,42 +46,54 @@ def _parse_set(items: list[str]) -> dict:
     return out
 
 
+def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
+    """``--pairs`` / ``--popsize`` as ``es.pairs`` (population = 2 x pairs, antithetic)."""
+    from shaped_es.config import ConfigError
+
+    if popsize is not None:
+        if popsize <= 0 or popsize % 2:
+            raise ConfigError(f"--popsize must be a positive even number (antithetic pairs: population = "
+                              f"2 x pairs), got {popsize}")
+        if pairs is not None and pairs * 2 != popsize:
+            raise ConfigError(f"--pairs {pairs} and --popsize {popsize} disagree (population = 2 x pairs)")
+        return {"es.pairs": popsize // 2}
+    return {} if pairs is None else {"es.pairs": pairs}
+
+
 def cmd_train(a: argparse.Namespace) -> int:
     from shaped_es.config import build_config, merge, read_yaml
+    from shaped_es.preflight import check_run
     from shaped_es.store import RunStore
 
     data = read_yaml(a.config) if a.config else {}
     flags = {"env": a.env, "method": a.method, "generations": a.generations, "seed": a.seed,
              "executor": a.executor, "workers": a.workers, "address": a.address}
     overrides = {k: v for k, v in flags.items() if v is not None}
+    overrides.update(_pairs_override(a.pairs, a.popsize))
     if a.preset is not None:
         overrides["env_kwargs.preset"] = a.preset
     overrides.update(_parse_set(a.set))
     cfg = build_config(merge(data, overrides))
-    _check_env(cfg)
     store = RunStore(a.out)
+    if store.exists() or (store.root.exists() and not store.root.is_dir()):
+        store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
+    check_run(cfg)  # everything is validated before anything is written
     store.create(cfg)
     return _run(cfg, store, a)
 
 
-def _check_env(cfg) -> None:
-    """Fail with one line before anything is written if the env cannot be made or used."""
-    import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import env_dims, make_env
-
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        env_dims(env)
-    finally:
-        env.close()
-
-
 def cmd_resume(a: argparse.Namespace) -> int:
-    from shaped_es.config import build_config, merge
+    from shaped_es.benchmark.runner import finished_generations
+    from shaped_es.config import ConfigError, build_config, merge
     from shaped_es.store import RunStore
 
     store = RunStore(a.run_dir)
     cfg = store.read_config()
+    if a.generations is not None:
+        done = finished_generations(store)
+        if a.generations < done:
+            raise ConfigError(f"{a.run_dir} has {done} generations done; --generations {a.generations} is "
+                              f"fewer (a run cannot be shortened; evaluate it as it is, or train a new one)")
     if a.generations is not None or a.executor is not None or a.workers is not None:
         changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
                                      "workers": a.workers}.items() if v is not None}
@@ -146,39 +160,89 @@ def cmd_bench_executors(a: argparse.Namespace) -> int:
     return 0
 
 
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Every option's default in its help; ``None`` defaults (taken from the config) are described in the
+    option's own help instead of printing "(default: None)", and a help that names its default already
+    gets no second one."""
+
+    def _get_help_string(self, action):
+        if action.default is None or "default" in (action.help or "").lower():  # already says it
+            return action.help or ""
+        return super()._get_help_string(action)
+
+    def _format_action(self, action):
+        if not action.help and action.option_strings and action.default not in (None, argparse.SUPPRESS):
+            action = copy.copy(action)
+            action.help = "(default: %(default)s)"  # an option without help still shows its default
+        return super()._format_action(action)
+
+
+def _use_formatter(parser: argparse.ArgumentParser) -> None:
+    """``HelpFormatter`` for the parser and every sub-parser, however deep (added anywhere)."""
+    parser.formatter_class = HelpFormatter
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sp in action.choices.values():
+                _use_formatter(sp)
+
+
+def _config_default(dotted: str):
+    from shaped_es.config import RunConfig
+
+    model, parts = RunConfig, dotted.split(".")
+    for part in parts[:-1]:
+        model = model.model_fields[part].default_factory
+    field = model.model_fields[parts[-1]]
+    return field.default if field.default_factory is None else field.default_factory()
+
+
 def build_parser() -> argparse.ArgumentParser:
+    from shaped_es import __version__
     from shaped_es.config import EXECUTORS, METHODS
 
+    d = _config_default
     p = argparse.ArgumentParser(prog="shaped-es", description="Shaped policy search with evolution strategies")
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
-    t = sub.add_parser("train", help="start a run in a new directory")
-    t.add_argument("--env", help="Gymnasium id, e.g. Pendulum-v1, CarNav-v0 or mypkg.envs:MyEnv-v0")
-    t.add_argument("--method", choices=METHODS)
-    t.add_argument("--generations", type=int)
-    t.add_argument("--seed", type=int)
+    cfg_note = "; flags override --config, which overrides the built-in default"
+    t = sub.add_parser("train", help="start a run in a new directory",
+                       description="Start a run in a new directory" + cfg_note + ".")
+    t.add_argument("--env", help=f"Gymnasium id, e.g. Pendulum-v1, CarNav-v0 or mypkg.envs:MyEnv-v0 "
+                   f"(default: {d('env')})")
+    t.add_argument("--method", choices=METHODS, help=f"(default: {d('method')})")
+    t.add_argument("--generations", type=int, help=f"generations to run (default: {d('generations')})")
+    t.add_argument("--seed", type=int, help=f"root seed (default: {d('seed')})")
+    t.add_argument("--pairs", type=int, help=f"antithetic pairs, population = 2 x pairs "
+                   f"(default: {d('es.pairs')})")
+    t.add_argument("--popsize", type=int, help=f"population size, even: sets --pairs to half of it "
+                   f"(default: {2 * d('es.pairs')})")
     t.add_argument("--out", required=True, help="run directory (must not hold a run yet)")
-    t.add_argument("--executor", choices=EXECUTORS)
-    t.add_argument("--workers", type=int)
-    t.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster")
-    t.add_argument("--preset", help="env preset (built-in envs: default, paper)")
-    t.add_argument("--config", help="YAML config file (flags override it)")
-    t.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a field, e.g. es.sigma=0.1")
+    t.add_argument("--executor", choices=EXECUTORS, help=f"(default: {d('executor')})")
+    t.add_argument("--workers", type=int, help="worker count (default: all cores)")
+    t.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster (default: a private "
+                   "local Ray)")
+    t.add_argument("--preset", help="env preset (built-in envs: default, paper; default: the env's)")
+    t.add_argument("--config", help="YAML config file (default: none, built-in defaults)")
+    t.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a field, e.g. es.sigma=0.1 (repeatable; default: none)")
     t.add_argument("--quiet", action="store_true", help="no progress display")
     t.set_defaults(fn=cmd_train)
 
     r = sub.add_parser("resume", help="continue a killed or finished run")
     r.add_argument("run_dir")
-    r.add_argument("--generations", type=int, help="extend the run to this many generations")
-    r.add_argument("--executor", choices=EXECUTORS)
-    r.add_argument("--workers", type=int)
-    r.add_argument("--quiet", action="store_true")
+    r.add_argument("--generations", type=int,
+                   help="extend the run to this many generations (default: the run's config)")
+    r.add_argument("--executor", choices=EXECUTORS, help="(default: the run's config)")
+    r.add_argument("--workers", type=int, help="(default: the run's config)")
+    r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(fn=cmd_resume)
 
     e = sub.add_parser("evaluate", help="evaluate a run's policy on fresh test episodes")
     e.add_argument("run_dir")
-    e.add_argument("--episodes", type=int, default=15)
-    e.add_argument("--policy", choices=("best", "mean"), default="best")
+    e.add_argument("--episodes", type=int, default=15, help="test episodes")
+    e.add_argument("--policy", choices=("best", "mean"), default="best",
+                   help="best: the best test reward so far; mean: the latest (ES: the search mean)")
     e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
     e.set_defaults(fn=cmd_evaluate)
 
@@ -205,10 +269,23 @@ def build_parser() -> argparse.ArgumentParser:
     bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
     bx.add_argument("--json", action="store_true", help="one line of JSON")
     bx.set_defaults(fn=cmd_bench_executors)
+    _use_formatter(p)
     return p
 
 
+def _import_from_cwd() -> None:
+    """``module:Env-v0`` ids import ``module`` from the working directory too, as ``python -m`` would
+    (the console script's ``sys.path`` lacks it); child processes (workers) inherit it via PYTHONPATH."""
+    cwd = os.getcwd()
+    if cwd not in sys.path and "" not in sys.path:
+        sys.path.insert(0, cwd)
+    paths = [q for q in os.environ.get("PYTHONPATH", "").split(os.pathsep) if q]
+    if cwd not in paths:
+        os.environ["PYTHONPATH"] = os.pathsep.join([cwd, *paths])
+
+
 def main(argv: list[str] | None = None) -> int:
+    _import_from_cwd()
     parser = build_parser()
     a = parser.parse_args(argv)
     errors = _user_errors()

@@ -43,6 +43,7 @@ from shaped_es.baselines.ppo_settings import PPOSettings, iterations_per_generat
 from shaped_es.baselines.ppo_state import (BEST, POLICY, RNG, DeterministicEpisodes, actor_vector, copy_state,
                                            from_arrays, optimizer_from_arrays, optimizer_to_arrays, to_arrays)
 from shaped_es.config import RunConfig
+from shaped_es.envs.core import get_batch_core
 from shaped_es.progress import ProgressDisplay
 from shaped_es.rollout import env_dims, make_env
 from shaped_es.store import RunStore, StoreError
@@ -57,11 +58,15 @@ def _train_env(cfg: RunConfig):
 
 
 def env_time_limit(cfg: RunConfig) -> int | None:
-    """The env's own episode limit (after checking its spaces fit the contract)."""
+    """The env's own episode limit (after checking its spaces fit the contract): the made env's
+    ``spec.max_episode_steps`` (the built-in envs register a ``TimeLimit`` of their preset's horizon),
+    else the ``max_steps`` of its batched core, else None."""
     env = make_env(cfg.env, cfg.env_kwargs)
     try:
         env_dims(env)
-        return env.spec.max_episode_steps if env.spec is not None else None
+        limit = env.spec.max_episode_steps if env.spec is not None else None
+        core = get_batch_core(env)
+        return limit if limit else (int(core.max_steps) if core is not None else None)
     finally:
         env.close()
 

@@ -7,17 +7,23 @@ Layout::
     DIR/summary.json, DIR/report.md    across-seed statistics and the report (``markdown.py``)
     DIR/figures/                       Fig. 4 (and Fig. 5 when the shaped runs log M_phi losses)
 
-A rerun skips runs whose newest checkpoint reached ``generations``, resumes unfinished ones (the
-trainer and PPO restore their newest checkpoint) and refuses a run directory holding a different
-config. Runs go seed by seed, every method within a seed, so a partial benchmark compares methods on
-the same seeds. Ablations (the paper's commented-out sparse-waypoint figure, and alpha / eta):
-``sparse_waypoints`` multiplies the env's ``waypoint_spacing`` by 10 (planner resolution / 10).
+A rerun skips runs whose newest checkpoint reached ``generations`` and resumes unfinished ones (the
+trainer and PPO restore their newest checkpoint). Settings are compared per run, on the fields that run's
+method uses (:func:`method_digest`: ``ppo.*`` only matter to PPO, ``shaping.*`` only to ``shaped``, ...),
+so a rerun with changed settings of one method reuses every other method's runs. A run whose own
+settings changed is started afresh if it has no checkpoint yet; one with finished generations is
+refused, before any run starts, in one line naming those runs (delete them to redo them with the new
+settings). Every config is validated (``preflight.check_run``) before anything is written. Runs go seed
+by seed, every method within a seed, so a partial benchmark compares methods on the same seeds.
+Ablations (the paper's commented-out sparse-waypoint figure, and alpha / eta): ``sparse_waypoints``
+multiplies the env's ``waypoint_spacing`` by 10 (planner resolution / 10).
 """
 
 from __future__ import annotations
 
 import inspect
 import json
+import shutil
 import sys
 import time
 from dataclasses import asdict, dataclass, field
@@ -117,7 +123,7 @@ def finished_generations(store: RunStore) -> int:
 
 
 def _first_difference(a: RunConfig, b: RunConfig) -> str:
-    da, db = _flat(a.model_dump(mode="json")), _flat(b.model_dump(mode="json"))
+    da, db = _flat(_relevant(a)), _flat(_relevant(b))
     diff = sorted(k for k in set(da) | set(db) if da.get(k) != db.get(k))
     return ", ".join(diff[:3]) or "?"
 
@@ -129,22 +135,94 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
-def run_one(cfg: RunConfig, root: Path, progress: bool = False) -> str:
-    """Train, resume or skip one run; returns 'new', 'resumed' or 'skipped'."""
+# Fields that do not change a run's results, carried over from this invocation into a reused run (as
+# ``trainer.config_digest`` leaves them out).
+EXECUTION_FIELDS = ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
+                    "eval_overlap", "eval_workers", "checkpoint_every", "keep_checkpoints", "tensorboard")
+# ``es`` fields a method never reads (trainer.build_strategy / build_guide, ppo_settings.horizon);
+# anything not listed here counts, so a new field is compared until it is known to be irrelevant.
+_UNUSED_ES = {
+    "vanilla": ("alpha", "guided_k", "cmaes_mu", "cmaes_weight_decay", "cmaes_diagonal_above"),
+    "guided": ("cmaes_mu", "cmaes_weight_decay", "cmaes_diagonal_above"),
+    "shaped": ("guided_k", "cmaes_mu", "cmaes_weight_decay", "cmaes_diagonal_above"),
+    "cmaes": ("lr", "optimizer", "momentum", "weight_decay", "fitness_shaping", "alpha", "guided_k"),
+}
+
+
+def _relevant(cfg: RunConfig) -> dict:
+    """The config as JSON with the sections and ``es`` fields ``cfg.method`` never reads reset to their
+    defaults (``ppo`` reads only ``es.pairs``, for its env-step budget)."""
+    d = cfg.model_dump(mode="json")
+    defaults = RunConfig().model_dump(mode="json")
+    if cfg.method != "ppo":
+        d["ppo"] = defaults["ppo"]
+    if cfg.method != "shaped":
+        d["shaping"] = defaults["shaping"]
+    unused = _UNUSED_ES.get(cfg.method)
+    if unused is None:  # ppo
+        unused = tuple(k for k in d["es"] if k != "pairs")
+    for k in unused:
+        if k in d["es"] and k in defaults["es"]:
+            d["es"][k] = defaults["es"][k]
+    return d
+
+
+def method_digest(cfg: RunConfig) -> str:
+    """Hash of the settings that determine this run's results given its method."""
     from shaped_es.trainer import config_digest
 
-    store = RunStore(root)
-    if store.exists():
+    return f"{cfg.method}:{config_digest(build_config(_relevant(cfg)))}"
+
+
+def _reuse(old: RunConfig, new: RunConfig) -> RunConfig:
+    """``old`` (the run's own config: its checkpoints were made with it) with this invocation's
+    execution settings (generations, executor, workers, ...)."""
+    d = old.model_dump(mode="json")
+    nd = new.model_dump(mode="json")
+    return build_config({**d, **{k: nd[k] for k in EXECUTION_FIELDS if k in nd}})
+
+
+def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str, RunConfig]]:
+    """Per run: ``("new" | "restart" | "reuse", config to run with)``; refuses (``StoreError``, one line
+    naming every such run) runs with finished generations whose own settings changed."""
+    plan, changed = {}, []
+    for name, cfg in cfgs.items():
+        store = RunStore(runs_dir / name)
+        if not store.exists():
+            plan[name] = ("new", cfg)
+            continue
         old = store.read_config()
-        if config_digest(old) != config_digest(cfg) or old.method != cfg.method:
-            raise StoreError(f"{root} holds a run with a different config ({_first_difference(old, cfg)}); "
-                             "use another --out")
+        if old.method == cfg.method and method_digest(old) == method_digest(cfg):
+            plan[name] = ("reuse", _reuse(old, cfg))
+        elif not (store.ckpt_dir / "latest.json").is_file():
+            plan[name] = ("restart", cfg)  # nothing done yet (e.g. a run that failed to start)
+        else:
+            changed.append((name, _first_difference(old, cfg)))
+    if changed:
+        names = ", ".join(n for n, _ in changed)
+        fields = ", ".join(sorted({f for _, d in changed for f in d.split(", ")})[:3])
+        raise StoreError(f"runs {names} in {runs_dir} hold a different config ({fields}) with finished "
+                         f"generations; the other runs are reused: delete those to redo them with these "
+                         f"settings, or use another --out")
+    return plan
+
+
+def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | None = None) -> str:
+    """Train, resume or skip one run; returns 'new', 'resumed' or 'skipped'. ``action`` (from
+    :func:`plan_runs`; None plans this run alone) says whether ``root`` is new, to restart or to reuse."""
+    store = RunStore(root)
+    if action is None:
+        action, cfg = plan_runs({root.name: cfg}, root.parent)[root.name]
+    if action == "reuse":
+        old = store.read_config()
         if finished_generations(store) >= cfg.generations:
             return "skipped"
         if old != cfg:  # more generations, or another executor / worker count
             atomic_write_text(store.config_path, dump_config(cfg))
         status = "resumed"
     else:
+        if action == "restart":  # a run directory without a checkpoint: nothing to keep
+            shutil.rmtree(store.root)
         store.create(cfg)
         status = "new"
     if cfg.method == "ppo":
@@ -158,15 +236,15 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False) -> str:
     return status
 
 
-def _check_env(cfg: RunConfig) -> None:
-    import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import env_dims, make_env
+def _check_all(cfgs: dict[str, RunConfig]) -> None:
+    """``preflight.check_run`` once per method (the seed does not change what is checked)."""
+    from shaped_es.preflight import check_run
 
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        env_dims(env)
-    finally:
-        env.close()
+    seen = set()
+    for cfg in cfgs.values():
+        if cfg.method not in seen:
+            seen.add(cfg.method)
+            check_run(cfg)
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None) -> dict:
@@ -178,14 +256,15 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     if out.exists() and not out.is_dir():
         raise StoreError(f"--out {out} exists and is not a directory")
     cfgs = run_configs(spec)
-    _check_env(next(iter(cfgs.values())))
+    _check_all(cfgs)
+    plan = plan_runs(cfgs, out / "runs")
     out.mkdir(parents=True, exist_ok=True)
     record = json.loads(json.dumps(asdict(spec)))  # tuples -> lists for YAML
     atomic_write_text(out / "benchmark.yaml", yaml.safe_dump(record, sort_keys=False))
     status: dict[str, dict] = {}
-    for name, cfg in cfgs.items():
+    for name, (action, cfg) in plan.items():
         t0 = time.perf_counter()
-        s = run_one(cfg, out / "runs" / name, progress=progress)
+        s = run_one(cfg, out / "runs" / name, progress=progress, action=action)
         status[name] = {"status": s, "seconds": round(time.perf_counter() - t0, 3)}
         log(f"[benchmark] {name}: {s} ({status[name]['seconds']:.1f} s)")
     groups = {m: [out / "runs" / run_name(m, s) for s in spec.seeds] for m in spec.methods}

@@ -42,6 +42,10 @@ waypoint -- with 1.5 m spacing, the next global waypoint not yet reached; with s
 :class:`~shaped_es.envs.carnav.config.CarNavConfig` is a keyword. ``reset(seed=s)`` plays the same
 episode as ``env.unwrapped.batch_core.reset([s])``; without a seed the episode seed comes from
 ``self.np_random``.
+
+Registered as ``make_limited`` (``CarNavEnv`` under a ``TimeLimit`` of the config's ``max_steps``, so
+``env.spec.max_episode_steps`` is the horizon of whatever preset and overrides were asked for) and, for
+``gymnasium.make_vec``, ``CarNavVectorEnv`` (the batched core as a ``VectorEnv``, ``envs/vector.py``).
 """
 
 from __future__ import annotations
@@ -53,6 +57,7 @@ import numpy as np
 
 from shaped_es.envs.carnav.config import make_config
 from shaped_es.envs.carnav.core import ACT_DIM, CarNavCore
+from shaped_es.envs.vector import BatchCoreVectorEnv
 
 
 class CarNavEnv(gym.Env):
@@ -101,3 +106,26 @@ class CarNavEnv(gym.Env):
         from shaped_es.envs.carnav.render import render_top_down
 
         return render_top_down(self.batch_core, self._state, 0)
+
+
+def make_limited(**kwargs: Any) -> gym.Env:
+    """``CarNavEnv(**kwargs)`` under a ``TimeLimit`` of its config's ``max_steps`` (the registered entry
+    point): the limit follows ``preset`` and overrides, which a fixed ``max_episode_steps`` could not."""
+    env = CarNavEnv(**kwargs)
+    return gym.wrappers.TimeLimit(env, env.config.max_steps)
+
+
+make_limited.metadata = CarNavEnv.metadata  # gymnasium.make reads the render modes from the entry point
+
+
+class CarNavVectorEnv(BatchCoreVectorEnv):
+    """``num_envs`` cars stepped by one ``CarNavCore`` (``gymnasium.make_vec``'s ``vector_entry_point``)."""
+
+    def __init__(self, num_envs: int = 1, preset: str = "default", max_episode_steps: int | None = None,
+                 render_mode: str | None = None, **overrides: Any):
+        config = make_config(preset, **overrides)
+        self.config = config
+        super().__init__(CarNavCore(config), gym.spaces.Box(-1.0, 1.0, (config.obs_dim,), np.float32),
+                         gym.spaces.Box(-1.0, 1.0, (ACT_DIM,), np.float32), num_envs=num_envs,
+                         max_episode_steps=max_episode_steps, render_mode=render_mode,
+                         metadata={"render_modes": [], "render_fps": int(round(1.0 / config.dt))})

@@ -17,6 +17,10 @@ info               ``position`` (3,) end effector, ``waypoint`` (3,) next Bezier
 ``gymnasium.make("shaped_es:UR5Reach-v0", preset="paper", reach_radius=0.05, ...)``: any field of
 :class:`~shaped_es.envs.ur5.config.UR5Config` is a keyword. ``reset(seed=s)`` plays the same episode as
 ``env.unwrapped.batch_core.reset([s])``; without a seed the episode seed comes from ``self.np_random``.
+
+Registered as ``make_limited`` (``UR5ReachEnv`` under a ``TimeLimit`` of the config's ``max_steps``, so
+``env.spec.max_episode_steps`` is the horizon of whatever preset and overrides were asked for) and, for
+``gymnasium.make_vec``, ``UR5ReachVectorEnv`` (the batched core as a ``VectorEnv``, ``envs/vector.py``).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import numpy as np
 from shaped_es.envs.ur5.bezier import bezier_waypoints
 from shaped_es.envs.ur5.config import make_config
 from shaped_es.envs.ur5.core import ACT_DIM, OBS_DIM, UR5Core
+from shaped_es.envs.vector import BatchCoreVectorEnv
 
 
 class UR5ReachEnv(gym.Env):
@@ -83,3 +88,26 @@ class UR5ReachEnv(gym.Env):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def make_limited(**kwargs: Any) -> gym.Env:
+    """``UR5ReachEnv(**kwargs)`` under a ``TimeLimit`` of its config's ``max_steps`` (the registered entry
+    point): the limit follows ``preset`` and overrides, which a fixed ``max_episode_steps`` could not."""
+    env = UR5ReachEnv(**kwargs)
+    return gym.wrappers.TimeLimit(env, env.config.max_steps)
+
+
+make_limited.metadata = UR5ReachEnv.metadata  # gymnasium.make reads the render modes from the entry point
+
+
+class UR5ReachVectorEnv(BatchCoreVectorEnv):
+    """``num_envs`` arms stepped by one ``UR5Core`` (``gymnasium.make_vec``'s ``vector_entry_point``)."""
+
+    def __init__(self, num_envs: int = 1, preset: str = "default", max_episode_steps: int | None = None,
+                 render_mode: str | None = None, **overrides: Any):
+        config = make_config(preset, **overrides)
+        self.config = config
+        super().__init__(UR5Core(config), gym.spaces.Box(-np.inf, np.inf, (OBS_DIM,), np.float32),
+                         gym.spaces.Box(-1.0, 1.0, (ACT_DIM,), np.float32), num_envs=num_envs,
+                         max_episode_steps=max_episode_steps, render_mode=render_mode,
+                         metadata={"render_modes": [], "render_fps": int(round(1.0 / config.control_dt))})

@@ -1,0 +1,195 @@
+"""Load a trained policy from a run directory and use it from Python.
+
+.. code-block:: python
+
+    import gymnasium as gym
+    from shaped_es import load_policy
+
+    policy = load_policy("runs/quickstart")          # which="best" (default) or "mean"
+    env = policy.make_env()                          # gymnasium.make(the run's env id, **its env_kwargs)
+    obs, _ = env.reset(seed=0)
+    action = policy.predict(obs)                     # one observation -> one action
+    actions = policy.predict(obs_batch)              # (B, obs_dim) -> (B, act_dim), or (B,) for Discrete
+    module = policy.to_torch()                       # torch.nn.Module, same actions as predict
+
+Actions are those ``shaped-es evaluate`` feeds the env: ES policies output ``[-1, 1]``, rescaled to a
+``Box``'s bounds (argmax for ``Discrete``); PPO runs give SB3's deterministic action (clipped to the
+bounds). PPO runs load the same way (``policy.sb3_policy`` is the SB3 ``ActorCriticPolicy``).
+
+``which``: ``"best"`` is the policy with the best test reward so far (what ``evaluate`` and ``render``
+use by default); ``"mean"`` is the latest (ES: the search distribution's mean; PPO: the latest weights).
+Both come from the run's newest checkpoint.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es.store import RunStore, StoreError
+
+WHICH = ("best", "mean")
+
+
+@dataclass
+class Policy:
+    """A trained policy of one run; see the module docstring."""
+
+    run_dir: Path
+    method: str  # vanilla | guided | cmaes | shaped | ppo
+    which: str  # best | mean
+    generation: int  # generations done at the checkpoint it comes from
+    env_id: str  # the run's Gymnasium id
+    env_kwargs: dict  # the run's keyword arguments for gymnasium.make
+    observation_space: gym.spaces.Box
+    action_space: gym.Space
+    theta: np.ndarray | None = None  # ES: flat parameters (num_params,) float32
+    spec: Any = None  # ES: policies.MLPSpec
+    sb3_policy: Any = field(default=None, repr=False)  # PPO: the SB3 ActorCriticPolicy
+
+    @property
+    def obs_dim(self) -> int:
+        return int(self.observation_space.shape[0])
+
+    def make_env(self, **kwargs) -> gym.Env:
+        """``gymnasium.make`` of the run's env with its ``env_kwargs`` (``kwargs`` override them)."""
+        import shaped_es  # noqa: F401 - registers the built-in envs
+
+        return gym.make(self.env_id, **{**self.env_kwargs, **kwargs})
+
+    def predict(self, obs) -> np.ndarray | int:
+        """Deterministic action(s) for one observation ``(obs_dim,)`` or a batch ``(B, obs_dim)``."""
+        x = np.asarray(obs, dtype=np.float32)
+        single = x.ndim == 1
+        if x.shape[-1] != self.obs_dim or x.ndim not in (1, 2):
+            raise ValueError(f"predict: expected observations of shape ({self.obs_dim},) or (B, "
+                             f"{self.obs_dim}), got {x.shape}")
+        x = x.reshape(-1, self.obs_dim)  # (B, obs_dim)
+        if self.sb3_policy is not None:
+            act, _ = self.sb3_policy.predict(x, deterministic=True)  # (B, ...) clipped to the bounds
+            act = np.asarray(act)
+        else:
+            from shaped_es.policies import forward
+
+            raw = forward(self.spec, self.theta[None], x[None])[0]  # (B, act) in [-1, 1]
+            act = _to_space(self.action_space, raw)
+        if single:
+            a = act[0]
+            return int(a) if isinstance(self.action_space, gym.spaces.Discrete) else a
+        return act
+
+    def to_torch(self):
+        """A ``torch.nn.Module``: ``obs`` float tensor ``(B, obs_dim)`` -> the actions ``predict`` gives
+        (``Box``: float ``(B, act_dim)``; ``Discrete``: int64 ``(B,)``). ES: ``module.net`` is the MLP
+        (``nn.Linear`` + ``tanh`` layers, output in ``[-1, 1]``); PPO: ``module.policy`` is SB3's."""
+        if self.sb3_policy is not None:
+            return _SB3Actor(self.sb3_policy, self.action_space)
+        return _ESActor(self.spec, self.theta, self.action_space)
+
+
+def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
+    """The ``which`` ('best' or 'mean') policy of the run in ``run_dir`` (any method, PPO included)."""
+    if which not in WHICH:
+        raise ValueError(f"which must be one of {WHICH}, got {which!r}")
+    import shaped_es  # noqa: F401 - registers the built-in envs
+    from shaped_es.rollout import env_dims, make_env
+
+    store = RunStore(run_dir)
+    cfg = store.read_config()
+    loaded = store.load_checkpoint()
+    if loaded is None:
+        raise StoreError(f"{run_dir} has no checkpoint yet")
+    arrays, meta = loaded
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        obs_dim, act_dim = env_dims(env)
+        obs_space, act_space = env.observation_space, env.action_space
+    finally:
+        env.close()
+    common = dict(run_dir=Path(run_dir), method=cfg.method, which=which, generation=int(meta["generation"]),
+                  env_id=cfg.env, env_kwargs=dict(cfg.env_kwargs), observation_space=obs_space,
+                  action_space=act_space)
+    if cfg.method == "ppo":
+        from shaped_es.baselines.ppo import load_policy as load_sb3
+
+        return Policy(**common, sb3_policy=load_sb3(cfg, arrays, which))
+    from shaped_es.policies import MLPSpec
+
+    key = f"policy/{which}"
+    if key not in arrays:
+        raise StoreError(f"checkpoint of {run_dir} has no {which!r} policy")
+    spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+    theta = np.asarray(arrays[key], dtype=np.float32)
+    if theta.shape != (spec.num_params,):
+        raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
+                         f"{spec.num_params}")
+    return Policy(**common, theta=theta, spec=spec)
+
+
+def _to_space(space: gym.Space, a: np.ndarray) -> np.ndarray:
+    """Policy outputs ``(B, act)`` in ``[-1, 1]`` -> actions of ``space`` (as the rollouts map them)."""
+    if isinstance(space, gym.spaces.Discrete):
+        return np.argmax(a, axis=-1).astype(np.int64) + int(space.start)  # (B,)
+    low, high = space.low, space.high
+    return (low + (a + 1.0) * 0.5 * (high - low)).astype(space.dtype)  # (B, act)
+
+
+def _torch_modules():
+    import torch
+    from torch import nn
+
+    class ESActor(nn.Module):
+        def __init__(self, spec, theta: np.ndarray, space: gym.Space):
+            super().__init__()
+            layers: list[nn.Module] = []
+            for (i, o), (ws, bs) in zip(spec.layer_shapes, spec.slices()):
+                lin = nn.Linear(i, o)
+                with torch.no_grad():
+                    lin.weight.copy_(torch.from_numpy(theta[ws].reshape(i, o).T.copy()))
+                    lin.bias.copy_(torch.from_numpy(theta[bs].copy()))
+                layers += [lin, nn.Tanh()]
+            self.net = nn.Sequential(*layers)
+            self.discrete = isinstance(space, gym.spaces.Discrete)
+            if self.discrete:
+                self.start = int(space.start)
+            else:
+                self.register_buffer("low", torch.as_tensor(space.low, dtype=torch.float32))
+                self.register_buffer("high", torch.as_tensor(space.high, dtype=torch.float32))
+
+        def forward(self, obs):
+            a = self.net(obs)
+            if self.discrete:
+                return a.argmax(dim=-1) + self.start
+            return self.low + (a + 1.0) * 0.5 * (self.high - self.low)
+
+    class SB3Actor(nn.Module):
+        def __init__(self, policy, space: gym.Space):
+            super().__init__()
+            self.policy = policy
+            self.box = isinstance(space, gym.spaces.Box)
+            if self.box:
+                self.register_buffer("low", torch.as_tensor(space.low, dtype=torch.float32))
+                self.register_buffer("high", torch.as_tensor(space.high, dtype=torch.float32))
+
+        def forward(self, obs):
+            act = self.policy._predict(obs, deterministic=True)  # SB3's deterministic action
+            if self.box:
+                if getattr(self.policy, "squash_output", False):
+                    act = self.low + (act + 1.0) * 0.5 * (self.high - self.low)
+                else:
+                    act = torch.clamp(act, self.low, self.high)
+            return act
+
+    return ESActor, SB3Actor
+
+
+def _ESActor(spec, theta, space):
+    return _torch_modules()[0](spec, theta, space)
+
+
+def _SB3Actor(policy, space):
+    return _torch_modules()[1](policy, space)

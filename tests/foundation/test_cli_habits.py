@@ -1,0 +1,151 @@
+"""Command-line habits: validation before anything is written (a failed ``train`` does not block its
+retry), ``module:Env`` ids from the working directory, defaults in every ``--help``, ``--version``,
+``python -m shaped_es``, ``--pairs`` / ``--popsize``, ``resume --generations`` below what is done."""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+import yaml
+
+from shaped_es import __version__
+from shaped_es.cli import build_parser, main
+
+TINY = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1",
+        "--set", "rollout.test_episodes=2", "--set", "policy.hidden=[4]", "--set", "tensorboard=false",
+        "--quiet"]
+
+
+def _one_error_line(capsys):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("shaped-es: error: "), err
+    return err[0]
+
+
+def test_failed_train_leaves_nothing_and_the_retry_works(tmp_path, capsys):
+    out = tmp_path / "run"
+    # CartPole has no info['position'] / info['waypoint']: --method shaped cannot use it
+    assert main(["train", "--env", "CartPole-v1", "--method", "shaped", *TINY, "--out", str(out)]) == 2
+    assert "info['position']" in _one_error_line(capsys)
+    assert not out.exists()
+    assert main(["train", "--env", "CartPole-v1", "--method", "shaped", *TINY, "--out", str(out)]) == 2
+    capsys.readouterr()
+    assert main(["train", "--env", "CartPole-v1", "--method", "vanilla", *TINY, "--out", str(out)]) == 0
+    assert (out / "checkpoints" / "latest.json").is_file()
+    # and other bad input fails the same way, before writing
+    assert main(["train", "--env", "Pendulum-v1", "--method", "ppo", "--set", "ppo.n_steps=1",
+                 "--out", str(tmp_path / "p")]) == 2
+    assert "n_steps" in _one_error_line(capsys) and not (tmp_path / "p").exists()
+
+
+def test_benchmark_validates_every_method_before_writing(tmp_path, capsys):
+    out = tmp_path / "b"
+    assert main(["benchmark", "--env", "CartPole-v1", "--methods", "vanilla,shaped", "--seeds", "1",
+                 "--generations", "1", "--executor", "inline", "--quiet", "--out", str(out)]) == 2
+    assert "--method shaped" in _one_error_line(capsys)
+    assert not out.exists()
+
+
+MYENVS = '''
+import gymnasium as gym
+import numpy as np
+
+
+class Point(gym.Env):
+    """A point pushed towards the origin; 20 steps."""
+
+    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        return self.x.copy(), {}
+
+    def step(self, action):
+        self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32), -10, 10)
+        return self.x.copy(), -float(np.linalg.norm(self.x)), False, False, {}
+
+
+gym.register("Point-v0", entry_point=Point, max_episode_steps=20)
+'''
+
+
+def _console_script():
+    exe = Path(sys.executable).parent / "shaped-es"
+    return str(exe) if exe.is_file() else shutil.which("shaped-es")
+
+
+@pytest.mark.parametrize("executor", ["inline", "process"])
+def test_own_env_module_from_the_working_directory(tmp_path, executor):
+    (tmp_path / "myenvs.py").write_text(textwrap.dedent(MYENVS))
+    script = _console_script()
+    assert script, "the shaped-es console script is not installed"
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    args = [script, "train", "--env", "myenvs:Point-v0", *TINY, "--out", "run"]
+    args[args.index("inline")] = executor
+    res = subprocess.run([*args, "--workers", "1"] if executor == "process" else args, cwd=tmp_path,
+                         env=env, capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert (tmp_path / "run" / "checkpoints" / "latest.json").is_file()
+
+
+def _parsers(p: argparse.ArgumentParser, path=()):
+    yield path, p
+    for a in p._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            for name, sp in a.choices.items():
+                yield from _parsers(sp, (*path, name))
+
+
+def test_every_help_shows_defaults_and_version(capsys):
+    seen = 0
+    for path, p in _parsers(build_parser()):
+        text = p.format_help()
+        for a in p._actions:
+            if a.option_strings and a.default not in (None, argparse.SUPPRESS) and a.dest != "help":
+                assert "default" in p.formatter_class(prog="x")._format_action(a), (path, a.dest)
+                seen += 1
+        if path == ("train",):
+            assert "(default: 50)" in text and "(default: vanilla)" in text and "(default: 32)" in text
+        if path == ("evaluate",):
+            assert "(default: 15)" in text and "(default: 12345)" in text
+    assert seen > 10
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"shaped-es {__version__}"
+    res = subprocess.run([sys.executable, "-m", "shaped_es", "--version"], capture_output=True, text=True)
+    assert res.returncode == 0 and res.stdout.strip() == f"shaped-es {__version__}"
+    res = subprocess.run([sys.executable, "-m", "shaped_es", "train", "--help"], capture_output=True, text=True)
+    assert res.returncode == 0 and "--popsize" in res.stdout
+
+
+def test_pairs_and_popsize(tmp_path, capsys):
+    assert main(["train", "--env", "CartPole-v1", "--popsize", "7", "--out", str(tmp_path / "a")]) == 2
+    assert "--popsize must be a positive even number" in _one_error_line(capsys)
+    assert main(["train", "--env", "CartPole-v1", "--popsize", "8", "--pairs", "3", "--out",
+                 str(tmp_path / "a")]) == 2
+    assert "disagree" in _one_error_line(capsys) and not (tmp_path / "a").exists()
+    i = TINY.index("--pairs")
+    args = TINY[:i] + TINY[i + 2:]
+    assert main(["train", "--env", "CartPole-v1", *args, "--popsize", "6", "--out", str(tmp_path / "b")]) == 0
+    assert yaml.safe_load((tmp_path / "b" / "config.yaml").read_text())["es"]["pairs"] == 3
+    assert main(["train", "--env", "CartPole-v1", *args, "--pairs", "3", "--out", str(tmp_path / "c")]) == 0
+    assert yaml.safe_load((tmp_path / "c" / "config.yaml").read_text())["es"]["pairs"] == 3
+
+
+def test_resume_below_the_generations_done_says_so(tmp_path, capsys):
+    out = str(tmp_path / "r")
+    assert main(["train", "--env", "CartPole-v1", *TINY, "--out", out]) == 0
+    before = (tmp_path / "r" / "config.yaml").read_text()
+    capsys.readouterr()
+    assert main(["resume", out, "--generations", "1", "--quiet"]) == 2
+    line = _one_error_line(capsys)
+    assert "2 generations done" in line and "--generations 1" in line
+    assert (tmp_path / "r" / "config.yaml").read_text() == before  # untouched
+    assert main(["resume", out, "--generations", "3", "--quiet"]) == 0
