@@ -160,6 +160,16 @@ def cmd_bench_executors(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bench_shaping(a: argparse.Namespace) -> int:
+    from shaped_es.benchmarks.shaping_cost import bench_shaping, format_table
+
+    envs = tuple(e.strip() for e in a.envs.split(",") if e.strip())
+    res = bench_shaping(envs, generations=a.generations, warmup=a.warmup, executor=a.executor,
+                        workers=a.workers, overrides=_parse_set(a.set))
+    print(json.dumps(res) if a.json else format_table(res))
+    return 0
+
+
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
     """Every option's default in its help; ``None`` defaults (taken from the config) are described in the
     option's own help instead of printing "(default: None)", and a help that names its default already
@@ -269,6 +279,16 @@ def build_parser() -> argparse.ArgumentParser:
     bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
     bx.add_argument("--json", action="store_true", help="one line of JSON")
     bx.set_defaults(fn=cmd_bench_executors)
+    bs = bsub.add_parser("shaping", help="a shaped generation vs a vanilla one, side by side, per phase")
+    bs.add_argument("--envs", default="CarNav-v0,UR5Reach-v0", help="comma-separated env ids")
+    bs.add_argument("--generations", type=int, default=10, help="timed generations (medians reported)")
+    bs.add_argument("--warmup", type=int, default=3, help="untimed generations first")
+    bs.add_argument("--executor", default="process", choices=("inline", "process"))
+    bs.add_argument("--workers", type=int, help="worker processes (default: all cores)")
+    bs.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="config override for the shaped run only, e.g. shaping.cloning.steps=5")
+    bs.add_argument("--json", action="store_true", help="one line of JSON")
+    bs.set_defaults(fn=cmd_bench_shaping)
     _use_formatter(p)
     return p
 

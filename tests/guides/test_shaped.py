@@ -54,6 +54,8 @@ def test_shaped_changes_search_and_resumes_exactly(tmp_path):
     strip = lambda rows: [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")}
                           for r in rows]
     assert strip(part.read_metrics()) == strip(full.read_metrics())
+    arrays, _ = full.load_checkpoint()
+    assert "guide/mphi/data/x" not in arrays and (full.root / "mphi_data").is_dir()  # data set saved once
     gens = sorted(p.name for p in (full.root / "trajectories").iterdir())
     assert gens == ["gen_000003"]  # only what a re-run from the last checkpoint reads (history 2)
 

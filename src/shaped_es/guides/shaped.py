@@ -30,9 +30,12 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 from __future__ import annotations
 
 import functools
+import io
+import re
 import threading
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
 
@@ -45,10 +48,11 @@ from shaped_es.guides.shaped_tasks import CloneTask, clip_norm, label_and_clone,
 from shaped_es.guides.shaped_tasks import states_and_queries
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env
-from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, training_pairs
 from shaped_es.shaping.surrogate import cosine, subspace_alignment, surrogate_gradients
 from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
+from shaped_es.store import atomic_write_bytes
 
 MASTER_MAX_PARAMS = 20_000_000  # P x n above which ``auto`` clones on the workers
 
@@ -111,6 +115,13 @@ class ShapedGuide(NoGuide):
         self._writer = ThreadPoolExecutor(1, thread_name_prefix="trajectory-writer")
         self._writes: list[Future] = []
         self._write_time = 0.0  # background write time not yet reported
+        # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data), not in every
+        # checkpoint; a checkpoint names the parts that rebuild it. (generation, rows) of those parts:
+        self.data_dir = Path(store.root) / "mphi_data"
+        self._parts: list[tuple[int, int]] = []
+        self._part_margin = cfg.keep_checkpoints * cfg.checkpoint_every  # older checkpoints' parts too
+        if self.placement == "master":
+            warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
     def rollout_fn(self):
         if self.placement == "workers":
@@ -139,6 +150,54 @@ class ShapedGuide(NoGuide):
         t0 = time.perf_counter()
         write_shard(self.traj_root, trs)
         return time.perf_counter() - t0
+
+    def _part_path(self, generation: int) -> Path:
+        return self.data_dir / f"added_{generation:06d}.npz"
+
+    def _write_part(self, generation: int, x: np.ndarray, y: np.ndarray) -> float:
+        t0 = time.perf_counter()
+        buf = io.BytesIO()
+        np.savez(buf, x=x, y=y)
+        atomic_write_bytes(self._part_path(generation), buf.getvalue())
+        return time.perf_counter() - t0
+
+    def _trim_parts(self) -> None:
+        """Keep the newest parts that hold the data set (FIFO-capped); delete files no kept checkpoint
+        names."""
+        need, kept = self.mphi.dataset_size, []
+        for g, rows in reversed(self._parts):
+            if need <= 0:
+                break
+            kept.insert(0, (g, rows))
+            need -= rows
+        self._parts = kept
+        if not self.data_dir.is_dir():
+            return
+        oldest = (kept[0][0] if kept else self._last_generation + 1) - self._part_margin
+        for f in self.data_dir.iterdir():
+            m = re.fullmatch(r"added_(\d{6,})\.npz", f.name)
+            if m and int(m.group(1)) < oldest:
+                f.unlink(missing_ok=True)
+
+    def _read_parts(self, parts: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
+        xs, ys = [], []
+        for g, rows in parts.reshape(-1, 2):
+            path = self._part_path(int(g))
+            try:
+                with np.load(path, allow_pickle=False) as z:
+                    x, y = z["x"], z["y"]
+            except (OSError, KeyError, ValueError) as exc:
+                raise ValueError(f"M_phi data part {path} is missing or unreadable ({type(exc).__name__})") \
+                    from None
+            if x.shape[0] != int(rows) or y.shape[0] != int(rows):
+                raise ValueError(f"M_phi data part {path} holds {x.shape[0]} rows, the checkpoint says {rows}")
+            xs.append(x)
+            ys.append(y)
+        x = np.concatenate(xs) if xs else np.zeros((0, self.mphi.in_dim), np.float32)
+        y = np.concatenate(ys) if ys else np.zeros((0, self.mphi.act_dim), np.float32)
+        if x.shape[0] < size:
+            raise ValueError(f"M_phi data parts hold {x.shape[0]} rows, the checkpoint needs {size}")
+        return x[x.shape[0] - size :], y[y.shape[0] - size :]
 
     def _join_writes(self) -> float:
         """Wait for the background shard writes; returns their total time (raises their errors)."""
@@ -171,6 +230,11 @@ class ShapedGuide(NoGuide):
             self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
                                                                   self.step_norm[1]) / cnt])
         stats = self.mphi.add(data)
+        rows = int(stats["added"])
+        if rows:
+            x, y = self.mphi.newest(rows)
+            self._writes.append(self._writer.submit(self._write_part, generation, x, y))
+            self._parts.append((generation, rows))
         self._pending.update(mphi_dataset_size=stats["dataset_size"],
                              mphi_kept_fraction=stats["kept_fraction"])
         self._thread = threading.Thread(target=self._train, name="mphi-train", daemon=True)
@@ -248,6 +312,8 @@ class ShapedGuide(NoGuide):
                               np.zeros((0, self.spec.obs_dim), np.float32))
                 queries.append(np.concatenate([p[2] for p in parts]) if parts else
                                np.zeros((0, self.mphi.pos_dim), np.float32))
+            # one torch thread, as everywhere in the master: two threads were 1.7x faster on an idle
+            # machine but 3x slower beside any other busy process (OpenMP spin-waits)
             res = clone_sampled(self.spec, params, states, queries, self._labeller(max_disp),
                                 self.clone_cfg, seeds)
             return res.theta_star, res, 0.0
@@ -284,14 +350,21 @@ class ShapedGuide(NoGuide):
 
     # -- checkpoint ---------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
-        self._join_writes()  # the checkpoint may only name generations whose shards are durable
+        self._join_writes()  # the checkpoint may only name shards and data parts that are durable
         self._prune()
-        st = {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True).items()}
+        self._trim_parts()
+        st = {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
         st["step_norm"] = self.step_norm
+        st["mphi_parts"] = np.array(self._parts, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
         return st
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.mphi.load_state_dict({k[5:]: v for k, v in state.items() if k.startswith("mphi/")})
+        mphi = {k[5:]: v for k, v in state.items() if k.startswith("mphi/")}
+        self.mphi.load_state_dict(mphi)
+        if "data/x" not in mphi and "data/size" in mphi:  # the data set lives in RUN/mphi_data
+            parts = np.asarray(state["mphi_parts"], np.int64).reshape(-1, 2)
+            self.mphi.set_data(*self._read_parts(parts, int(mphi["data/size"][0])))
+            self._parts = [(int(g), int(r)) for g, r in parts]
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
         self._cache.clear()
 

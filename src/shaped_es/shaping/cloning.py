@@ -182,6 +182,14 @@ def clone_population(
                        samples=n_i.numpy().astype(np.int64))
 
 
+def warm_up_cloning() -> None:
+    """Import and run torch's optimizer machinery once (its first use imports ``torch._dynamo``)."""
+    p = torch.zeros(1, requires_grad=True)
+    opt = torch.optim.Adam([p], lr=1e-3)
+    (p * p).sum().backward()
+    opt.step()
+
+
 LabelFn = Callable[[np.ndarray, np.ndarray], np.ndarray]  # states (..., obs), queries (..., d) -> (..., act)
 
 
@@ -223,40 +231,59 @@ def clone_sampled(
     k_eval = max(1, min(eval_batches, steps))
     draws = max(steps, k_eval)
     d = next((np.asarray(q).shape[-1] for q in queries if len(q)), 0)
-    S = np.zeros((draws, P, B, spec.obs_dim), np.float32)  # (draws, P, B, obs) sampled rows
-    Q = np.zeros((draws, P, B, d), np.float32)  # (draws, P, B, d)
-    for i in range(P):
-        if n_i[i]:
-            rows = np.random.default_rng(int(seeds[i])).integers(0, n_i[i], size=(draws, B))  # (draws, B)
-            S[:, i], Q[:, i] = np.asarray(states[i])[rows], np.asarray(queries[i])[rows]
+    # every member's draws from its own generator, then one gather from all members' rows stacked
+    offsets = np.concatenate([[0], np.cumsum(n_i)[:-1]])  # (P,) first row of member i in the stack
+    rows = np.zeros((draws, P, B), np.int64)  # (draws, P, B) indices into the stack
+    for i in np.flatnonzero(n_i):
+        rows[:, i] = offsets[i] + np.random.default_rng(int(seeds[i])).integers(0, n_i[i], size=(draws, B))
     has = n_i > 0  # (P,) members without data get no gradient and nan losses
-    A = np.zeros((draws, P, B, spec.act_dim), np.float32)  # (draws, P, B, act) labels a_hat
     if has.any():
-        A[:, has] = label_fn(S[:, has], Q[:, has])
+        S = np.concatenate([np.asarray(x, np.float32) for x in states])[rows]  # (draws, P, B, obs)
+        Q = np.concatenate([np.asarray(x, np.float32).reshape(-1, d) for x in queries])[rows]  # (.., d)
+        A = label_fn(S, Q).astype(np.float32, copy=False)  # (draws, P, B, act) labels a_hat
+        if not has.all():
+            A[:, ~has] = 0.0
+    else:
+        S = np.zeros((draws, P, B, spec.obs_dim), np.float32)
+        A = np.zeros((draws, P, B, spec.act_dim), np.float32)
     S_t, A_t = torch.from_numpy(S), torch.from_numpy(A)
-    params = torch.tensor(th, requires_grad=True)  # (P, n) leaf: row i is member i
+    # one leaf per layer, (P, in, out) and (P, 1, out): no slicing of a flat (P, n) tensor every step
+    # (the same elementwise Adam/SGD updates as on the flat vector, so the same theta*)
+    leaves = []
+    for (i_, o_), (ws, bs) in zip(spec.layer_shapes, spec.slices()):
+        leaves.append(torch.tensor(th[:, ws].reshape(P, i_, o_), requires_grad=True))  # (P, in, out)
+        leaves.append(torch.tensor(th[:, bs].reshape(P, 1, o_), requires_grad=True))  # (P, 1, out)
     w = torch.from_numpy(has.astype(np.float32))[:, None] / B  # (P, 1)
 
-    def eval_mse(p: torch.Tensor) -> np.ndarray:
+    def fwd(x: torch.Tensor) -> torch.Tensor:  # (P, b, obs) -> (P, b, act), as policies.forward
+        for W, b in zip(leaves[0::2], leaves[1::2]):
+            x = torch.tanh(torch.baddbmm(b, x, W))
+        return x
+
+    def eval_mse() -> np.ndarray:
         with torch.no_grad():
             s = S_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
             a = A_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (P, kB, act)
-            mse = ((forward_torch(spec, p, s) - a) ** 2).mean((1, 2)).double().numpy()  # (P,)
+            mse = ((fwd(s) - a) ** 2).mean((1, 2)).double().numpy()  # (P,)
         return np.where(has, mse, np.nan)
 
-    before = eval_mse(params)
+    before = eval_mse()
     if steps > 0 and has.any():
-        opt = (torch.optim.Adam if cfg.optimizer == "adam" else torch.optim.SGD)([params], lr=cfg.lr)
+        opt = (torch.optim.Adam if cfg.optimizer == "adam" else torch.optim.SGD)(leaves, lr=cfg.lr)
         for k in range(steps):
-            err = ((forward_torch(spec, params, S_t[k]) - A_t[k]) ** 2).mean(-1)  # (P, B)
+            err = ((fwd(S_t[k]) - A_t[k]) ** 2).mean(-1)  # (P, B)
             loss = (err * w).sum()  # sum_i L_i(theta_i), Eq. L(theta) per member
             opt.zero_grad(set_to_none=True)
             loss.backward()
             opt.step()
-    after = eval_mse(params.detach())
+    after = eval_mse()
+    theta_star = np.empty_like(th)  # (P, n): the layers flattened back into the policy layout
+    with torch.no_grad():
+        for (ws, bs), W, b in zip(spec.slices(), leaves[0::2], leaves[1::2]):
+            theta_star[:, ws] = W.numpy().reshape(P, -1)
+            theta_star[:, bs] = b.numpy().reshape(P, -1)
     used = A[:, has].reshape(-1, spec.act_dim)  # (draws * P' * B, act)
-    return CloneResult(theta_star=params.detach().numpy().astype(np.float32), loss_before=before,
-                       loss_after=after, samples=n_i,
+    return CloneResult(theta_star=theta_star, loss_before=before, loss_after=after, samples=n_i,
                        label_std=float(used.std(axis=0).mean()) if used.size else 0.0)
 
 

@@ -1,0 +1,156 @@
+"""What shaping costs: a ``vanilla`` and a ``shaped`` run stepped side by side, generation by generation.
+
+Both trainers run in this process with their own executors (default ``process``, all cores) and the
+same config otherwise (population 64, default preset). After ``warmup`` untimed generations (pools,
+Numba JIT, torch import), each timed generation runs vanilla then shaped (the order alternates every
+generation, so drift in the machine's load hits both alike). A generation's wall time covers all a run
+does for it: ask, rollouts, tell, shaping, metrics row and checkpoint (``checkpoint_every = 1``).
+
+Reported per env (medians over the timed generations): the whole generation of each method and their
+ratio; the shaped run's phases (rollouts, cloning, time waited for M_phi, M_phi's own time in its
+thread, the background shard writes, the checkpoint); and the **batched lower bound** of the shaping
+work: M_phi's steps and the labels + cloning of the whole population, timed alone on the master on the
+run's last generation of data with nothing else running.
+
+``shaped-es bench shaping --json`` prints one JSON line; ``--set shaping.cloning.steps=5`` (and any
+other ``--set``) changes the shaped run only, to price other budgets.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from shaped_es.config import build_config, merge
+
+PHASES = ("rollout_time_s", "time_cloning_s", "time_mphi_wait_s", "time_mphi_s", "time_store_write_s")
+ENVS = ("CarNav-v0", "UR5Reach-v0")
+
+
+def _med(xs) -> float | None:
+    xs = [float(x) for x in xs if x is not None]
+    return statistics.median(xs) if xs else None
+
+
+class _Stepper:
+    """One run driven generation by generation, as ``Trainer.run`` would (rows, checkpoints)."""
+
+    def __init__(self, cfg, root: Path):
+        from shaped_es.store import RunStore
+        from shaped_es.trainer import Trainer
+
+        self.store = RunStore(root)
+        self.store.create(cfg)
+        self.trainer = Trainer(cfg, self.store, progress=False)
+        self.rows: list[dict] = []
+        self.wall: list[float] = []
+        self.checkpoint: list[float] = []
+
+    def step(self, g: int, timed: bool) -> None:
+        t0 = time.perf_counter()
+        done = self.trainer.step(g)
+        for row in done:
+            self.store.append_metrics(row)
+        t1 = time.perf_counter()
+        self.trainer._checkpoint()
+        t2 = time.perf_counter()
+        if timed:
+            self.wall.append(t2 - t0)
+            self.checkpoint.append(t2 - t1)
+            self.rows.append(self.trainer.c.__dict__ | {"done": done})
+
+    def close(self) -> None:
+        self.trainer._drain()
+        self.trainer.close()
+
+
+def _lower_bound(stepper: _Stepper, g: int) -> dict:
+    """M_phi's steps and the population's labels + cloning, alone on the master (``g``'s data)."""
+    guide = stepper.trainer.guide
+    if getattr(guide, "placement", None) != "master" or guide.mphi.iterations == 0:
+        return {"mphi_s": None, "clone_s": None}
+    X = np.asarray(stepper.trainer.strategy.ask(), dtype=np.float32)  # (P, n) a population to clone
+    state = guide.mphi.state_dict(with_training=True)
+    t0 = time.perf_counter()
+    guide.mphi.train()
+    t1 = time.perf_counter()
+    guide.mphi.load_state_dict(state)
+    guide._clone(g, X, None, n_tasks=1)
+    t2 = time.perf_counter()
+    return {"mphi_s": t1 - t0, "clone_s": t2 - t1}
+
+
+def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str = "process",
+              workers: int | None = None, overrides: dict | None = None) -> dict:
+    base = {"env": env_id, "generations": warmup + generations, "executor": executor, "workers": workers,
+            "tensorboard": False, "seed": 0}
+    cfgs = {"vanilla": build_config({**base, "method": "vanilla"}),
+            "shaped": build_config(merge({**base, "method": "shaped"}, overrides or {}))}
+    with tempfile.TemporaryDirectory(prefix="shaped-es-bench-") as tmp, threadpool_limits(limits=1):
+        from shaped_es.trainer import _limit_torch_threads
+
+        runs = {m: _Stepper(c, Path(tmp) / m) for m, c in cfgs.items()}
+        _limit_torch_threads()
+        try:
+            for g in range(warmup + generations):
+                order = list(runs) if g % 2 == 0 else list(runs)[::-1]
+                for m in order:
+                    runs[m].step(g, timed=g >= warmup)
+            bound = _lower_bound(runs["shaped"], warmup + generations - 1)
+        finally:
+            for r in runs.values():
+                r.close()
+        shaped_rows = [r for row in runs["shaped"].rows for r in row["done"]]
+        van, sha = _med(runs["vanilla"].wall), _med(runs["shaped"].wall)
+        phases = {k: _med(r.get(k) for r in shaped_rows) for k in PHASES}
+        phases["checkpoint_s"] = _med(runs["shaped"].checkpoint)
+        return {
+            "env": env_id, "timed_generations": generations,
+            "vanilla_generation_s": van, "shaped_generation_s": sha,
+            "ratio": sha / van if van else None,
+            "vanilla_rollout_s": _med(r.get("rollout_time_s") for row in runs["vanilla"].rows
+                                      for r in row["done"]),
+            "vanilla_checkpoint_s": _med(runs["vanilla"].checkpoint),
+            "shaped_phases_s": phases,
+            "lower_bound_s": {"mphi": bound["mphi_s"], "label_and_clone": bound["clone_s"]},
+            "shaping": cfgs["shaped"].shaping.model_dump(mode="json", include={"placement", "history"})
+            | {"mphi_steps": cfgs["shaped"].shaping.inverse_dynamics.steps_per_generation,
+               "clone_steps": cfgs["shaped"].shaping.cloning.steps,
+               "clone_batch": cfgs["shaped"].shaping.cloning.batch_size},
+        }
+
+
+def bench_shaping(envs=ENVS, generations: int = 10, warmup: int = 3, executor: str = "process",
+                  workers: int | None = None, overrides: dict | None = None) -> dict:
+    return {"machine": {"cpus": os.cpu_count(), "python": platform.python_version()},
+            "executor": executor, "workers": workers or os.cpu_count(),
+            "envs": [bench_env(e, generations, warmup, executor, workers, overrides) for e in envs]}
+
+
+def format_table(res: dict) -> str:
+    lines = [f"{'env':14s} {'vanilla':>9s} {'shaped':>9s} {'ratio':>6s}  shaped phases (median s)"]
+    for e in res["envs"]:
+        ph = " ".join(f"{k.replace('time_', '').replace('_s', '')}={v:.3f}" for k, v in
+                      e["shaped_phases_s"].items() if v is not None)
+        lb = e["lower_bound_s"]
+        lbs = "" if lb["mphi"] is None else f"  lower bound: mphi={lb['mphi']:.3f} clone={lb['label_and_clone']:.3f}"
+        lines.append(f"{e['env']:14s} {e['vanilla_generation_s']:9.3f} {e['shaped_generation_s']:9.3f} "
+                     f"{e['ratio']:6.2f}  {ph}{lbs}")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    res = bench_shaping()
+    print(json.dumps(res))
+
+
+if __name__ == "__main__":
+    main()
