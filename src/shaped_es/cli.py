@@ -279,6 +279,11 @@ def build_parser() -> argparse.ArgumentParser:
     bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
     bx.add_argument("--json", action="store_true", help="one line of JSON")
     bx.set_defaults(fn=cmd_bench_executors)
+    from shaped_es.benchmarks import strategy_speed
+
+    bst = bsub.add_parser("strategies", help="ES master per generation (ask + tell + guide) vs policy size")
+    strategy_speed.add_arguments(bst)  # --sizes 2.4k,100k,1M --strategies --generations --json ...
+    bst.set_defaults(fn=strategy_speed.run_cli)
     bs = bsub.add_parser("shaping", help="a shaped generation vs a vanilla one, side by side, per phase")
     bs.add_argument("--envs", default="CarNav-v0,UR5Reach-v0", help="comma-separated env ids")
     bs.add_argument("--generations", type=int, default=10, help="timed generations (medians reported)")

@@ -14,6 +14,10 @@ HYPER = {
     "guided": dict(sigma=0.1, lr=0.05, alpha=0.4, pairs=4, seed=7, optimizer="adam"),
     "cmaes": dict(sigma=0.3, pairs=4, seed=7, weight_decay=0.05, mu=25),
     "cmaes_diag": dict(sigma=0.3, pairs=4, seed=7, diagonal_above=5),
+    # the float32 path of large policies, forced on the small test problem
+    "vanilla_f32": dict(sigma=0.1, lr=0.05, pairs=4, seed=7, optimizer="adam", weight_decay=0.01,
+                        float32_above=0),
+    "guided_f32": dict(sigma=0.1, lr=0.05, alpha=0.4, pairs=4, seed=7, optimizer="adam", float32_above=0),
 }
 
 
@@ -24,7 +28,7 @@ def _fitness(X):
 def _generation(es, name, g):
     X = es.ask()
     es.tell(_fitness(X))
-    if name == "guided":  # a surrogate for the next ask, as the trainer does after tell
+    if name.startswith("guided"):  # a surrogate for the next ask, as the trainer does after tell
         es.guide(np.random.default_rng(100 + g).standard_normal((2, es.num_params)))
     return X
 

@@ -9,6 +9,11 @@ Every strategy MAXIMIZES fitness and shares one interface::
     es.state_dict() / es.load_state_dict(d)   # numpy arrays only; exact continuation
 
 ``make_strategy(name, x0, **hyper)`` builds one by name: ``"vanilla"``, ``"guided"``, ``"cmaes"``.
+
+Large policies: above ``float32_above`` parameters (default 20,000) Vanilla and Guided ES draw float32
+noise, ``ask`` returns a float32 population and Guided ES keeps its subspace as float32 rows and a small
+float64 Cholesky factor (the same covariance; see ``vanilla`` and ``guided``); smaller policies compute
+exactly as before, in float64. ``shaped-es bench strategies`` times a generation by size.
 """
 
 from __future__ import annotations

@@ -70,11 +70,14 @@ class Strategy:
             raise ValueError("fitness must be finite (got NaN or inf)")
         return f
 
-    def _record_best(self, fitness: np.ndarray, population: np.ndarray) -> None:
+    def _record_best(self, fitness: np.ndarray, population) -> None:
+        """Best-so-far from ``fitness`` (N,); ``population`` is an (N, n) array, or a function of the
+        member index returning its (n,) parameters (so a strategy need not rebuild the population)."""
         i = int(np.argmax(fitness))
         if fitness[i] > self.best_fitness:
+            row = population(i) if callable(population) else population[i]
             self.best_fitness = float(fitness[i])
-            self.best_params = np.array(population[i], dtype=np.float64)
+            self.best_params = np.array(row, dtype=np.float64)
 
     def shape(self, fitness: np.ndarray) -> np.ndarray:
         """This strategy's fitness shaping (``fitness_shaping``) applied to ``fitness``."""

@@ -85,10 +85,11 @@ class CMAES(Strategy):
     def tell(self, fitness, surrogate=None) -> None:
         """Update from fitness (popsize,), larger is better. ``surrogate`` is accepted and ignored."""
         f = self._check_fitness(fitness)  # (2P,)
-        X = self.ask()  # (2P, n)
-        self._record_best(f, X)
-        penalized = l2_fitness_penalty(f, X, self.weight_decay)  # (2P,) estool weight decay
-        solutions = self._pending
+        if self._pending is None:
+            self.ask()
+        solutions = self._pending  # 2P rows of (n,), as asked (no copy of the population)
+        self._record_best(f, lambda i: solutions[i])
+        penalized = l2_fitness_penalty(f, solutions, self.weight_decay)  # (2P,) estool weight decay
         self._isolated(lambda: self._es.tell(solutions, (-penalized).tolist()))  # pycma minimizes
         self._pending = None
         self._history.append(f.copy())

@@ -3,7 +3,8 @@
 The paper's update, Eq. (4), is plain gradient ascent with step ``gamma * beta``; :class:`SGD` with
 ``momentum=0`` is exactly that with ``lr = gamma * beta``. :class:`Adam` is the common choice for ES on
 neural-network policies (Salimans et al. 2017 use Adam). Both keep every bit of state in numpy arrays so
-a checkpoint resumes bit for bit.
+a checkpoint resumes bit for bit. The steps update their state in place (the same operations in the same
+order as the formulas, so the same bits) to spare large policies the temporaries.
 """
 
 from __future__ import annotations
@@ -26,8 +27,10 @@ class SGD:
 
     def step(self, x: np.ndarray, grad: np.ndarray) -> np.ndarray:
         """Return the new parameters after one ascent step along ``grad``."""
-        self.buf = self.momentum * self.buf + grad  # (n,)
-        return x + self.lr * self.buf
+        buf = self.buf
+        buf *= self.momentum  # (n,) buf = momentum * buf + grad
+        buf += grad
+        return x + self.lr * buf
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {"buf": self.buf.copy()}
@@ -53,11 +56,21 @@ class Adam:
 
     def step(self, x: np.ndarray, grad: np.ndarray) -> np.ndarray:
         self.t += 1
-        self.m = self.b1 * self.m + (1.0 - self.b1) * grad  # (n,)
-        self.v = self.b2 * self.v + (1.0 - self.b2) * (grad * grad)  # (n,)
-        m_hat = self.m / (1.0 - self.b1**self.t)
-        v_hat = self.v / (1.0 - self.b2**self.t)
-        return x + self.lr * m_hat / (np.sqrt(v_hat) + self.eps)
+        m, v = self.m, self.v
+        tmp = (1.0 - self.b1) * grad  # (n,)
+        m *= self.b1  # m = b1 * m + (1 - b1) * grad
+        m += tmp
+        np.multiply(grad, grad, out=tmp)
+        tmp *= 1.0 - self.b2
+        v *= self.b2  # v = b2 * v + (1 - b2) * (grad * grad)
+        v += tmp
+        denom = np.divide(v, 1.0 - self.b2**self.t)  # v_hat
+        np.sqrt(denom, out=denom)
+        denom += self.eps
+        np.divide(m, 1.0 - self.b1**self.t, out=tmp)  # m_hat
+        tmp *= self.lr  # lr * m_hat / (sqrt(v_hat) + eps)
+        tmp /= denom
+        return x + tmp
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {"m": self.m.copy(), "v": self.v.copy(), "t": np.array(self.t, dtype=np.int64)}

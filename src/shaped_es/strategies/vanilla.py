@@ -12,7 +12,14 @@ exactly Eq. (4); ``"adam"`` is the default). L2 weight decay: ``g -= weight_deca
 
 Population layout: ``X = [mu + sigma z_1..P, mu - sigma z_1..P]`` -- row ``i`` and row ``i + P`` mirror
 each other about the mean. Generation g's noise comes from ``np.random.default_rng([seed, g])``, so no
-RNG state is saved and a resumed run draws the same numbers.
+RNG state is saved and a resumed run draws the same numbers. ``ask`` draws the noise once a generation
+and ``tell`` reuses it: the gradient needs only ``z``, and the best member is rebuilt from its own row.
+
+Large policies (``num_params > float32_above``, default 20,000) take the **float32 path**: the noise is
+drawn by :func:`~shaped_es.strategies.fitness.standard_normal_f32` (Box-Muller from the same generator,
+~4x faster than ``standard_normal``), kept as float32, and the population ``ask`` returns is float32
+(what a policy evaluates anyway); the mean, the gradient and the optimizer state stay float64. Same
+distribution, other draws than the float64 path; smaller policies are unchanged (float64, bit for bit).
 """
 
 from __future__ import annotations
@@ -20,7 +27,9 @@ from __future__ import annotations
 import numpy as np
 
 from shaped_es.strategies.base import Strategy
-from shaped_es.strategies.fitness import antithetic_gradient
+from shaped_es.strategies.fitness import antithetic_gradient, standard_normal_f32
+
+FLOAT32_ABOVE = 20_000  # parameters above which Vanilla/Guided ES take the float32 path (module doc)
 
 
 class VanillaES(Strategy):
@@ -29,17 +38,22 @@ class VanillaES(Strategy):
     def __init__(self, x0, sigma: float = 0.1, lr: float = 0.01, pairs: int = 32, seed: int = 0,
                  fitness_shaping: str = "rank", optimizer: str = "adam", momentum: float = 0.0,
                  weight_decay: float = 0.0, adam_betas: tuple[float, float] = (0.9, 0.999),
-                 adam_eps: float = 1e-8):
+                 adam_eps: float = 1e-8, float32_above: int | None = FLOAT32_ABOVE):
         super().__init__(x0, pairs, seed, fitness_shaping, optimizer=optimizer, lr=lr,
                          momentum=momentum, weight_decay=weight_decay, adam_betas=adam_betas,
                          adam_eps=adam_eps)
         if not sigma > 0:
             raise ValueError(f"sigma must be > 0, got {sigma}")
+        if float32_above is not None and (int(float32_above) != float32_above or float32_above < 0):
+            raise ValueError(f"float32_above must be a non-negative integer or None, got {float32_above}")
+        # float32 path (module doc) above this many parameters; None: always float64
+        self.float32 = float32_above is not None and self.num_params > int(float32_above)
         self.sigma = float(sigma)  # search std: eps = sigma * z
         self.lr = float(lr)  # gamma * beta of Eq. (4)
         self._mean = self.x0.copy()  # (n,) mu_g
         self._mean.flags.writeable = False
         self._z: np.ndarray | None = None  # (P, n) directions of the current generation (cache)
+        self._zbuf: np.ndarray | None = None  # (P, n) float32 path: the array _z is drawn into
 
     @property
     def mean(self) -> np.ndarray:
@@ -49,7 +63,16 @@ class VanillaES(Strategy):
     # -- sampling -------------------------------------------------------------------------------
     def _sample_directions(self, rng: np.random.Generator) -> np.ndarray:
         """Directions ``z`` (P, n) in units of sigma: ``eps_i = sigma * z_i``, ``z_i ~ N(0, I_n)``."""
+        if self.float32:
+            return standard_normal_f32(rng, (self.pairs, self.num_params), out=self._noise_buffer())
         return rng.standard_normal((self.pairs, self.num_params))  # (P, n)
+
+    def _noise_buffer(self) -> np.ndarray:
+        """The float32 path's (P, n) noise array, reused across generations (only this generation's
+        ``ask``/``tell`` read it; fresh pages of a new one cost as much as drawing into them)."""
+        if self._zbuf is None:
+            self._zbuf = np.empty((self.pairs, self.num_params), dtype=np.float32)
+        return self._zbuf
 
     def _directions(self) -> np.ndarray:
         if self._z is None:
@@ -58,9 +81,31 @@ class VanillaES(Strategy):
         return self._z
 
     def ask(self) -> np.ndarray:
-        """Population ``[mu + sigma z; mu - sigma z]`` (2P, n); the same array until the next tell."""
-        eps = self.sigma * self._directions()  # (P, n)
+        """Population ``[mu + sigma z; mu - sigma z]`` (2P, n) (float32 on the float32 path); the same
+        values until the next tell (a new array each call)."""
+        z = self._directions()  # (P, n)
+        if self.float32:
+            P, sigma = self.pairs, np.float32(self.sigma)
+            X = np.empty((2 * P, self.num_params), dtype=np.float32)  # (2P, n)
+            mu = self._mean.astype(np.float32)  # (n,)
+            eps = np.empty_like(mu)  # (n,) one row at a time: z is read once, X written once
+            for i in range(P):
+                np.multiply(z[i], sigma, out=eps)  # eps_i = sigma z_i
+                np.add(mu, eps, out=X[i])
+                np.subtract(mu, eps, out=X[P + i])
+            return X
+        eps = self.sigma * z  # (P, n)
         return np.concatenate([self._mean + eps, self._mean - eps], axis=0)  # (2P, n)
+
+    def _member(self, i: int) -> np.ndarray:
+        """Row ``i`` of ``ask()`` (the same bits), from its noise row alone."""
+        z = self._directions()[i % self.pairs]  # (n,)
+        if self.float32:
+            eps = np.float32(self.sigma) * z  # (n,) float32
+            mu = self._mean.astype(np.float32)
+        else:
+            eps, mu = self.sigma * z, self._mean
+        return mu + eps if i < self.pairs else mu - eps
 
     # -- update ---------------------------------------------------------------------------------
     def tell(self, fitness, surrogate=None) -> None:
@@ -69,8 +114,8 @@ class VanillaES(Strategy):
         ``surrogate`` is accepted for a uniform interface and ignored (see :class:`GuidedES`).
         """
         f = self._check_fitness(fitness)  # (2P,)
-        z = self._directions()  # (P, n)
-        self._record_best(f, self.ask())
+        z = self._directions()  # (P, n) the noise ask used
+        self._record_best(f, self._member)  # rebuilds only the best member's row
         grad = antithetic_gradient(z, self.shape(f), self.sigma)  # (n,)  Eq. (4)
         new_mean = self._ascend(self._mean, grad)  # (n,) gradient ascent (+ weight decay)
         new_mean.flags.writeable = False
