@@ -70,7 +70,15 @@ class InverseDynamicsSettings(_Strict):
         "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, or "
         "auto = motion for 2-D waypoint spaces (planar vehicles), world otherwise")
     query_clip: float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
-                                     "times the mean one-step displacement (None: raw, as the paper)")
+                                     "times the mean training displacement (None: raw, as the paper)")
+    targets: Literal["one_step", "hindsight", "matched"] = Field(
+        "one_step", description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
+        "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "
+        "distance |w_t - p_t| (matched)")
+    horizon: int = Field(8, ge=1, le=1000, description="hindsight/matched: at most this many steps ahead")
+    filter: Literal["total", "positive", "none"] = Field(
+        "total", description="which return min_return tests: the whole return, its positive (waypoint) "
+        "part as the paper words it, or none (keep every transition)")
 
 
 class CloningSettings(_Strict):
@@ -94,6 +102,13 @@ class ShapingConfig(_Strict):
     trajectory_root: str | None = Field(
         None, description="where workers write trajectory shards: a path every node sees, or a URI "
         "pyarrow understands (s3://...); None: RUN_DIR/trajectories")
+    reference_run: str | None = Field(
+        None, description="a finished run of the same env whose best policy stands for the paper's "
+        "'fully trained policy': logs the Fig. 5 test loss (labels vs its actions) and related label "
+        "metrics each generation (master placement); never changes the run")
+    diagnose_returns: bool = Field(
+        False, description="also roll out every theta* on the generation's episode seeds and log the "
+        "return change cloning made (costs one more population rollout; diagnostics only)")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
     cloning: CloningSettings = Field(default_factory=CloningSettings)
 

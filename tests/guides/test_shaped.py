@@ -164,3 +164,24 @@ def test_a_crash_while_the_shard_is_written_resumes_exactly(tmp_path, monkeypatc
     monkeypatch.setattr(ShapedGuide, "_write", write)
     Trainer(cfg, store, progress=False).run()
     assert _strip(store.read_metrics()) == _strip(full.read_metrics())
+
+
+def test_reference_metrics_and_return_diagnostics_are_logged(tmp_path):
+    ref = _run(tmp_path, "ref", method="vanilla")
+    sh = {**TINY["shaping"], "reference_run": str(ref.root), "diagnose_returns": True}
+    rows = _run(tmp_path, "shaped", method="shaped", shaping=sh).read_metrics()
+    last = rows[-1]
+    for k in ("mphi_fig5_test_loss", "own_ref_error", "clone_ref_error", "label_beats_own",
+              "clone_return_gain", "clone_improved_fraction"):
+        assert last[k] != "" and np.isfinite(float(last[k])), k
+    assert 0 <= float(last["label_beats_own"]) <= 1 and last["shaping_active"] == "1"
+    plain = _run(tmp_path, "plain", method="shaped").read_metrics()
+    assert _rewards(plain) == _rewards(rows)  # metrics only: the run itself is unchanged
+
+
+def test_an_untrained_mphi_is_said_once_and_logged(tmp_path, capsys):
+    sh = {**TINY["shaping"], "inverse_dynamics": {"min_return": 1e9, "filter": "total"}}
+    rows = _run(tmp_path, "starved", method="shaped", generations=7, shaping=sh).read_metrics()
+    assert all(r["shaping_active"] == "0" for r in rows)
+    err = capsys.readouterr().err
+    assert err.count("no episode passed M_phi's filter") == 1 and "filter=none" in err

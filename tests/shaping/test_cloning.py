@@ -143,3 +143,22 @@ def test_clone_sampled_member_without_data_is_unchanged():
     np.testing.assert_array_equal(res.theta_star[1], theta[1].astype(np.float32))
     assert np.isnan(res.loss_before[1]) and not np.isnan(res.loss_before[0])
     assert not np.array_equal(res.theta_star[0], theta[0].astype(np.float32))
+
+
+def test_reference_metrics_know_a_perfect_and_a_useless_labeller():
+    theta, states, _ = _population()
+    queries = [np.zeros((len(s), 2), np.float32) for s in states]
+    teacher = SPEC.init(100) * 5
+
+    def ref(s):
+        lead = s.shape[:-1]
+        return forward(SPEC, teacher[None], s.reshape(1, -1, SPEC.obs_dim))[0].reshape(*lead, 2)
+
+    cfg = CloningConfig(steps=30, lr=1e-2, batch_size=32)
+    good = clone_sampled(SPEC, theta, states, queries, lambda s, q: ref(s), cfg, np.arange(4), reference_fn=ref)
+    assert good.reference["label_ref_error"] == pytest.approx(0.0, abs=1e-6)  # the paper's Fig. 5 loss
+    assert good.reference["label_beats_own"] > 0.95
+    assert good.reference["clone_ref_error"] < good.reference["own_ref_error"]
+    bad = clone_sampled(SPEC, theta, states, queries, lambda s, q: -ref(s), cfg, np.arange(4), reference_fn=ref)
+    assert bad.reference["label_ref_error"] > bad.reference["own_ref_error"]
+    assert bad.reference["clone_ref_error"] > bad.reference["own_ref_error"]

@@ -135,3 +135,46 @@ def test_config_validation():
         InverseDynamicsConfig(hidden=(20, 0))
     with pytest.raises(ValueError, match="max_dataset"):
         InverseDynamicsConfig(max_dataset=0)
+
+
+def _line(T=10, speed=1.0, waypoint_ahead=3.0, episodes=1):
+    """Straight-line episodes moving ``speed`` per step along x, waypoint ``waypoint_ahead`` ahead."""
+    from shaped_es.data import Transitions
+
+    ep = np.repeat(np.arange(episodes), T).astype(np.int32)
+    st = np.tile(np.arange(T), episodes).astype(np.int32)
+    pos = np.stack([st * speed, np.zeros(T * episodes)], axis=1).astype(np.float32)  # (T, 2)
+    wp = pos + np.array([waypoint_ahead, 0], np.float32)
+    z = np.zeros((T * episodes, 3), np.float32)
+    return Transitions(0, 0, ep, st, z, pos, wp, np.zeros((T * episodes, 2), np.float32),
+                       np.array([1.0, -2.0] * (T * episodes // 2), np.float32))
+
+
+def test_target_pairs_one_step_hindsight_and_matched():
+    from shaped_es.shaping.inverse_dynamics import episode_end, target_pairs
+
+    tr = _line(T=10, speed=1.0, waypoint_ahead=3.0, episodes=2)
+    np.testing.assert_array_equal(episode_end(tr), [9] * 10 + [19] * 10)
+    s, d, a = target_pairs(tr, "world", "one_step")
+    assert s.shape == (18, 3)  # the last step of each episode has no successor
+    np.testing.assert_allclose(d[:, 0], 1.0)
+    s, d, a = target_pairs(tr, "world", "matched", horizon=8)
+    np.testing.assert_allclose(d[:9, 0], [3, 3, 3, 3, 3, 3, 3, 2, 1])  # the query distance, or the episode end
+    s, d, a = target_pairs(tr, "world", "hindsight", horizon=4, rng=np.random.default_rng(0))
+    assert set(np.unique(d[:, 0])) <= {1.0, 2.0, 3.0, 4.0} and len(np.unique(d[:, 0])) >= 3
+    assert np.all(d[:9, 0] <= 9 - np.arange(9))  # never past the episode's end
+    _, d2, _ = target_pairs(tr, "world", "hindsight", horizon=4, rng=np.random.default_rng(0))
+    np.testing.assert_array_equal(d, d2)
+
+
+def test_return_filters():
+    from shaped_es.shaping.inverse_dynamics import kept_episodes
+
+    tr = _line(T=10, episodes=2)  # rewards alternate +1, -2: total -5, positive part +5 per episode
+    assert kept_episodes(tr, 5.0, "total")[1].size == 0
+    np.testing.assert_array_equal(kept_episodes(tr, 5.0, "positive")[1], [0, 1])
+    np.testing.assert_array_equal(kept_episodes(tr, 1e9, "none")[1], [0, 1])
+    m = InverseDynamics(3, 2, 2, InverseDynamicsConfig(min_return=5.0, filter="total"))
+    assert m.add([tr])["added"] == 0
+    m = InverseDynamics(3, 2, 2, InverseDynamicsConfig(min_return=5.0, filter="positive", targets="matched"))
+    assert m.add([tr])["added"] == 18

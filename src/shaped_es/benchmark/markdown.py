@@ -18,7 +18,7 @@ from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile,
 from shaped_es.report.style import figure_title
 from shaped_es.store import atomic_write_text
 
-MPHI_COLUMNS = ("mphi_train_loss", "mphi_test_loss")
+MPHI_COLUMNS = ("mphi_train_loss", "mphi_fig5_test_loss", "mphi_fit_test_loss", "mphi_test_loss")
 FIG4, FIG5, PROFILE = "fig4_test_reward.png", "fig5_mphi_loss.png", "profile_final_reward.png"
 
 
@@ -80,7 +80,7 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
         out += ["M_phi train loss (solid) and test loss (dashed) vs its training iterations (mean over seeds, "
                 "CI band).", "", f"![Fig. 5]({figures['fig5']})", ""]
     else:
-        out += ["_Not drawn: no run logs `mphi_train_loss` / `mphi_test_loss` (the shaped method's "
+        out += ["_Not drawn: no run logs `mphi_train_loss` / `mphi_fit_test_loss` (the shaped method's "
                 "columns)._", ""]
     src = thr.get("source", "")
     if thr.get("method"):

@@ -154,7 +154,7 @@ def summarize_method(runs: list[Metrics], threshold: float, budget: int, level: 
         "env_steps": _mean(last_finite(m["env_steps"]) for m in runs),
         "time_split_s": {k: _mean(float(np.nansum(m[k])) for m in runs if k in m) for k in phases},
     }
-    for col in ("mphi_train_loss", "mphi_test_loss"):
+    for col in ("mphi_train_loss", "mphi_fig5_test_loss", "mphi_fit_test_loss", "mphi_test_loss"):
         if any(col in m for m in runs):
             out[f"final_{col}"] = _mean(last_finite(m[col]) for m in runs if col in m)
     return out

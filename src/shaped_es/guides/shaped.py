@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import functools
 import io
+import sys
 import re
 import threading
 import time
@@ -47,9 +48,9 @@ from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import CloneTask, clip_norm, label_and_clone, rollout_and_store
 from shaped_es.guides.shaped_tasks import states_and_queries
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import make_env
+from shaped_es.rollout import RolloutTask, make_env, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, training_pairs
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, target_pairs
 from shaped_es.shaping.surrogate import cosine, subspace_alignment, surrogate_gradients
 from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
 from shaped_es.store import atomic_write_bytes
@@ -80,11 +81,13 @@ def placement(cfg: RunConfig, spec: MLPSpec) -> str:
 
 
 METRIC_KEYS = (
-    "mphi_train_loss", "mphi_test_loss", "mphi_iterations", "mphi_dataset_size", "mphi_kept_fraction",
+    "mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size", "mphi_kept_fraction",
     "clone_loss_before", "clone_loss_after", "label_std", "surrogate_rank", "surrogate_update_alignment",
     "clone_step_update_cosine", "time_mphi_s", "time_mphi_wait_s", "time_cloning_s", "time_update_s",
-    "time_store_write_s",
+    "time_store_write_s", "shaping_active", "mphi_fig5_test_loss", "own_ref_error", "clone_ref_error",
+    "label_beats_own", "clone_return_gain", "clone_improved_fraction",
 )
+WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
 
 class ShapedGuide(NoGuide):
@@ -100,7 +103,8 @@ class ShapedGuide(NoGuide):
         self.mphi_cfg = InverseDynamicsConfig(
             hidden=tuple(mp.hidden), lr=mp.lr, batch_size=mp.batch_size,
             steps_per_generation=mp.steps_per_generation, min_return=mp.min_return,
-            max_dataset=mp.max_dataset, frame=frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
+            max_dataset=mp.max_dataset, frame=frame, targets=mp.targets, horizon=mp.horizon,
+            filter=mp.filter, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
         )
         c = self.sh.cloning
         self.clone_cfg = CloningConfig(steps=c.steps, lr=c.lr, batch_size=c.batch_size,
@@ -120,6 +124,8 @@ class ShapedGuide(NoGuide):
         self.data_dir = Path(store.root) / "mphi_data"
         self._parts: list[tuple[int, int]] = []
         self._part_margin = cfg.keep_checkpoints * cfg.checkpoint_every  # older checkpoints' parts too
+        self.reference = _reference_fn(self.sh.reference_run, spec) if self.sh.reference_run else None
+        self._warned = False
         if self.placement == "master":
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
@@ -218,12 +224,13 @@ class ShapedGuide(NoGuide):
         if generation == 0:
             return
         data = self._generation(generation - 1)
-        if self.mphi.iterations > 0:  # held-out error: g-1's actual (s, dp) -> a, before training on it
-            pairs = [training_pairs(tr, self.mphi_cfg.frame) for tr in data if len(tr)]
-            if pairs:
-                s, dp, a = (np.concatenate(x) for x in zip(*pairs))
-                self._pending["mphi_test_loss"] = self.mphi.test_loss(s, dp, a)
-        norms = [np.linalg.norm(training_pairs(tr, self.mphi_cfg.frame)[1], axis=1) for tr in data]
+        c = self.mphi_cfg
+        pairs = [target_pairs(tr, c.frame, c.targets, c.horizon, np.random.default_rng(generation))
+                 for tr in data if len(tr)]  # g-1's actual (s, dp) -> a, of the kind M_phi trains on
+        if self.mphi.iterations > 0 and pairs:  # its held-out fit, before training on it
+            s, dp, a = (np.concatenate(x) for x in zip(*pairs))
+            self._pending["mphi_fit_test_loss"] = self.mphi.test_loss(s, dp, a)
+        norms = [np.linalg.norm(p[1], axis=1) for p in pairs]
         norms = np.concatenate(norms) if norms else np.zeros(0)  # (T',) one-step displacement norms
         if norms.size:
             cnt = self.step_norm[0] + norms.size
@@ -261,11 +268,13 @@ class ShapedGuide(NoGuide):
             self._thread.join()
             self._thread = None
         out = dict(self._pending, time_mphi_wait_s=time.perf_counter() - t_wait, time_cloning_s=0.0,
-                   clone_cpu_time_s=0.0, time_update_s=0.0, surrogate_rank=0)
+                   clone_cpu_time_s=0.0, time_update_s=0.0, surrogate_rank=0, shaping_active=0)
         self._last_generation = generation
         if self.mphi.iterations == 0:  # no data kept yet: this generation stays Vanilla-ES
+            self._warn_untrained(generation)
             self._trim_cache(generation)
             return out
+        out["shaping_active"] = 1
         t0 = time.perf_counter()
         theta_star, res, worker_cpu = self._clone(generation, params, map_tasks, n_tasks=len(results))
         out["time_cloning_s"] = time.perf_counter() - t0
@@ -288,8 +297,37 @@ class ShapedGuide(NoGuide):
             clone_loss_before=_nanmean(res.loss_before), clone_loss_after=_nanmean(res.loss_after),
             label_std=res.label_std,
         )
+        if res.reference:
+            out.update(mphi_fig5_test_loss=res.reference["label_ref_error"],
+                       **{k: v for k, v in res.reference.items() if k != "label_ref_error"})
+        if self.sh.diagnose_returns:
+            out.update(self._return_gain(generation, theta_star, results, map_tasks))
         self._trim_cache(generation)
         return out
+
+    def _warn_untrained(self, generation: int) -> None:
+        if self._warned or generation + 1 < WARN_AFTER:
+            return
+        self._warned = True
+        mp = self.sh.inverse_dynamics
+        print(f"shaped-es: warning: after {generation + 1} generations no episode passed M_phi's filter "
+              f"(filter={mp.filter}, min_return={mp.min_return}): the shaped method runs as Vanilla-ES "
+              f"until one does (column shaping_active = 0); --set shaping.inverse_dynamics.filter=none "
+              f"keeps every transition", file=sys.stderr)
+
+    def _return_gain(self, generation, theta_star, results, map_tasks) -> dict:
+        """Diagnostics: returns of theta* on the generation's own episode seeds, against theta's."""
+        P = theta_star.shape[0]
+        members = np.arange(P)
+        seeds = seeding.episode_seeds(self.cfg.seed, seeding.TRAIN, generation, members,
+                                      self.cfg.rollout.episodes, self.cfg.rollout.common_seeds)  # (P, E)
+        tasks = [RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, theta_star[idx], members[idx],
+                             seeds[idx], generation=generation, max_steps=self.cfg.rollout.max_steps)
+                 for idx in np.array_split(members, max(1, len(results)))]
+        after = np.concatenate([r.returns for r in map_tasks(run_task, tasks)]).mean(axis=1)  # (P,)
+        before = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P,)
+        return {"clone_return_gain": float((after - before).mean()),
+                "clone_improved_fraction": float((after > before).mean())}
 
     def _labeller(self, max_disp: float | None):
         def label(states: np.ndarray, queries: np.ndarray) -> np.ndarray:
@@ -315,7 +353,7 @@ class ShapedGuide(NoGuide):
             # one torch thread, as everywhere in the master: two threads were 1.7x faster on an idle
             # machine but 3x slower beside any other busy process (OpenMP spin-waits)
             res = clone_sampled(self.spec, params, states, queries, self._labeller(max_disp),
-                                self.clone_cfg, seeds)
+                                self.clone_cfg, seeds, reference_fn=self.reference)
             return res.theta_star, res, 0.0
         self._join_writes()
         snap = self.mphi.state_dict(with_training=False)
@@ -376,6 +414,31 @@ class ShapedGuide(NoGuide):
             self._join_writes()
         finally:
             self._writer.shutdown(wait=True)
+
+
+def _reference_fn(run_dir: str, spec: MLPSpec):
+    """The reference policy's actions in ``[-1, 1]`` for states ``(..., obs)`` (the scale of M_phi's labels)."""
+    from shaped_es.load import load_policy
+    from shaped_es.policies import forward
+
+    pol = load_policy(run_dir)
+    if pol.obs_dim != spec.obs_dim:
+        raise ConfigError(f"shaping.reference_run {run_dir} has {pol.obs_dim} observations, this env "
+                          f"{spec.obs_dim}")
+    if pol.theta is not None:  # an ES run: its flat parameters
+        theta, rspec = pol.theta[None], pol.spec
+
+        def es(states: np.ndarray) -> np.ndarray:
+            lead = states.shape[:-1]
+            return forward(rspec, theta, states.reshape(1, -1, spec.obs_dim))[0].reshape(*lead, -1)
+        return es
+    low, high = pol.action_space.low, pol.action_space.high
+
+    def sb3(states: np.ndarray) -> np.ndarray:  # PPO: its env action mapped back to [-1, 1]
+        lead = states.shape[:-1]
+        a = np.asarray(pol.predict(states.reshape(-1, spec.obs_dim)), np.float32)
+        return (2.0 * (a - low) / (high - low) - 1.0).reshape(*lead, -1)
+    return sb3
 
 
 def _nanmean(x: np.ndarray) -> float | None:

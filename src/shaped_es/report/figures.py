@@ -5,8 +5,10 @@
   generation, vs env steps (the unit of the headline claims), vs CPU time, vs wall time. Each seed's
   curve is held constant between evaluations; the line is the mean across seeds and the band its
   t-interval, over the x range all seeds cover.
-- Fig. 5: the inverse-dynamics model's train and test loss (``mphi_train_loss``, ``mphi_test_loss``)
-  vs its cumulative training iterations (``mphi_iterations``; else vs generation), for the runs that
+- Fig. 5: the inverse-dynamics model's train loss (``mphi_train_loss``), the paper's test loss (labels vs
+  a fully trained policy's actions, ``mphi_fig5_test_loss``, logged when ``shaping.reference_run`` is
+  set) and the held-out fit on the next generation's own transitions (``mphi_fit_test_loss``; older
+  runs: ``mphi_test_loss``) vs its cumulative training iterations (``mphi_iterations``; else vs generation), for the runs that
   log them.
 - Performance profile: the fraction of seeds whose final test reward exceeds tau, vs tau, with a
   pointwise bootstrap band (``aggregate.profile_band``).
@@ -29,7 +31,8 @@ from shaped_es.report.style import method_colors  # noqa: E402
 Metrics = dict[str, np.ndarray]
 X_AXES = (("generation", "generation"), ("env_steps", "env steps"), ("cpu_time_s", "CPU time (s)"),
           ("wall_time_s", "wall time (s)"))
-MPHI_LOSSES = (("mphi_train_loss", "train loss"), ("mphi_test_loss", "test loss"))
+MPHI_LOSSES = (("mphi_train_loss", "train loss"), ("mphi_fig5_test_loss", "test loss (paper: labels vs trained policy)"),
+               ("mphi_fit_test_loss", "held-out fit"), ("mphi_test_loss", "held-out fit"))
 INTEGER_X = ("generation", "mphi_iterations")
 LOG_TIME_RATIO = 20.0
 
@@ -153,7 +156,9 @@ def plot_mphi_losses(groups: dict[str, list[Metrics]], out: str | Path, title: s
     xkey = "mphi_iterations" if all(_has(m, "mphi_iterations") for m in every) else "generation"
     colors = method_colors(groups)
     for method, runs in having.items():
-        for (col, name), ls in zip(MPHI_LOSSES, ("-", "--")):
+        for (col, name), ls in zip(MPHI_LOSSES, ("-", "-.", "--", "--")):
+            if not any(_has(m, col) for m in runs):
+                continue
             label = f"{method}: {name} (seeds: {len(runs)})"
             _draw(ax, runs, xkey, col, colors[method], label, level, steps=False, ls=ls)
     values = np.concatenate([m[c][np.isfinite(m[c])] for runs in having.values() for m in runs

@@ -53,6 +53,7 @@ class CloneResult:
     loss_after: np.ndarray  # (P,) float64, the same at theta*_i
     samples: np.ndarray  # (P,) int64, samples of D_i used
     label_std: float = float("nan")  # spread of the labels used (a collapsed M_phi gives ~0)
+    reference: dict | None = None  # label quality vs a reference policy (clone_sampled, when given one)
 
 
 def pad_population(
@@ -202,6 +203,7 @@ def clone_sampled(
     config: CloningConfig,
     seeds: Sequence[int] | np.ndarray,
     eval_batches: int = 4,
+    reference_fn: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> CloneResult:
     """Clone every member towards ``label_fn`` on its own data: ``theta`` ``(P, n)`` -> ``theta*``.
 
@@ -209,6 +211,12 @@ def clone_sampled(
     only the newest ``max_samples`` rows are used. Minibatch rows come from ``default_rng(seeds[i])``
     exactly as in :func:`clone_population`, which gives the same ``theta*`` on fully labelled data.
     ``batch_size <= 0`` (full data every step) labels everything and defers to :func:`clone_population`.
+
+    ``reference_fn(states (..., obs)) -> actions (..., act)``: a fully trained policy; on the eval rows
+    ``CloneResult.reference`` then holds the paper's Fig. 5 test loss (mean Euclidean distance of the
+    labels to its actions, ``label_ref_error``), the same for the members' own actions before and after
+    cloning (``own_ref_error``, ``clone_ref_error``) and the share of rows where the label is closer to
+    the reference than the member's own action (``label_beats_own``).
     """
     cfg = config
     th = np.atleast_2d(np.asarray(theta, dtype=np.float32))  # (P, n)
@@ -260,11 +268,15 @@ def clone_sampled(
             x = torch.tanh(torch.baddbmm(b, x, W))
         return x
 
+    s_eval = S_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
+    a_eval = A_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (P, kB, act)
+    acts: list[np.ndarray] = []  # the members' own actions on the eval rows, before and after
+
     def eval_mse() -> np.ndarray:
         with torch.no_grad():
-            s = S_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
-            a = A_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (P, kB, act)
-            mse = ((fwd(s) - a) ** 2).mean((1, 2)).double().numpy()  # (P,)
+            pred = fwd(s_eval)  # (P, kB, act)
+            acts.append(pred.numpy().copy())
+            mse = ((pred - a_eval) ** 2).mean((1, 2)).double().numpy()  # (P,)
         return np.where(has, mse, np.nan)
 
     before = eval_mse()
@@ -283,8 +295,16 @@ def clone_sampled(
             theta_star[:, ws] = W.numpy().reshape(P, -1)
             theta_star[:, bs] = b.numpy().reshape(P, -1)
     used = A[:, has].reshape(-1, spec.act_dim)  # (draws * P' * B, act)
+    ref = None
+    if reference_fn is not None and has.any():
+        r = np.asarray(reference_fn(s_eval.numpy()[has]), np.float32)  # (P', kB, act)
+        d_lab = np.linalg.norm(a_eval.numpy()[has] - r, axis=-1)  # (P', kB)
+        d_own = np.linalg.norm(acts[0][has] - r, axis=-1)
+        d_cln = np.linalg.norm(acts[1][has] - r, axis=-1)
+        ref = {"label_ref_error": float(d_lab.mean()), "own_ref_error": float(d_own.mean()),
+               "clone_ref_error": float(d_cln.mean()), "label_beats_own": float((d_lab < d_own).mean())}
     return CloneResult(theta_star=theta_star, loss_before=before, loss_after=after, samples=n_i,
-                       label_std=float(used.std(axis=0).mean()) if used.size else 0.0)
+                       label_std=float(used.std(axis=0).mean()) if used.size else 0.0, reference=ref)
 
 
 def _label_std(labels: Sequence[np.ndarray]) -> float:

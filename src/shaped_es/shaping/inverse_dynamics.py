@@ -42,6 +42,9 @@ class InverseDynamicsConfig:
     max_dataset: int = 200_000  # cap on aggregated transitions; the oldest are dropped first (FIFO)
     clip_input: float = 10.0  # standardized inputs are clipped to [-clip, clip] (far waypoints)
     frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
+    targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
+    horizon: int = 8  # hindsight/matched: at most this many steps ahead
+    filter: str = "total"  # which return min_return tests: total (as coded before) | positive (paper) | none
     seed: int = 0  # seeds weight init and minibatch sampling
 
     def __post_init__(self):
@@ -51,6 +54,70 @@ class InverseDynamicsConfig:
             raise ValueError("lr, batch_size, max_dataset and clip_input must be positive")
         if self.frame not in FRAMES:
             raise ValueError(f"frame must be one of {FRAMES}, got {self.frame!r}")
+        if self.targets not in TARGETS or self.filter not in FILTERS or self.horizon < 1:
+            raise ValueError(f"targets must be one of {TARGETS}, filter one of {FILTERS}, horizon >= 1; got "
+                             f"{self.targets!r}, {self.filter!r}, {self.horizon}")
+
+
+TARGETS = ("one_step", "hindsight", "matched")
+FILTERS = ("total", "positive", "none")
+
+
+def episode_end(tr: Transitions) -> np.ndarray:
+    """Row index ``(T,)`` of the last step of each row's episode (rows are contiguous per episode)."""
+    T = len(tr)
+    if T == 0:
+        return np.zeros(0, np.int64)
+    brk = ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))  # (T-1,) new run
+    last = np.flatnonzero(np.append(brk, True))  # (runs,) last row of each contiguous run
+    return last[np.searchsorted(last, np.arange(T))]  # (T,)
+
+
+def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon: int = 8,
+                 rng: np.random.Generator | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Training triples ``(s_t, position_{t+h} - position_t, a_t)`` for the rows that have a successor.
+
+    - ``one_step`` (paper): ``h = 1``, what one action did;
+    - ``hindsight``: ``h ~ U{1..horizon}`` (goal-conditioned relabelling, as GCSL): a displacement the
+      agent reached from ``s_t`` in a few steps, labelled with its first action ``a_t``;
+    - ``matched``: the smallest ``h <= horizon`` whose displacement reaches the query distance
+      ``|waypoint_t - position_t|`` of that state, so training inputs lie where queries do.
+
+    ``h`` never crosses the end of the episode. Returns ``(T', obs)``, ``(T', d)``, ``(T', act)``.
+    """
+    end = episode_end(tr)  # (T,)
+    idx = np.arange(len(tr))
+    room = end - idx  # (T,) steps left in the episode
+    rows = room > 0
+    if targets == "one_step":
+        h = np.ones(len(tr), np.int64)
+    elif targets == "hindsight":
+        gen = rng if rng is not None else np.random.default_rng(0)
+        h = gen.integers(1, horizon + 1, size=len(tr))
+    elif targets == "matched":
+        want = np.linalg.norm(tr.waypoint - tr.position, axis=1)  # (T,) query distance
+        h = np.full(len(tr), horizon, np.int64)
+        found = np.zeros(len(tr), bool)
+        for k in range(1, horizon + 1):  # smallest k reaching the query distance
+            j = np.minimum(idx + k, end)
+            hit = ~found & (np.linalg.norm(tr.position[j] - tr.position, axis=1) >= want)
+            h[hit], found = k, found | hit
+    else:
+        raise ValueError(f"targets must be one of {TARGETS}, got {targets!r}")
+    h = np.minimum(h, np.maximum(room, 1))
+    disp = to_frame(tr, tr.position[np.minimum(idx + h, end)] - tr.position, frame)  # (T, d)
+    return tr.state[rows], disp[rows], tr.action[rows]
+
+
+def kept_episodes(tr: Transitions, min_return: float, filter: str = "total") -> tuple[np.ndarray, np.ndarray]:
+    """``(episodes, kept)``: the episode ids of ``tr`` and those passing the filter (Sec. IV: "trajectories
+    which do not have a cumulative positive reward of 5 are discarded")."""
+    eps = np.unique(tr.episode)
+    if filter == "none":
+        return eps, eps
+    r = np.maximum(tr.reward, 0.0) if filter == "positive" else tr.reward
+    ret = np.array([r[tr.episode == e].sum() for e in eps], dtype=np.float64)
+    return eps, eps[ret >= min_return]
 
 
 def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -125,20 +192,22 @@ class InverseDynamics:
 
     # -- data ----------------------------------------------------------------------------------------
     def add(self, transitions_list: Sequence[Transitions]) -> dict[str, float]:
-        """Aggregate the steps of episodes whose return is ``>= min_return``; returns stats."""
+        """Aggregate the training pairs (:func:`target_pairs`) of episodes passing the return filter
+        (:func:`kept_episodes`); returns stats."""
         xs, ys, episodes, kept = [], [], 0, 0
         for tr in transitions_list:
             if len(tr) == 0:
                 continue
             self._check(tr)
-            eps = np.unique(tr.episode)
-            good = eps[tr.episode_returns() >= self.config.min_return]  # paper: discard R < 5
+            eps, good = kept_episodes(tr, self.config.min_return, self.config.filter)  # paper: R < 5 out
             episodes, kept = episodes + eps.size, kept + good.size
-            has_next, nxt = tr.next_position()  # (T,), (T, d)
-            rows = has_next & np.isin(tr.episode, good)  # (T,)
-            disp = to_frame(tr, nxt - tr.position, self.config.frame)  # (T, d)
-            xs.append(np.concatenate([tr.state[rows], disp[rows]], axis=1))  # (T', obs + d)
-            ys.append(tr.action[rows])  # (T', act)
+            if good.size == 0:
+                continue
+            c = self.config
+            s, disp, a = target_pairs(tr, c.frame, c.targets, c.horizon, self._rng)
+            keep = np.isin(tr.episode[episode_end(tr) > np.arange(len(tr))], good)  # (T',) kept episodes
+            xs.append(np.concatenate([s[keep], disp[keep]], axis=1))  # (T', obs + d)
+            ys.append(a[keep])  # (T', act)
         x = np.concatenate(xs).astype(np.float32) if xs else self._x[:0]
         y = np.concatenate(ys).astype(np.float32) if ys else self._y[:0]
         cap = self.config.max_dataset
