@@ -261,3 +261,16 @@ def test_guided_f32_with_k_at_least_n_is_isotropic():
     np.testing.assert_allclose(eps.T @ eps / es.pairs, np.eye(n), atol=0.03)
     es.tell(np.zeros(2 * es.pairs), surrogate=np.zeros((2, n)))
     assert es.subspace_dim == 0
+
+
+@pytest.mark.parametrize("float32_above", [None, 0])
+def test_subspace_coordinates_is_U_transpose_v(float32_above):
+    n = 40
+    es = GuidedES(np.zeros(n), pairs=2, alpha=0.5, float32_above=float32_above)
+    assert es.subspace_coordinates(np.ones(n)).shape == (0,)
+    rng = np.random.default_rng(8)
+    es.guide(rng.standard_normal((5, n)))
+    v = rng.standard_normal(n)
+    np.testing.assert_allclose(es.subspace_coordinates(v), es.U.astype(np.float64).T @ v, rtol=1e-5, atol=1e-6)
+    with pytest.raises(ValueError):
+        es.subspace_coordinates(np.ones(n + 1))

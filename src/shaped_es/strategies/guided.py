@@ -162,6 +162,17 @@ class GuidedES(VanillaES):
             self._U_cache = U
         return self._U_cache
 
+    def subspace_coordinates(self, v) -> np.ndarray:
+        """``U^T v`` (k,) float64 for a vector ``v`` (n,), without forming ``U`` on the float32 path
+        (``M^T (B v)``: one (k, n) pass instead of the (n, k) product ``es.U`` builds)."""
+        v = np.asarray(v).reshape(-1)
+        if v.shape[0] != self.num_params:
+            raise ValueError(f"v must have {self.num_params} values, got {v.shape[0]}")
+        if not self.float32:
+            return self._U.T @ np.asarray(v, dtype=np.float64)  # (k,)
+        Bv = (self._rows @ v.astype(np.float32)).astype(np.float64)  # (k,)
+        return self._mix.T @ Bv  # (k,)
+
     @property
     def subspace_dim(self) -> int:
         """k, the effective rank of the current surrogate subspace (0: none)."""
