@@ -271,6 +271,7 @@ def test_subspace_coordinates_is_U_transpose_v(float32_above):
     rng = np.random.default_rng(8)
     es.guide(rng.standard_normal((5, n)))
     v = rng.standard_normal(n)
-    np.testing.assert_allclose(es.subspace_coordinates(v), es.U.astype(np.float64).T @ v, rtol=1e-5, atol=1e-6)
+    expected = es.U.astype(np.float64).T @ v
+    np.testing.assert_allclose(es.subspace_coordinates(v), expected, rtol=1e-5, atol=1e-6)
     with pytest.raises(ValueError):
         es.subspace_coordinates(np.ones(n + 1))
