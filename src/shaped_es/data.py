@@ -44,3 +44,22 @@ class Transitions:
         nxt = np.zeros_like(self.position)
         nxt[:-1] = self.position[1:]
         return mask, nxt
+
+
+def concat_members(trs: list[Transitions]) -> tuple[Transitions, np.ndarray]:
+    """One generation's members as one :class:`Transitions` (member ``-1``; episode ids made unique as
+    ``position in trs * E + episode``) and the row offsets ``(len(trs) + 1,)`` of each member in it, so
+    per-step functions run once per generation instead of once per member."""
+    lens = np.array([len(t) for t in trs], np.int64)
+    offsets = np.concatenate([[0], np.cumsum(lens)])  # (k + 1,)
+    if not trs:
+        raise ValueError("concat_members needs at least one member")
+    E = 1 + max((int(t.episode.max()) for t in trs if len(t)), default=0)
+    cat = np.concatenate
+    episode = cat([t.episode.astype(np.int64) + i * E for i, t in enumerate(trs)])
+    return Transitions(
+        generation=trs[0].generation, member=-1, episode=episode, step=cat([t.step for t in trs]),
+        state=cat([t.state for t in trs]), position=cat([t.position for t in trs]),
+        waypoint=cat([t.waypoint for t in trs]), action=cat([t.action for t in trs]),
+        reward=cat([t.reward for t in trs]),
+    ), offsets

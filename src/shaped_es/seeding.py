@@ -30,8 +30,10 @@ def episode_seeds(
     """
     members = np.asarray(members, dtype=np.int64)
     out = np.empty((members.shape[0], episodes), dtype=np.int64)  # (m, E)
+    if common:  # one row for every member
+        out[:] = [derive_seed(root, stream, generation, 0, e) for e in range(episodes)]
+        return out
     for r, m in enumerate(members):
-        key_m = 0 if common else int(m) + 1
         for e in range(episodes):
-            out[r, e] = derive_seed(root, stream, generation, key_m, e)
+            out[r, e] = derive_seed(root, stream, generation, int(m) + 1, e)
     return out

@@ -139,29 +139,31 @@ def test_resume_between_sparse_checkpoints_is_exact(tmp_path, monkeypatch):
     assert _strip(store.read_metrics()) == _strip(full.read_metrics())
 
 
-def test_a_crash_while_the_shard_is_written_resumes_exactly(tmp_path, monkeypatch):
-    """The background write of generation 2 dies: no checkpoint may name generation 2, and resume
-    rebuilds the same run from the store."""
-    from shaped_es.guides.shaped import ShapedGuide
+@pytest.mark.parametrize("placement", ["master", "workers"])
+def test_a_crash_while_shards_are_written_resumes_exactly(tmp_path, monkeypatch, placement):
+    """Writing generation 2's shard fails (master: in its background writer; workers: in the task): the
+    run stops with the error, no checkpoint names generation 2, and resume rebuilds the same run."""
+    from shaped_es.guides import shaped, shaped_tasks
 
-    over = dict(method="shaped", generations=5, shaping={**TINY["shaping"], "placement": "master"})
+    over = dict(method="shaped", generations=5, shaping={**TINY["shaping"], "placement": placement})
     full = _run(tmp_path, "full", **over)
     cfg = build_config({**TINY, **over})
     store = RunStore(tmp_path / "crashed")
     store.create(cfg)
-    write = ShapedGuide._write
+    module = shaped if placement == "master" else shaped_tasks
+    write = module.write_shard
 
-    def dying(self, trs):
+    def dying(root, trs):
         if trs[0].generation == 2:
             raise OSError("disk gone")
-        return write(self, trs)
+        return write(root, trs)
 
-    monkeypatch.setattr(ShapedGuide, "_write", dying)
+    monkeypatch.setattr(module, "write_shard", dying)
     with pytest.raises(OSError, match="disk gone"):
         Trainer(cfg, store, progress=False).run()
     arrays_meta = store.load_checkpoint()
     assert arrays_meta is not None and arrays_meta[1]["generation"] == 2  # the checkpoint after g=1
-    monkeypatch.setattr(ShapedGuide, "_write", write)
+    monkeypatch.setattr(module, "write_shard", write)
     Trainer(cfg, store, progress=False).run()
     assert _strip(store.read_metrics()) == _strip(full.read_metrics())
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from shaped_es.policies import MLPSpec, forward
-from shaped_es.shaping.cloning import CloningConfig, clone_population, clone_sampled, pad_population
+from shaped_es.shaping.cloning import CloningConfig, MemberRows, clone_population, clone_sampled, pad_population
 
 SPEC = MLPSpec(obs_dim=5, act_dim=2, hidden=(8, 8))
 
@@ -125,12 +125,13 @@ def test_clone_sampled_equals_cloning_fully_labelled_data():
     seeds = np.array([11, 12, 13, 14])
     full = clone_population(SPEC, theta, states, [label_fn(s, q) for s, q in zip(states, queries)],
                             config=cfg, seeds=seeds)
-    fast = clone_sampled(SPEC, theta, states, queries, label_fn, cfg, seeds)
+    fast = clone_sampled(SPEC, theta, MemberRows.from_lists(states, queries), label_fn, cfg, seeds)
     np.testing.assert_allclose(fast.theta_star, full.theta_star, rtol=1e-5, atol=1e-6)
     assert np.all(fast.loss_after < fast.loss_before)
     np.testing.assert_array_equal(fast.samples, [50, 45, 50, 30])
     assert fast.label_std > 0.05
-    one = clone_sampled(SPEC, theta[2:3], states[2:3], queries[2:3], label_fn, cfg, seeds[2:3])
+    one = clone_sampled(SPEC, theta[2:3], MemberRows.from_lists(states[2:3], queries[2:3]), label_fn, cfg,
+                        seeds[2:3])
     np.testing.assert_allclose(one.theta_star[0], fast.theta_star[2], rtol=1e-5, atol=1e-6)
 
 
@@ -138,7 +139,7 @@ def test_clone_sampled_member_without_data_is_unchanged():
     theta, states, _ = _population()
     states[1] = states[1][:0]
     queries = [np.zeros((len(s), 2), np.float32) for s in states]
-    res = clone_sampled(SPEC, theta, states, queries, lambda s, q: np.full(s.shape[:-1] + (2,), 0.5, np.float32),
+    res = clone_sampled(SPEC, theta, MemberRows.from_lists(states, queries), lambda s, q: np.full(s.shape[:-1] + (2,), 0.5, np.float32),
                         CloningConfig(steps=5, lr=1e-2), np.arange(4))
     np.testing.assert_array_equal(res.theta_star[1], theta[1].astype(np.float32))
     assert np.isnan(res.loss_before[1]) and not np.isnan(res.loss_before[0])
@@ -155,10 +156,40 @@ def test_reference_metrics_know_a_perfect_and_a_useless_labeller():
         return forward(SPEC, teacher[None], s.reshape(1, -1, SPEC.obs_dim))[0].reshape(*lead, 2)
 
     cfg = CloningConfig(steps=30, lr=1e-2, batch_size=32)
-    good = clone_sampled(SPEC, theta, states, queries, lambda s, q: ref(s), cfg, np.arange(4), reference_fn=ref)
+    data = MemberRows.from_lists(states, queries)
+    good = clone_sampled(SPEC, theta, data, lambda s, q: ref(s), cfg, np.arange(4), reference_fn=ref)
     assert good.reference["label_ref_error"] == pytest.approx(0.0, abs=1e-6)  # the paper's Fig. 5 loss
     assert good.reference["label_beats_own"] > 0.95
     assert good.reference["clone_ref_error"] < good.reference["own_ref_error"]
-    bad = clone_sampled(SPEC, theta, states, queries, lambda s, q: -ref(s), cfg, np.arange(4), reference_fn=ref)
+    bad = clone_sampled(SPEC, theta, data, lambda s, q: -ref(s), cfg, np.arange(4), reference_fn=ref)
     assert bad.reference["label_ref_error"] > bad.reference["own_ref_error"]
     assert bad.reference["clone_ref_error"] > bad.reference["own_ref_error"]
+
+
+def test_member_rows_in_blocks_equal_the_concatenated_lists():
+    """D_i spread over per-generation blocks gives the rows (and theta*) of its concatenation."""
+    rng = np.random.default_rng(4)
+    P, gens = 3, 3
+    blocks = [[rng.normal(size=(int(rng.integers(0, 9)), 5)).astype(np.float32) for _ in range(P)]
+              for _ in range(gens)]  # blocks[g][i]: member i's rows of generation g
+    qs = [[rng.normal(size=(len(x), 2)).astype(np.float32) for x in blk] for blk in blocks]
+    spans, S, Q = np.zeros((P, gens, 2), np.int64), [], []
+    for g in range(gens):
+        lens = np.array([len(x) for x in blocks[g]])
+        spans[:, g, 1] = np.cumsum(lens)
+        spans[:, g, 0] = spans[:, g, 1] - lens
+        S.append(np.concatenate(blocks[g]))
+        Q.append(np.concatenate(qs[g]))
+    data = MemberRows(S, Q, spans)
+    flat = MemberRows.from_lists([np.concatenate([blocks[g][i] for g in range(gens)]) for i in range(P)],
+                                 [np.concatenate([qs[g][i] for g in range(gens)]) for i in range(P)])
+    np.testing.assert_array_equal(data.lengths(), flat.lengths())
+    for keep in (0, 4, 7):
+        a, b = data.newest(keep), flat.newest(keep)
+        np.testing.assert_array_equal(a.lengths(), b.lengths())
+        pos = np.stack([rng.integers(0, max(n, 1), size=(6, 4)) for n in a.lengths()], axis=1)  # (6, P, 4)
+        pos[:, a.lengths() == 0] = 0
+        sa, qa = a.gather(pos)
+        sb, qb = b.gather(pos)
+        np.testing.assert_array_equal(sa, sb)
+        np.testing.assert_array_equal(qa, qb)

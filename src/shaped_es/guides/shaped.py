@@ -36,21 +36,21 @@ import re
 import threading
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from shaped_es import seeding
 from shaped_es.config import ConfigError, RunConfig
-from shaped_es.data import Transitions
+from shaped_es.data import Transitions, concat_members
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.guides import NoGuide
-from shaped_es.guides.shaped_tasks import CloneTask, clip_norm, label_and_clone, rollout_and_store
-from shaped_es.guides.shaped_tasks import states_and_queries
+from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone, labeller, rollout_and_store
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, make_env, run_task
-from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, target_pairs
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled, warm_up_cloning
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.surrogate import cosine, subspace_alignment, surrogate_gradients
 from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
 from shaped_es.store import atomic_write_bytes
@@ -87,7 +87,20 @@ METRIC_KEYS = (
     "time_store_write_s", "shaping_active", "mphi_fig5_test_loss", "own_ref_error", "clone_ref_error",
     "label_beats_own", "clone_return_gain", "clone_improved_fraction",
 )
+FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
+
+
+@dataclass
+class _Block:
+    """One generation's transitions in memory: all members' rows stacked, in member order."""
+
+    trs: list[Transitions]  # per member (those with steps)
+    states: np.ndarray | None  # (N, obs) float32
+    queries: np.ndarray | None  # (N, d) float32 raw M_phi queries w_t - p_t (frame applied)
+    members: np.ndarray  # (k,) member index of each trs entry
+    offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
+    big: Transitions | None = None  # trs concatenated (data.concat_members)
 
 
 class ShapedGuide(NoGuide):
@@ -110,13 +123,13 @@ class ShapedGuide(NoGuide):
         self.clone_cfg = CloningConfig(steps=c.steps, lr=c.lr, batch_size=c.batch_size,
                                        optimizer=c.optimizer, max_samples=c.max_samples)
         self.mphi = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
-        self.step_norm = np.zeros(2)  # (count, mean) of one-step displacement norms, for query_clip
+        self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
         self._pending: dict = {}
         self._last_generation = -1  # the newest generation whose after_tell ran
         # master placement: generation -> {member: (transitions, states, raw queries)}
-        self._cache: dict[int, dict[int, tuple[Transitions, np.ndarray, np.ndarray]]] = {}
-        self._writer = ThreadPoolExecutor(1, thread_name_prefix="trajectory-writer")
+        self._cache: dict[int, _Block] = {}
+        self._writer = ThreadPoolExecutor(1, thread_name_prefix="shaping-writer")
         self._writes: list[Future] = []
         self._write_time = 0.0  # background write time not yet reported
         # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data), not in every
@@ -130,18 +143,23 @@ class ShapedGuide(NoGuide):
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
     def rollout_fn(self):
-        if self.placement == "workers":
+        if self.placement == "workers":  # each worker writes its chunk's shard before it returns
             return functools.partial(rollout_and_store, traj_root=self.traj_root)
-        return None  # the plain rollout; with record=True its transitions come back to the master
+        # master: the transitions come back with the returns and the master writes one shard in its
+        # writer thread while it clones (worker-side writes put ~10 ms on the rollouts' critical path)
+        return None
 
     # -- data of a generation ----------------------------------------------------------------------
     def _remember(self, generation: int, trs: list[Transitions]) -> None:
-        frame = self.mphi_cfg.frame
-        entry = {}
-        for tr in trs:
-            s, q = states_and_queries([tr], frame, self.spec.obs_dim, self.mphi.pos_dim, None)
-            entry[tr.member] = (tr, s, q)
-        self._cache[generation] = entry
+        """Keep one generation in memory as one block: states, raw queries and each member's rows."""
+        trs = [t for t in trs if len(t)]
+        if not trs:
+            self._cache[generation] = _Block([], None, None, np.zeros(0, np.int64), np.zeros(1, np.int64))
+            return
+        big, offsets = concat_members(trs)  # per-step work once per generation, not per member
+        q = query_displacement(big, self.mphi_cfg.frame).astype(np.float32)  # (N, d) w_t - p_t
+        members = np.array([t.member for t in trs], np.int64)
+        self._cache[generation] = _Block(trs, big.state, q, members, offsets, big)
 
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""
@@ -150,7 +168,20 @@ class ShapedGuide(NoGuide):
             if self.placement == "workers":
                 return trs
             self._remember(generation, trs)
-        return [v[0] for _, v in sorted(self._cache[generation].items())]
+        return self._cache[generation].trs
+
+    def _member_rows(self, gens: list[int], P: int) -> MemberRows:
+        """``D_i`` of every member over ``gens`` as spans of the cached blocks (no copies)."""
+        blocks = [self._cache[g] for g in gens if self._cache[g].trs]
+        spans = np.zeros((P, max(1, len(blocks)), 2), np.int64)  # (P, nb, 2)
+        for b, blk in enumerate(blocks):
+            ok = blk.members < P
+            spans[blk.members[ok], b, 0] = blk.offsets[:-1][ok]
+            spans[blk.members[ok], b, 1] = blk.offsets[1:][ok]
+        if not blocks:
+            return MemberRows([np.zeros((0, self.spec.obs_dim), np.float32)],
+                              [np.zeros((0, self.mphi.pos_dim), np.float32)], spans)
+        return MemberRows([blk.states for blk in blocks], [blk.queries for blk in blocks], spans)
 
     def _write(self, trs: list[Transitions]) -> float:
         t0 = time.perf_counter()
@@ -217,29 +248,28 @@ class ShapedGuide(NoGuide):
         self._pending = dict.fromkeys(METRIC_KEYS)
         self._join_writes()
         self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
-                             mphi_dataset_size=self.mphi.dataset_size, time_store_write_s=self._write_time)
-        self._write_time = 0.0
+                             mphi_dataset_size=self.mphi.dataset_size)
         # shards a killed run left for this generation (maybe laid out by another placement) go first
         delete_generations(self.traj_root, [generation])
         if generation == 0:
             return
-        data = self._generation(generation - 1)
-        c = self.mphi_cfg
-        pairs = [target_pairs(tr, c.frame, c.targets, c.horizon, np.random.default_rng(generation))
-                 for tr in data if len(tr)]  # g-1's actual (s, dp) -> a, of the kind M_phi trains on
-        if self.mphi.iterations > 0 and pairs:  # its held-out fit, before training on it
-            s, dp, a = (np.concatenate(x) for x in zip(*pairs))
-            self._pending["mphi_fit_test_loss"] = self.mphi.test_loss(s, dp, a)
-        norms = [np.linalg.norm(p[1], axis=1) for p in pairs]
-        norms = np.concatenate(norms) if norms else np.zeros(0)  # (T',) one-step displacement norms
-        if norms.size:
-            cnt = self.step_norm[0] + norms.size
-            self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
-                                                                  self.step_norm[1]) / cnt])
+        data = [t for t in self._generation(generation - 1) if len(t)]
+        blk = self._cache.get(generation - 1)
+        if data:  # one Transitions for the generation: per-step work once, not per member
+            data = [blk.big if blk is not None and blk.big is not None else concat_members(data)[0]]
+        trained = self.mphi.iterations > 0
         stats = self.mphi.add(data)
         rows = int(stats["added"])
         if rows:
-            x, y = self.mphi.newest(rows)
+            x, y = self.mphi.newest(rows)  # (rows, obs + d), (rows, act): g-1's kept training pairs
+            if trained:  # M_phi's held-out fit on them, before it trains on them
+                sub = slice(None, None, max(1, rows // FIT_TEST_ROWS))  # every k-th row: a fixed sample
+                obs = self.spec.obs_dim
+                self._pending["mphi_fit_test_loss"] = self.mphi.test_loss(x[sub, :obs], x[sub, obs:], y[sub])
+            norms = np.linalg.norm(x[:, self.spec.obs_dim :], axis=1)  # (rows,) training displacement norms
+            cnt = self.step_norm[0] + norms.size
+            self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
+                                                                  self.step_norm[1]) / cnt])
             self._writes.append(self._writer.submit(self._write_part, generation, x, y))
             self._parts.append((generation, rows))
         self._pending.update(mphi_dataset_size=stats["dataset_size"],
@@ -256,7 +286,8 @@ class ShapedGuide(NoGuide):
 
     # -- cloning and the surrogate subspace ----------------------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
-        if self.placement == "master":  # keep the generation in memory, write it in the background
+        self._write_time += float(sum(getattr(r, "store_time_s", 0.0) for r in results))  # on the workers
+        if self.placement == "master":  # keep the generation in memory
             trs = sorted((tr for r in results for tr in r.transitions), key=lambda t: t.member)
             for r in results:
                 r.transitions = []
@@ -268,7 +299,9 @@ class ShapedGuide(NoGuide):
             self._thread.join()
             self._thread = None
         out = dict(self._pending, time_mphi_wait_s=time.perf_counter() - t_wait, time_cloning_s=0.0,
-                   clone_cpu_time_s=0.0, time_update_s=0.0, surrogate_rank=0, shaping_active=0)
+                   clone_cpu_time_s=0.0, time_update_s=0.0, surrogate_rank=0, shaping_active=0,
+                   time_store_write_s=self._write_time)  # this generation's shards (+ M_phi data parts)
+        self._write_time = 0.0
         self._last_generation = generation
         if self.mphi.iterations == 0:  # no data kept yet: this generation stays Vanilla-ES
             self._warn_untrained(generation)
@@ -329,11 +362,6 @@ class ShapedGuide(NoGuide):
         return {"clone_return_gain": float((after - before).mean()),
                 "clone_improved_fraction": float((after > before).mean())}
 
-    def _labeller(self, max_disp: float | None):
-        def label(states: np.ndarray, queries: np.ndarray) -> np.ndarray:
-            return self.mphi.label(states, clip_norm(queries, max_disp))  # clip per row, as the paper's raw
-        return label
-
     def _clone(self, generation, params, map_tasks, n_tasks) -> tuple[np.ndarray, CloneResult, float]:
         P = params.shape[0]
         gens = list(range(max(0, generation - self.sh.history + 1), generation + 1))
@@ -343,17 +371,11 @@ class ShapedGuide(NoGuide):
         if self.placement == "master":
             for g in gens:
                 self._generation(g)  # after a restart: read what memory lacks from the store
-            states, queries = [], []
-            for m in range(P):
-                parts = [self._cache[g][m] for g in gens if m in self._cache[g]]
-                states.append(np.concatenate([p[1] for p in parts]) if parts else
-                              np.zeros((0, self.spec.obs_dim), np.float32))
-                queries.append(np.concatenate([p[2] for p in parts]) if parts else
-                               np.zeros((0, self.mphi.pos_dim), np.float32))
+            data = self._member_rows(gens, P)
             # one torch thread, as everywhere in the master: two threads were 1.7x faster on an idle
             # machine but 3x slower beside any other busy process (OpenMP spin-waits)
-            res = clone_sampled(self.spec, params, states, queries, self._labeller(max_disp),
-                                self.clone_cfg, seeds, reference_fn=self.reference)
+            res = clone_sampled(self.spec, params, data, labeller(self.mphi, max_disp), self.clone_cfg, seeds,
+                                reference_fn=self.reference)
             return res.theta_star, res, 0.0
         self._join_writes()
         snap = self.mphi.state_dict(with_training=False)

@@ -18,7 +18,7 @@ import numpy as np
 from shaped_es.data import Transitions
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutResult, RolloutTask, run_task
-from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.trajectories import read_members, write_shard
 
@@ -36,11 +36,13 @@ def _remember(root: str, trs: list[Transitions]) -> None:
 
 
 def rollout_and_store(task: RolloutTask, traj_root: str) -> RolloutResult:
-    """Evaluate the chunk, write its transitions as one shard, return returns only (Alg. 1, l. 4-6)."""
+    """Evaluate the chunk and write its transitions as one shard (Alg. 1, l. 4-6); returns only."""
     task.record = True
     res = run_task(task)
     if res.transitions:
+        t1 = time.perf_counter()
         write_shard(traj_root, res.transitions)
+        res.store_time_s = time.perf_counter() - t1
         _remember(traj_root, res.transitions)
     res.transitions = []
     return res
@@ -66,14 +68,21 @@ def clip_norm(d: np.ndarray, max_norm: float | None) -> np.ndarray:
     return d * np.minimum(1.0, max_norm / np.maximum(n, 1e-12))
 
 
-def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_dim: int,
-                       max_displacement: float | None) -> tuple[np.ndarray, np.ndarray]:
-    """One member's ``D_i`` as states ``(T, obs)`` and M_phi queries ``w_t - p_t`` ``(T, d)``."""
+def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int,
+                       pos_dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """One member's ``D_i`` as states ``(T, obs)`` and raw M_phi queries ``w_t - p_t`` ``(T, d)``."""
     if not hist:
         return np.zeros((0, obs_dim), np.float32), np.zeros((0, pos_dim), np.float32)
     s = np.concatenate([h.state for h in hist])
-    q = np.concatenate([clip_norm(query_displacement(h, frame), max_displacement) for h in hist])
+    q = np.concatenate([query_displacement(h, frame) for h in hist])
     return s, q.astype(np.float32)
+
+
+def labeller(mphi: InverseDynamics, max_displacement: float | None):
+    """``(states, raw queries) -> a_hat``; queries clipped per row to ``max_displacement`` first."""
+    def label(states: np.ndarray, queries: np.ndarray) -> np.ndarray:
+        return mphi.label(states, clip_norm(queries, max_displacement))
+    return label
 
 
 @dataclass
@@ -102,8 +111,9 @@ def label_and_clone(task: CloneTask) -> CloneOutput:
     t_cpu = time.process_time()
     mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
     data = member_data(task.traj_root, task.members, task.generations)
-    sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
-                             task.max_displacement) for m in task.members]
-    res = clone_sampled(task.spec, task.theta, [s for s, _ in sq], [q for _, q in sq], mphi.label,
-                        task.cloning, task.seeds)
+    sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim)
+          for m in task.members]
+    rows = MemberRows.from_lists([s for s, _ in sq], [q for _, q in sq])
+    res = clone_sampled(task.spec, task.theta, rows, labeller(mphi, task.max_displacement), task.cloning,
+                        task.seeds)
     return CloneOutput(members=np.asarray(task.members), result=res, cpu_time_s=time.process_time() - t_cpu)

@@ -191,14 +191,78 @@ def warm_up_cloning() -> None:
     opt.step()
 
 
+
+
 LabelFn = Callable[[np.ndarray, np.ndarray], np.ndarray]  # states (..., obs), queries (..., d) -> (..., act)
+
+
+@dataclass
+class MemberRows:
+    """Every member's data set ``D_i`` as row spans of shared blocks (one block per generation, oldest
+    first): member ``i``'s rows are ``block_b[spans[i, b, 0] : spans[i, b, 1]]`` for ``b`` in order. No
+    per-member copies: draws are mapped to (block, row) and gathered once per block."""
+
+    states: list[np.ndarray]  # per block (N_b, obs) float32
+    queries: list[np.ndarray]  # per block (N_b, d) float32, M_phi's raw queries w_t - p_t
+    spans: np.ndarray  # (P, n_blocks, 2) int64 start, stop
+
+    @classmethod
+    def from_lists(cls, states: Sequence[np.ndarray], queries: Sequence[np.ndarray]) -> "MemberRows":
+        """Per-member arrays ``(T_i, obs)``, ``(T_i, d)`` (oldest first) as one block."""
+        lens = np.array([len(x) for x in states], np.int64)
+        if len(queries) != len(states) or any(len(q) != n for q, n in zip(queries, lens)):
+            raise ValueError("each member needs as many queries as states")
+        ends = np.cumsum(lens)
+        spans = np.stack([ends - lens, ends], axis=1)[:, None, :]  # (P, 1, 2)
+        d = next((np.asarray(q).shape[-1] for q in queries if len(q)), 0)
+        obs = next((np.asarray(x).shape[-1] for x in states if len(x)), 0)
+        S = np.concatenate([np.asarray(x, np.float32).reshape(-1, obs) for x in states]) if len(states) else \
+            np.zeros((0, obs), np.float32)
+        Q = np.concatenate([np.asarray(x, np.float32).reshape(-1, d) for x in queries]) if len(queries) else \
+            np.zeros((0, d), np.float32)
+        return cls([S], [Q], spans)
+
+    def lengths(self) -> np.ndarray:
+        return (self.spans[..., 1] - self.spans[..., 0]).sum(axis=1)  # (P,)
+
+    def newest(self, max_samples: int) -> "MemberRows":
+        """Each member keeps only its newest ``max_samples`` rows (dropped from its oldest blocks)."""
+        if max_samples <= 0:
+            return self
+        spans = self.spans.copy()
+        lens = spans[..., 1] - spans[..., 0]  # (P, nb)
+        after = np.cumsum(lens[:, ::-1], axis=1)[:, ::-1] - lens  # (P, nb) rows in newer blocks
+        keep = np.clip(max_samples - after, 0, lens)  # (P, nb) rows kept per block (its newest)
+        spans[..., 0] = spans[..., 1] - keep
+        return MemberRows(self.states, self.queries, spans)
+
+    def gather(self, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Rows at per-member positions ``pos`` ``(draws, P, B)`` (into ``D_i``, oldest first) ->
+        states ``(draws, P, B, obs)``, queries ``(draws, P, B, d)``."""
+        P = self.spans.shape[0]
+        lens = self.spans[..., 1] - self.spans[..., 0]  # (P, nb)
+        ends = np.cumsum(lens, axis=1)  # (P, nb)
+        block = np.full(pos.shape, -1, np.int64)  # -1: a member without data (rows left as zeros)
+        local = np.zeros(pos.shape, np.int64)
+        for i in np.flatnonzero(ends[:, -1] if ends.shape[1] else np.zeros(P)):
+            b = np.searchsorted(ends[i], pos[:, i], side="right")  # (draws, B) block of each draw
+            b = np.minimum(b, lens.shape[1] - 1)
+            block[:, i] = b
+            local[:, i] = self.spans[i, b, 0] + pos[:, i] - (ends[i, b] - lens[i, b])
+        obs, d = self.states[0].shape[1], self.queries[0].shape[1]
+        S = np.zeros((*pos.shape, obs), np.float32)
+        Q = np.zeros((*pos.shape, d), np.float32)
+        for b, (Sb, Qb) in enumerate(zip(self.states, self.queries)):
+            m = block == b
+            if m.any():
+                S[m], Q[m] = Sb[local[m]], Qb[local[m]]
+        return S, Q
 
 
 def clone_sampled(
     spec: MLPSpec,
     theta: np.ndarray,
-    states: Sequence[np.ndarray],
-    queries: Sequence[np.ndarray],
+    data: MemberRows,
     label_fn: LabelFn,
     config: CloningConfig,
     seeds: Sequence[int] | np.ndarray,
@@ -207,10 +271,10 @@ def clone_sampled(
 ) -> CloneResult:
     """Clone every member towards ``label_fn`` on its own data: ``theta`` ``(P, n)`` -> ``theta*``.
 
-    ``states[i]`` ``(T_i, obs)`` and ``queries[i]`` ``(T_i, d)`` are member ``i``'s ``D_i``, oldest first;
-    only the newest ``max_samples`` rows are used. Minibatch rows come from ``default_rng(seeds[i])``
-    exactly as in :func:`clone_population`, which gives the same ``theta*`` on fully labelled data.
-    ``batch_size <= 0`` (full data every step) labels everything and defers to :func:`clone_population`.
+    ``data`` holds each member's ``D_i`` (oldest first); only the newest ``max_samples`` rows are used.
+    Minibatch rows come from ``default_rng(seeds[i])`` exactly as in :func:`clone_population`, which
+    gives the same ``theta*`` on fully labelled data. ``batch_size <= 0`` (full data every step)
+    labels everything and defers to :func:`clone_population`.
 
     ``reference_fn(states (..., obs)) -> actions (..., act)``: a fully trained policy; on the eval rows
     ``CloneResult.reference`` then holds the paper's Fig. 5 test loss (mean Euclidean distance of the
@@ -222,35 +286,34 @@ def clone_sampled(
     th = np.atleast_2d(np.asarray(theta, dtype=np.float32))  # (P, n)
     P = th.shape[0]
     seeds = np.asarray(seeds, dtype=np.int64).reshape(-1)
-    if len(states) != P or len(queries) != P or seeds.shape[0] != P:
-        raise ValueError(f"{len(states)} state sets, {len(queries)} query sets, {seeds.shape[0]} seeds "
-                         f"for {P} members")
-    if cfg.max_samples > 0:
-        states = [np.asarray(x)[-cfg.max_samples:] for x in states]
-        queries = [np.asarray(x)[-cfg.max_samples:] for x in queries]
+    if data.spans.shape[0] != P or seeds.shape[0] != P:
+        raise ValueError(f"data for {data.spans.shape[0]} members, {seeds.shape[0]} seeds for {P} members")
+    data = data.newest(cfg.max_samples)
+    n_i = data.lengths()  # (P,)
     if cfg.batch_size <= 0:
-        labels = [label_fn(s, q) if len(s) else np.zeros((0, spec.act_dim), np.float32)
-                  for s, q in zip(states, queries)]
+        states, labels = [], []
+        for i in range(P):
+            pos = np.arange(n_i[i])[None, None, :]  # (1, 1, n_i)
+            one = MemberRows(data.states, data.queries, data.spans[i : i + 1])
+            s, q = one.gather(pos)
+            states.append(s[0, 0])
+            labels.append(label_fn(s[0, 0], q[0, 0]) if n_i[i] else np.zeros((0, spec.act_dim), np.float32))
         res = clone_population(spec, th, states, labels, config=cfg, seeds=seeds)
         res.label_std = _label_std(labels)
         return res
-    n_i = np.array([len(x) for x in states], np.int64)  # (P,)
     steps, B = cfg.steps, cfg.batch_size
     k_eval = max(1, min(eval_batches, steps))
     draws = max(steps, k_eval)
-    d = next((np.asarray(q).shape[-1] for q in queries if len(q)), 0)
-    # every member's draws from its own generator, then one gather from all members' rows stacked
-    offsets = np.concatenate([[0], np.cumsum(n_i)[:-1]])  # (P,) first row of member i in the stack
-    rows = np.zeros((draws, P, B), np.int64)  # (draws, P, B) indices into the stack
+    # every member's draws from its own generator, then one gather per block
+    pos = np.zeros((draws, P, B), np.int64)  # (draws, P, B) positions into each D_i
     for i in np.flatnonzero(n_i):
-        rows[:, i] = offsets[i] + np.random.default_rng(int(seeds[i])).integers(0, n_i[i], size=(draws, B))
+        pos[:, i] = np.random.default_rng(int(seeds[i])).integers(0, n_i[i], size=(draws, B))
     has = n_i > 0  # (P,) members without data get no gradient and nan losses
     if has.any():
-        S = np.concatenate([np.asarray(x, np.float32) for x in states])[rows]  # (draws, P, B, obs)
-        Q = np.concatenate([np.asarray(x, np.float32).reshape(-1, d) for x in queries])[rows]  # (.., d)
+        S, Q = data.gather(pos)  # (draws, P, B, obs), (draws, P, B, d)
         A = label_fn(S, Q).astype(np.float32, copy=False)  # (draws, P, B, act) labels a_hat
         if not has.all():
-            A[:, ~has] = 0.0
+            S[:, ~has], A[:, ~has] = 0.0, 0.0
     else:
         S = np.zeros((draws, P, B, spec.obs_dim), np.float32)
         A = np.zeros((draws, P, B, spec.act_dim), np.float32)

