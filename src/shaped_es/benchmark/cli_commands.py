@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from dataclasses import fields
 from pathlib import Path
 
 DEFAULT_METHODS = "shaped,vanilla,cmaes,ppo"
@@ -22,7 +21,11 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
 
     b = sub.add_parser("benchmark", help="run every (method, seed), then write summary.json and report.md")
     b.add_argument("--env", required=True, help="Gymnasium id, e.g. CarNav-v0 or Pendulum-v1")
-    b.add_argument("--methods", default=DEFAULT_METHODS, help=f"comma-separated (default {DEFAULT_METHODS})")
+    b.add_argument("--methods", default=DEFAULT_METHODS,
+                   help=f"comma-separated methods or --variant names (default {DEFAULT_METHODS})")
+    b.add_argument("--variant", action="append", default=[], metavar="NAME=METHOD,KEY=VALUE,...",
+                   help="a named setting of a method, compared as a method of its own, e.g. "
+                        "lean=shaped,shaping.cloning.steps=5 (repeatable)")
     b.add_argument("--seeds", type=int, default=10,
                    help="number of seeds per method (seeds FIRST..FIRST+N-1; default 10)")
     b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
@@ -73,34 +76,20 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     generations = a.generations if a.generations is not None else base.get(
         "generations", RunConfig.model_fields["generations"].default)
     _check_threshold(a.threshold)
-    # a runner whose BenchmarkSpec carries the threshold reports with it; an older one reports with the
-    # default threshold, and the report is then rewritten with --threshold (figures drawn twice)
-    native = "threshold" in {f.name for f in fields(BenchmarkSpec)}
-    threshold = {"threshold": a.threshold} if native else {}
+    variants = {}
+    for text in a.variant:
+        label, _, rest = text.partition("=")
+        method, *sets = [x.strip() for x in rest.split(",")] if rest else [""]
+        variants[label.strip()] = {"method": method, **_parse_set([x for x in sets if x])}
     spec = BenchmarkSpec(
         env=a.env, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),
         seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=int(generations), base=base,
-        overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta, **threshold,
+        overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
+        threshold=a.threshold, variants=variants,
     )
     res = run_benchmark(spec, a.out, progress=not a.quiet)
-    if a.threshold is not None and not native:
-        res = _rewrite_report(spec, Path(a.out), a.threshold)
     print(json.dumps({k: res.get(k) for k in ("report", "summary", "fig4", "profile", "fig5")}))
     return 0
-
-
-def _rewrite_report(spec, out: Path, threshold: float) -> dict:
-    """The benchmark's report again, with ``threshold`` (the invocation record kept from the first)."""
-    from shaped_es.benchmark.markdown import write_report
-    from shaped_es.benchmark.runner import run_configs, run_name
-
-    cfgs = run_configs(spec)
-    old = json.loads((out / "summary.json").read_text())
-    groups = {m: [out / "runs" / run_name(m, s) for s in spec.seeds] for m in spec.methods}
-    configs = {m: cfgs[run_name(m, spec.seeds[0])] for m in spec.methods}
-    extra = {k: old[k] for k in ("benchmark", "this_invocation") if k in old}
-    return write_report(out / "report.md", groups, configs, generations=spec.generations,
-                        title=f"Benchmark on {spec.env}", extra=extra, threshold=threshold)
 
 
 # -- report ----------------------------------------------------------------------------------------------

@@ -5,7 +5,8 @@ Layout::
     DIR/benchmark.yaml                 the benchmark's settings (the latest invocation)
     DIR/runs/<method>_s<seed>/         one ordinary run directory each (train/resume/evaluate work on it)
     DIR/summary.json, DIR/report.md    across-seed statistics and the report (``markdown.py``)
-    DIR/figures/                       Fig. 4 (and Fig. 5 when the shaped runs log M_phi losses)
+    DIR/figures/                       Fig. 4, the performance profile (profile_final_reward.png) and
+                                       Fig. 5 when the shaped runs log M_phi losses
 
 A rerun skips runs whose newest checkpoint reached ``generations`` and resumes unfinished ones (the
 trainer and PPO restore their newest checkpoint). Settings are compared per run, on the fields that run's
@@ -16,7 +17,9 @@ refused, before any run starts, in one line naming those runs (delete them to re
 settings). Every config is validated (``preflight.check_run``) before anything is written. Runs go seed
 by seed, every method within a seed, so a partial benchmark compares methods on the same seeds.
 Ablations (the paper's commented-out sparse-waypoint figure, and alpha / eta): ``sparse_waypoints``
-multiplies the env's ``waypoint_spacing`` by 10 (planner resolution / 10).
+multiplies the env's ``waypoint_spacing`` by 10 (planner resolution / 10). Variants
+(``--variant lean=shaped,shaping.cloning.steps=5``) are named settings of a method, compared as methods
+of their own (``DIR/runs/lean_s0/``).
 """
 
 from __future__ import annotations
@@ -49,9 +52,20 @@ class BenchmarkSpec:
     sparse_waypoints: bool = False  # ablation: waypoint_spacing x SPARSE_FACTOR
     alpha: float | None = None  # ablation: es.alpha (Guided-ES isotropic share)
     eta: float | None = None  # ablation: shaping.eta (surrogate normalization)
+    threshold: float | None = None  # success threshold of the report (None: the env's default)
+    # named variants usable in ``methods``: label -> {"method": base method, dotted overrides...}
+    variants: dict = field(default_factory=dict)
+
+    def method_of(self, label: str) -> str:
+        return self.variants[label]["method"] if label in self.variants else label
 
     def __post_init__(self):
-        unknown = [m for m in self.methods if m not in METHODS]
+        for label, v in self.variants.items():
+            if label in METHODS or not label or "/" in label or not isinstance(v, dict) \
+                    or v.get("method") not in METHODS:
+                raise ConfigError(f"--variant {label!r}: needs a new name (not a method) and a base method "
+                                  f"from {', '.join(METHODS)}")
+        unknown = [m for m in self.methods if self.method_of(m) not in METHODS]
         if unknown or not self.methods:
             raise ConfigError(f"--methods: unknown {unknown or 'empty list'}; choose from {', '.join(METHODS)}")
         if len(set(self.methods)) != len(self.methods):
@@ -106,8 +120,11 @@ def run_configs(spec: BenchmarkSpec) -> dict[str, RunConfig]:
         common = merge(common, {"shaping.eta": spec.eta})
     if spec.sparse_waypoints:
         common["env_kwargs"] = sparse_waypoint_kwargs(spec.env, dict(common.get("env_kwargs") or {}))
-    return {run_name(m, s): build_config(merge(common, {"method": m, "seed": s}))
-            for s in spec.seeds for m in spec.methods}
+    def one(label: str, seed: int) -> RunConfig:
+        extra = {k: v for k, v in spec.variants.get(label, {}).items() if k != "method"}
+        return build_config(merge(merge(common, extra), {"method": spec.method_of(label), "seed": seed}))
+
+    return {run_name(m, s): one(m, s) for s in spec.seeds for m in spec.methods}
 
 
 def finished_generations(store: RunStore) -> int:
@@ -271,5 +288,5 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     configs = {m: cfgs[run_name(m, spec.seeds[0])] for m in spec.methods}
     extra = {"benchmark": record, "this_invocation": status}
     paths = write_report(out / "report.md", groups, configs, generations=spec.generations,
-                         title=f"Benchmark on {spec.env}", extra=extra)
+                         title=f"Benchmark on {spec.env}", extra=extra, threshold=spec.threshold)
     return {**paths, "runs": status}
