@@ -51,7 +51,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, make_env, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled, warm_up_cloning
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
-from shaped_es.shaping.surrogate import cosine, subspace_alignment, surrogate_gradients
+from shaped_es.shaping.surrogate import cosine, surrogate_gradients
 from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
 from shaped_es.store import atomic_write_bytes
 
@@ -322,10 +322,12 @@ class ShapedGuide(NoGuide):
             G = (theta_star.astype(np.float64) - params).mean(axis=0, keepdims=True)  # (1, n)
         strategy.guide(G)
         update = mean - np.asarray(old_mean, dtype=np.float64)  # (n,) this generation's ES step
-        U = strategy.U  # (n, k') the basis the next ask samples in (QR of G, computed by guide)
+        # share of the ES update inside the next ask's subspace: ||U^T v|| / ||v|| without forming U
+        nu = float(np.linalg.norm(update))
+        align = float(np.linalg.norm(strategy.subspace_coordinates(update)) / nu) if nu > 0 else None
         out.update(
-            time_update_s=time.perf_counter() - t1, surrogate_rank=int(U.shape[1]),
-            surrogate_update_alignment=subspace_alignment(U, update) if np.any(update) else None,
+            time_update_s=time.perf_counter() - t1, surrogate_rank=int(strategy.subspace_dim),
+            surrogate_update_alignment=None if align is None else min(1.0, align),
             clone_step_update_cosine=cosine((theta_star - params).mean(axis=0), update),
             clone_loss_before=_nanmean(res.loss_before), clone_loss_after=_nanmean(res.loss_after),
             label_std=res.label_std,
