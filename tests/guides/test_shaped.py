@@ -153,10 +153,10 @@ def test_a_crash_while_shards_are_written_resumes_exactly(tmp_path, monkeypatch,
     module = shaped if placement == "master" else shaped_tasks
     write = module.write_shard
 
-    def dying(root, trs):
+    def dying(root, trs, *rest):
         if trs[0].generation == 2:
             raise OSError("disk gone")
-        return write(root, trs)
+        return write(root, trs, *rest)
 
     monkeypatch.setattr(module, "write_shard", dying)
     with pytest.raises(OSError, match="disk gone"):

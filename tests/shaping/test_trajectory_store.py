@@ -151,6 +151,13 @@ def test_one_shard_holds_many_members_and_reads_split_them(make_transitions, tmp
     trs[9] = make_transitions(rng, episodes=1, steps=0, generation=5, member=9)  # a member with no steps
     path = write_shard(tmp_path, list(trs.values()))
     assert path.endswith("gen_000005/members_0002-0009.parquet")
+    from shaped_es.data import concat_members
+
+    ordered = [trs[m] for m in (2, 3, 4, 9)]
+    again = write_shard(tmp_path / "stacked", ordered, concat_members(ordered)[0])
+    assert [t.member for t in read_shard(again)] == [2, 3, 4, 9]
+    for a, b in zip(read_shard(again), ordered):
+        _assert_same(b, a)
     back = read_shard(path)
     assert [t.member for t in back] == [2, 3, 4, 9]
     for t in back:

@@ -183,9 +183,9 @@ class ShapedGuide(NoGuide):
                               [np.zeros((0, self.mphi.pos_dim), np.float32)], spans)
         return MemberRows([blk.states for blk in blocks], [blk.queries for blk in blocks], spans)
 
-    def _write(self, trs: list[Transitions]) -> float:
+    def _write(self, trs: list[Transitions], stacked: Transitions | None = None) -> float:
         t0 = time.perf_counter()
-        write_shard(self.traj_root, trs)
+        write_shard(self.traj_root, trs, stacked)
         return time.perf_counter() - t0
 
     def _part_path(self, generation: int) -> Path:
@@ -293,7 +293,8 @@ class ShapedGuide(NoGuide):
                 r.transitions = []
             self._remember(generation, trs)
             if trs:
-                self._writes.append(self._writer.submit(self._write, trs))
+                blk = self._cache[generation]
+                self._writes.append(self._writer.submit(self._write, blk.trs, blk.big))
         t_wait = time.perf_counter()
         if self._thread is not None:
             self._thread.join()

@@ -73,7 +73,7 @@ def shard_path(root: str | os.PathLike, generation: int, first: int, last: int |
     return _join(root, f"gen_{generation:06d}", f"members_{first:04d}-{last:04d}.parquet")
 
 
-def _to_table(trs: Sequence[Transitions]) -> pa.Table:
+def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None) -> pa.Table:
     g = trs[0].generation
     T = sum(len(t) for t in trs)
     cols: dict[str, pa.Array] = {
@@ -83,6 +83,11 @@ def _to_table(trs: Sequence[Transitions]) -> pa.Table:
         "step": pa.array(np.concatenate([np.asarray(t.step, np.int32).reshape(len(t)) for t in trs])),
     }
     for name in VECTOR_COLUMNS:
+        if stacked is not None and getattr(stacked, name).dtype == np.float32:  # already one array
+            a = np.ascontiguousarray(getattr(stacked, name))  # (T, w)
+            if a.ndim == 2 and a.shape[0] == T and a.shape[1] > 0:
+                cols[name] = pa.FixedSizeListArray.from_arrays(pa.array(a.reshape(-1)), a.shape[1])
+                continue
         parts = [np.asarray(getattr(t, name), dtype=np.float32) for t in trs]
         for t, a in zip(trs, parts):
             if a.ndim != 2 or a.shape[0] != len(t) or a.shape[1] == 0 or a.shape[1] != parts[0].shape[1]:
@@ -98,16 +103,20 @@ def _to_table(trs: Sequence[Transitions]) -> pa.Table:
     return pa.table({c: cols[c] for c in COLUMNS}).replace_schema_metadata(meta)
 
 
-def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Transitions]) -> str:
+def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Transitions],
+                stacked: Transitions | None = None) -> str:
     """Write the transitions of one or more members of one generation atomically, as one shard (members
-    in ascending order); returns the shard's path."""
-    trs = sorted([transitions] if isinstance(transitions, Transitions) else list(transitions),
-                 key=lambda t: t.member)
+    in ascending order); returns the shard's path. ``stacked``: the same members already concatenated
+    in that order (``data.concat_members``), used instead of concatenating again."""
+    given = [transitions] if isinstance(transitions, Transitions) else list(transitions)
+    trs = sorted(given, key=lambda t: t.member)
+    if stacked is not None and [t.member for t in given] != [t.member for t in trs]:
+        stacked = None  # not in member order: concatenate here
     if not trs:
         raise TrajectoryStoreError("cannot write an empty shard (no members)")
     if len({t.generation for t in trs}) > 1 or len({t.member for t in trs}) < len(trs):
         raise TrajectoryStoreError("a shard holds distinct members of one generation")
-    table = _to_table(trs)
+    table = _to_table(trs, stacked)
     dest = shard_path(root, trs[0].generation, trs[0].member, trs[-1].member)
     fs, path = _resolve(dest)
     parent, name = path.rsplit("/", 1) if not isinstance(fs, pafs.LocalFileSystem) else os.path.split(path)
