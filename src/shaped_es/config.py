@@ -8,10 +8,10 @@ Unknown keys and bad values are errors (one line each, naming the field).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, Strict, ValidationError, model_validator
 
 METHODS = ("vanilla", "guided", "cmaes", "shaped", "ppo")
 EXECUTORS = ("inline", "process", "ray", "mpi")
@@ -21,12 +21,27 @@ class ConfigError(ValueError):
     """A config file or flag is malformed; the message is one line naming the field."""
 
 
+def _not_bool(v: Any) -> Any:
+    if isinstance(v, bool):
+        raise ValueError(f"Input should be a number, not a boolean ({str(v).lower()})")
+    return v
+
+
+# Strict scalar types: an integer field takes only integers (not true/false, not 2.5 or "3"), a number
+# field any finite number (not true/false; YAML reads 1e-3 as a string, which still counts), a boolean
+# field only true/false.
+Int = Annotated[int, Strict()]
+Float = Annotated[float, BeforeValidator(_not_bool)]
+Bool = Annotated[bool, Strict()]
+SEED_LIMIT = 2**32  # seeds are 32-bit: a larger root seed would alias a smaller one
+
+
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+    model_config = ConfigDict(extra="forbid", validate_assignment=True, allow_inf_nan=False)
 
 
 class PolicyConfig(_Strict):
-    hidden: tuple[int, ...] = Field((32, 32), description="hidden layer widths of the tanh MLP policy")
+    hidden: tuple[Int, ...] = Field((32, 32), description="hidden layer widths of the tanh MLP policy")
 
     @model_validator(mode="after")
     def _positive(self):
@@ -36,65 +51,66 @@ class PolicyConfig(_Strict):
 
 
 class ESConfig(_Strict):
-    pairs: int = Field(32, gt=0, description="antithetic pairs; population = 2 * pairs (paper: 64 members)")
-    sigma: float = Field(0.05, gt=0, description="search std; same meaning for vanilla and guided")
-    lr: float = Field(0.03, gt=0, description="step size gamma of the mean update (beta absorbed)")
+    pairs: Int = Field(32, gt=0, description="antithetic pairs; population = 2 * pairs (paper: 64 members)")
+    sigma: Float = Field(0.05, gt=0, le=1e4, description="search std; same meaning for vanilla and guided")
+    lr: Float = Field(0.03, gt=0, le=1e4, description="step size gamma of the mean update (beta absorbed)")
     optimizer: Literal["adam", "sgd"] = Field("adam", description="optimizer applied to the ES gradient")
-    momentum: float = Field(0.0, ge=0, lt=1, description="SGD momentum (sgd only)")
-    weight_decay: float = Field(0.005, ge=0, description="L2 decay on the mean (vanilla, guided, shaped)")
+    momentum: Float = Field(0.0, ge=0, lt=1, description="SGD momentum (sgd only)")
+    weight_decay: Float = Field(0.005, ge=0, description="L2 decay on the mean (vanilla, guided, shaped)")
     fitness_shaping: Literal["rank", "none"] = Field("rank", description="ranks in [-1, 1] (paper) or raw")
-    alpha: float = Field(0.9, ge=0, le=1, description="Guided-ES isotropic share (paper 0.6, which "
+    alpha: Float = Field(0.9, ge=0, le=1, description="Guided-ES isotropic share (paper 0.6, which "
                          "stalled CarNav-v0 here: see docs/shaped-results.md)")
-    guided_k: int = Field(1, gt=0, description="'guided' method: past ES gradients kept as surrogates")
-    cmaes_mu: int = Field(25, gt=0, description="CMA-ES parents M_best (paper 25)")
-    cmaes_weight_decay: float = Field(0.05, ge=0, description="CMA-ES fitness weight decay (paper 0.05)")
-    cmaes_diagonal_above: int = Field(2000, gt=0, description="use separable CMA above this many params")
+    guided_k: Int = Field(1, gt=0, description="'guided' method: past ES gradients kept as surrogates")
+    cmaes_mu: Int = Field(25, gt=0, description="CMA-ES parents M_best (paper 25)")
+    cmaes_weight_decay: Float = Field(0.05, ge=0, description="CMA-ES fitness weight decay (paper 0.05)")
+    cmaes_diagonal_above: Int = Field(2000, gt=0, description="use separable CMA above this many params")
 
 
 class RolloutConfig(_Strict):
-    episodes: int = Field(2, gt=0, description="training episodes per member, mean return (paper: 2)")
-    test_episodes: int = Field(15, ge=0, description="test episodes of the best member (paper: 15)")
-    test_every: int = Field(1, gt=0, description="evaluate the best member every N generations")
-    max_steps: int | None = Field(None, gt=0, description="cap on episode length (None: env's limit)")
-    common_seeds: bool = Field(True, description="all members of a generation share episode seeds")
+    episodes: Int = Field(2, gt=0, description="training episodes per member, mean return (paper: 2)")
+    test_episodes: Int = Field(15, ge=0, description="test episodes of the best member (paper: 15)")
+    test_every: Int = Field(1, gt=0, description="evaluate the best member every N generations")
+    max_steps: Int | None = Field(None, gt=0, description="cap on episode length (None: env's limit)")
+    common_seeds: Bool = Field(True, description="all members of a generation share episode seeds")
 
 
 class InverseDynamicsSettings(_Strict):
-    hidden: tuple[int, ...] = Field((20, 20), description="ReLU widths; paper (20, 20) nav, 3 layers arm")
-    lr: float = Field(1e-3, gt=0, description="Adam learning rate (paper)")
-    batch_size: int = Field(64, gt=0, description="minibatch size (paper)")
-    steps_per_generation: int = Field(500, ge=0, description="training iterations per generation")
-    min_return: float = Field(5.0, description="episodes with a lower return are left out (paper: 5)")
-    max_dataset: int = Field(100_000, gt=0, description="cap on aggregated transitions (FIFO)")
+    hidden: tuple[Int, ...] = Field((20, 20), description="ReLU widths; paper (20, 20) nav, 3 layers arm")
+    lr: Float = Field(1e-3, gt=0, description="Adam learning rate (paper)")
+    batch_size: Int = Field(64, gt=0, description="minibatch size (paper)")
+    steps_per_generation: Int = Field(500, ge=0, description="training iterations per generation")
+    min_return: Float = Field(5.0, description="episodes with a lower return are left out (paper: 5)")
+    max_dataset: Int = Field(100_000, gt=0, description="cap on aggregated transitions (FIFO)")
     frame: Literal["auto", "world", "motion"] = Field(
         "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, or "
         "auto = motion for 2-D waypoint spaces (planar vehicles), world otherwise")
-    query_clip: float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
+    query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
     targets: Literal["one_step", "hindsight", "matched"] = Field(
         "one_step", description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
         "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "
         "distance |w_t - p_t| (matched)")
-    horizon: int = Field(8, ge=1, le=1000, description="hindsight/matched: at most this many steps ahead")
+    horizon: Int = Field(8, ge=1, le=1000, description="hindsight/matched: at most this many steps ahead")
     filter: Literal["total", "positive", "none"] = Field(
         "total", description="which return min_return tests: the whole return, its positive (waypoint) "
         "part as the paper words it, or none (keep every transition)")
 
 
 class CloningSettings(_Strict):
-    steps: int = Field(20, ge=0, description="behaviour-cloning gradient steps per member per generation")
-    lr: float = Field(1e-3, gt=0, description="cloning step size")
-    batch_size: int = Field(64, description="samples per member per step (<= 0: all)")
+    steps: Int = Field(20, ge=0, description="behaviour-cloning gradient steps per member per generation")
+    lr: Float = Field(1e-3, gt=0, description="cloning step size")
+    batch_size: Int = Field(64, description="samples per member per step (<= 0: all)")
     optimizer: Literal["adam", "sgd"] = Field("adam", description="cloning optimizer")
-    max_samples: int = Field(4000, description="newest samples of D_i used (<= 0: all)")
+    max_samples: Int = Field(4000, description="newest samples of D_i used (<= 0: all)")
 
 
 class ShapingConfig(_Strict):
-    eta: float = Field(0.01, gt=0, description="surrogate normalization eta (paper 0.01)")
-    surrogate: Literal["paper", "clone_step", "clone_mean"] = Field(
+    eta: Float = Field(0.01, ge=1e-12, description="surrogate normalization eta (paper 0.01)")
+    surrogate: Literal["paper", "clone_step", "clone_mean", "clone_orth"] = Field(
         "paper", description="Delta = (theta* - mu_{g+1})/eta (paper), theta* - theta (each clone step), "
-        "or the mean clone step (k = 1)")
-    history: int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
+        "the mean clone step (k = 1), or each clone step minus its part in the span of the generation's "
+        "perturbations (what the labels add)")
+    history: Int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
     placement: Literal["auto", "master", "workers"] = Field(
         "auto", description="where labels and cloning run: the master, in one batched computation on "
         "the data the rollouts send back (one machine), or the workers, on data read from the trajectory "
@@ -106,7 +122,7 @@ class ShapingConfig(_Strict):
         None, description="a finished run of the same env whose best policy stands for the paper's "
         "'fully trained policy': logs the Fig. 5 test loss (labels vs its actions) and related label "
         "metrics each generation (master placement); never changes the run")
-    diagnose_returns: bool = Field(
+    diagnose_returns: Bool = Field(
         False, description="also roll out every theta* on the generation's episode seeds and log the "
         "return change cloning made (costs one more population rollout; diagnostics only)")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
@@ -114,43 +130,43 @@ class ShapingConfig(_Strict):
 
 
 class PPOConfig(_Strict):
-    steps_per_generation: int | None = Field(
+    steps_per_generation: Int | None = Field(
         None, gt=0, description="PPO env steps per generation (None: 2*pairs*episodes*horizon, ES's max)")
-    n_steps: int = Field(2048, ge=2, description="env steps per env per PPO iteration (SB3 default)")
-    n_envs: int = Field(1, gt=0, description="envs stepped in lock-step in the one process")
-    batch_size: int = Field(64, gt=0, description="minibatch size")
-    n_epochs: int = Field(10, gt=0, description="passes over each rollout")
-    learning_rate: float = Field(3e-4, gt=0, description="Adam step size")
-    gamma: float = Field(0.99, ge=0, le=1, description="discount")
-    gae_lambda: float = Field(0.95, ge=0, le=1, description="GAE lambda")
-    clip_range: float = Field(0.2, gt=0, description="PPO ratio clip")
-    ent_coef: float = Field(0.0, ge=0, description="entropy bonus")
-    vf_coef: float = Field(0.5, ge=0, description="value-loss weight")
-    max_grad_norm: float = Field(0.5, gt=0, description="gradient clipping")
-    target_kl: float | None = Field(None, gt=0, description="early stop of an iteration's epochs")
+    n_steps: Int = Field(2048, ge=2, description="env steps per env per PPO iteration (SB3 default)")
+    n_envs: Int = Field(1, gt=0, description="envs stepped in lock-step in the one process")
+    batch_size: Int = Field(64, gt=0, description="minibatch size")
+    n_epochs: Int = Field(10, gt=0, description="passes over each rollout")
+    learning_rate: Float = Field(3e-4, gt=0, description="Adam step size")
+    gamma: Float = Field(0.99, ge=0, le=1, description="discount")
+    gae_lambda: Float = Field(0.95, ge=0, le=1, description="GAE lambda")
+    clip_range: Float = Field(0.2, gt=0, description="PPO ratio clip")
+    ent_coef: Float = Field(0.0, ge=0, description="entropy bonus")
+    vf_coef: Float = Field(0.5, ge=0, description="value-loss weight")
+    max_grad_norm: Float = Field(0.5, gt=0, description="gradient clipping")
+    target_kl: Float | None = Field(None, gt=0, description="early stop of an iteration's epochs")
 
 
 class RunConfig(_Strict):
     env: str = Field("Pendulum-v1", description="Gymnasium id; 'module:Env-v0' imports module first")
     env_kwargs: dict[str, Any] = Field(default_factory=dict, description="keyword args for gym.make")
     method: Literal["vanilla", "guided", "cmaes", "shaped", "ppo"] = "vanilla"
-    generations: int = Field(50, gt=0, description="generations to run (ES); PPO maps it to env steps")
-    seed: int = Field(0, ge=0, description="root seed; every member/episode seed derives from it")
+    generations: Int = Field(50, gt=0, description="generations to run (ES); PPO maps it to env steps")
+    seed: Int = Field(0, ge=0, lt=SEED_LIMIT, description="root seed (below 2**32); every member/episode seed derives from it")
     executor: Literal["inline", "process", "ray", "mpi"] = "process"
-    workers: int | None = Field(None, gt=0, description="worker count (None: all cores)")
+    workers: Int | None = Field(None, gt=0, description="worker count (None: all cores)")
     address: str | None = Field(None, description="ray: 'auto' or HOST:PORT; None starts a local Ray")
-    task_timeout_s: float | None = Field(None, gt=0, description="a task running longer is retried")
-    max_retries: int = Field(3, ge=0, description="retries of tasks whose worker died or hung")
-    eval_overlap: bool = Field(
+    task_timeout_s: Float | None = Field(None, gt=0, description="a task running longer is retried")
+    max_retries: Int = Field(3, ge=0, description="retries of tasks whose worker died or hung")
+    eval_overlap: Bool = Field(
         True, description="run the best member's test episodes while the next generation rolls out "
         "(its metrics row is written once they finish); false: evaluate before moving on")
-    eval_workers: int = Field(
+    eval_workers: Int = Field(
         0, ge=0, description="process executor: a separate pool of this many workers for test episodes "
         "(the paper's evaluation workers); 0 shares the training workers. ray/mpi schedule test "
         "episodes on the same cluster")
-    checkpoint_every: int = Field(1, gt=0, description="checkpoint every N generations")
-    keep_checkpoints: int = Field(3, gt=0, description="checkpoints kept on disk (newest)")
-    tensorboard: bool = Field(True, description="also write TensorBoard events")
+    checkpoint_every: Int = Field(1, gt=0, description="checkpoint every N generations")
+    keep_checkpoints: Int = Field(3, gt=0, description="checkpoints kept on disk (newest)")
+    tensorboard: Bool = Field(True, description="also write TensorBoard events")
     policy: PolicyConfig = Field(default_factory=PolicyConfig)
     es: ESConfig = Field(default_factory=ESConfig)
     rollout: RolloutConfig = Field(default_factory=RolloutConfig)
@@ -162,7 +178,13 @@ def _first_error(exc: ValidationError) -> str:
     err = exc.errors()[0]
     where = ".".join(str(p) for p in err["loc"]) or "config"
     more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-    return f"{where}: {err['msg']}{more}"
+    msg = " ".join(str(err["msg"]).removeprefix("Value error, ").split())
+    value = err.get("input")
+    got = ""
+    if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:
+        shown = str(value).lower() if isinstance(value, bool) else repr(value)
+        got = f" (got {shown[:40]})"
+    return f"{where}: {msg}{got}{more}"
 
 
 def build_config(data: dict[str, Any]) -> RunConfig:
@@ -177,11 +199,17 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
     if not p.is_file():
         raise ConfigError(f"config file not found: {p}")
     try:
-        data = yaml.safe_load(p.read_text())
+        data = yaml.safe_load(p.read_bytes().decode("utf-8"))
+    except UnicodeDecodeError:
+        raise ConfigError(f"config file {p} is not a text (UTF-8) file") from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read config file {p}: {exc.strerror or exc}") from None
     except yaml.YAMLError as exc:
         line = getattr(getattr(exc, "problem_mark", None), "line", None)
         at = f" (line {line + 1})" if line is not None else ""
         raise ConfigError(f"config file {p} is not valid YAML{at}") from None
+    except (ValueError, TypeError, OverflowError) as exc:  # e.g. an impossible date or number
+        raise ConfigError(f"config file {p} holds a value YAML cannot read: {exc}") from None
     if data is None:
         return {}
     if not isinstance(data, dict):

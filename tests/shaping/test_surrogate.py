@@ -63,3 +63,21 @@ def test_cosine_and_subspace_alignment_exact_values():
     assert subspace_alignment(U, [0.0, 0.0, 5.0]) == 0.0
     assert subspace_alignment(U, [3.0, -4.0, 0.0]) == pytest.approx(1.0)
     assert subspace_alignment(np.zeros((3, 0)), [1.0, 0.0, 0.0]) == 0.0
+
+
+def test_clone_orth_removes_the_perturbation_span():
+    from shaped_es.shaping.surrogate import clone_steps_orthogonal
+
+    rng = np.random.default_rng(3)
+    n, k = 50, 6
+    mean = rng.normal(size=n)
+    eps = rng.normal(size=(k, n))
+    theta = mean + eps
+    extra = rng.normal(size=n)  # a direction the labels add
+    theta_star = theta + 0.3 * eps[0] + 0.1 * extra[None, :]  # part in span(eps), part outside
+    G = clone_steps_orthogonal(theta_star, theta, mean)
+    assert G.shape == (k, n)
+    np.testing.assert_allclose(G @ eps.T, 0.0, atol=1e-9)  # nothing left in span(eps)
+    q, _ = np.linalg.qr(eps.T)
+    outside = 0.1 * (extra - q @ (q.T @ extra))
+    np.testing.assert_allclose(G, np.tile(outside, (k, 1)), atol=1e-9)

@@ -51,7 +51,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, make_env, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled, warm_up_cloning
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
-from shaped_es.shaping.surrogate import cosine, surrogate_gradients
+from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
 from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
 from shaped_es.store import atomic_write_bytes
 
@@ -319,6 +319,8 @@ class ShapedGuide(NoGuide):
             G = surrogate_gradients(theta_star, mean, self.sh.eta)  # (k, n): (Theta* - mu_{g+1}) / eta
         elif self.sh.surrogate == "clone_step":
             G = theta_star.astype(np.float64) - params  # (k, n): the cloning steps alone
+        elif self.sh.surrogate == "clone_orth":
+            G = clone_steps_orthogonal(theta_star, params, old_mean)  # (k, n): steps outside span(eps)
         else:
             G = (theta_star.astype(np.float64) - params).mean(axis=0, keepdims=True)  # (1, n)
         strategy.guide(G)

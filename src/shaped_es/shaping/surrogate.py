@@ -30,6 +30,21 @@ def surrogate_gradients(theta_star: np.ndarray, mean: np.ndarray, eta: float) ->
     return (ts - mu[None, :]) / eta  # Eq. Delta_g: (k, n)
 
 
+def clone_steps_orthogonal(theta_star: np.ndarray, theta: np.ndarray, mean: np.ndarray) -> np.ndarray:
+    """The cloning steps ``theta*_i - theta_i`` with their component in the span of the generation's
+    perturbations ``theta_i - mu_g`` removed: ``(k, n)`` float64 (the ``clone_orth`` surrogate).
+
+    The paper's Delta = (theta_i + c_i - mu_{g+1}) / eta spans the perturbations themselves (so the ES
+    update lies in it by construction); this keeps only what the labels add to them.
+    """
+    ts = np.atleast_2d(np.asarray(theta_star, dtype=np.float64))  # (k, n)
+    th = np.atleast_2d(np.asarray(theta, dtype=np.float64))  # (k, n)
+    eps = th - np.asarray(mean, dtype=np.float64).reshape(1, -1)  # (k, n) perturbations
+    q = orthonormal_basis(eps)  # (n, k') basis of span(eps)
+    c = ts - th  # (k, n) cloning steps
+    return c - (c @ q) @ q.T  # (k, n)
+
+
 def orthonormal_basis(delta: np.ndarray, rtol: float = 1e-6) -> np.ndarray:
     """Orthonormal basis ``U`` ``(n, k')`` of the span of the rows of ``delta`` ``(k, n)``, ``k' <= k``.
 
