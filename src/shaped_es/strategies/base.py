@@ -2,7 +2,13 @@
 
 Conventions (all strategies):
 
-- **Maximize**: ``tell`` takes fitness where larger is better (episode return).
+- **Maximize** by default: ``tell`` takes fitness where larger is better (episode return).
+  ``maximize=False`` makes ``tell`` take a loss (smaller is better): it is negated internally, before
+  fitness shaping and weight decay, so every update is the maximizing one on ``-loss``; ``best_fitness``
+  stays in the caller's units (the lowest loss told; ``+inf`` before the first tell).
+- **Population size**: ``pairs`` antithetic pairs, or ``popsize`` (even, ``= 2 * pairs``) as evosax and
+  EvoTorch users write it; ``popsize=2 * P`` builds exactly the strategy ``pairs=P`` does (the same
+  samples). Neither given: :data:`DEFAULT_PAIRS` pairs.
 - ``ask()`` is idempotent within a generation: it returns the same population until ``tell``.
 - ``state_dict()`` holds only numpy arrays (scalars as 0-d arrays, no object arrays), so it saves with
   ``np.savez`` and loads with ``allow_pickle=False``; ``load_state_dict`` on an instance built with the
@@ -19,13 +25,38 @@ from shaped_es.strategies.fitness import SHAPINGS, l2_decay, shape_fitness
 from shaped_es.strategies.optim import make_optimizer
 
 
+DEFAULT_PAIRS = 32  # antithetic pairs when neither pairs nor popsize is given (population 64)
+
+
+def resolve_pairs(pairs: int | None, popsize: int | None) -> int:
+    """Antithetic pairs from ``pairs`` and/or ``popsize`` (even, ``2 * pairs``); one-line ValueError
+    for an odd, non-positive or non-integer ``popsize`` or one that disagrees with ``pairs``."""
+    if popsize is None:
+        return DEFAULT_PAIRS if pairs is None else pairs
+    try:
+        ok = not isinstance(popsize, bool) and int(popsize) == popsize and popsize >= 2 and popsize % 2 == 0
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise ValueError(f"popsize must be a positive even integer (antithetic pairs: popsize = "
+                         f"2 * pairs), got {popsize!r}")
+    if pairs is not None and 2 * pairs != popsize:
+        raise ValueError(f"popsize={popsize} and pairs={pairs} disagree (popsize = 2 * pairs); "
+                         f"give one of them")
+    return int(popsize) // 2
+
+
 class Strategy:
     """Shared state and helpers; see the module docstring for the contract."""
 
-    def __init__(self, x0, pairs: int, seed: int, fitness_shaping: str = "none",
+    def __init__(self, x0, pairs: int | None, seed: int, fitness_shaping: str = "none",
                  optimizer: str | None = None, lr: float = 0.01, momentum: float = 0.0,
                  weight_decay: float = 0.0, adam_betas: tuple[float, float] = (0.9, 0.999),
-                 adam_eps: float = 1e-8):
+                 adam_eps: float = 1e-8, *, popsize: int | None = None, maximize: bool = True):
+        pairs = resolve_pairs(pairs, popsize)
+        if not isinstance(maximize, (bool, np.bool_)):
+            raise ValueError(f"maximize must be True (fitness: larger is better) or False (a loss), "
+                             f"got {maximize!r}")
         x0 = np.array(x0, dtype=np.float64)
         if x0.ndim != 1 or x0.shape[0] == 0 or not np.isfinite(x0).all():
             raise ValueError(f"x0 must be a finite non-empty 1-D vector, got shape {x0.shape}")
@@ -44,8 +75,11 @@ class Strategy:
         self.seed = int(seed)  # strategy seed; generation g draws from default_rng([seed, g])
         self.fitness_shaping = fitness_shaping  # "rank" (paper) or "none"
         self.weight_decay = float(weight_decay)
+        self.maximize = bool(maximize)  # False: tell takes a loss and negates it internally
         self.generation = 0  # number of tells so far
-        self.best_fitness = -np.inf  # best fitness ever told (raw, before shaping)
+        # best fitness ever told (raw, before shaping, in the caller's units: the lowest loss if not
+        # maximize)
+        self.best_fitness = -np.inf if self.maximize else np.inf
         self.best_params = x0.copy()  # (n,) member that got it (x0 until the first tell)
         self.opt = None if optimizer is None else make_optimizer(
             optimizer, self.num_params, lr, momentum, adam_betas, adam_eps)
@@ -70,13 +104,18 @@ class Strategy:
             raise ValueError("fitness must be finite (got NaN or inf)")
         return f
 
-    def _record_best(self, fitness: np.ndarray, population) -> None:
-        """Best-so-far from ``fitness`` (N,); ``population`` is an (N, n) array, or a function of the
-        member index returning its (n,) parameters (so a strategy need not rebuild the population)."""
-        i = int(np.argmax(fitness))
-        if fitness[i] > self.best_fitness:
+    def _score(self, fitness: np.ndarray) -> np.ndarray:
+        """The value every update maximizes: ``fitness`` itself, or ``-fitness`` if not ``maximize``."""
+        return fitness if self.maximize else -fitness
+
+    def _record_best(self, score: np.ndarray, population) -> None:
+        """Best-so-far from ``score`` (N,) (:meth:`_score`, larger is better); ``population`` is an
+        (N, n) array, or a function of the member index returning its (n,) parameters (so a strategy
+        need not rebuild the population). ``best_fitness`` is kept in the caller's units."""
+        i = int(np.argmax(score))
+        if score[i] > (self.best_fitness if self.maximize else -self.best_fitness):
             row = population(i) if callable(population) else population[i]
-            self.best_fitness = float(fitness[i])
+            self.best_fitness = float(score[i]) if self.maximize else -float(score[i])
             self.best_params = np.array(row, dtype=np.float64)
 
     def shape(self, fitness: np.ndarray) -> np.ndarray:

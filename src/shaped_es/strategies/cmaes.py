@@ -1,18 +1,25 @@
-"""CMA-ES baseline: a thin adapter over pycma's ``cma.CMAEvolutionStrategy`` (maximizes fitness).
+"""CMA-ES baseline: a thin adapter over pycma's ``cma.CMAEvolutionStrategy`` (maximizes fitness;
+``maximize=False``: minimizes a loss).
 
 Lekkala & Itti, Eqs. (1)-(2): the mean and covariance are re-estimated from the ``M_best`` (25) best
 members each generation; pycma implements the full CMA-ES (Hansen 2016) with ``CMA_mu = M_best``.
 Settings as the paper's baseline:
 
-- population ``2 * pairs``; ``mu`` (M_best) clipped to ``popsize // 2``;
-- weight decay 0.05 on the fitness, as in estool: ``fitness_i -= weight_decay * mean(x_i ** 2)``;
+- population ``2 * pairs`` (or ``popsize``, even); ``mu`` (M_best) clipped to ``popsize // 2``;
+- weight decay on the fitness, as in estool: ``fitness_i -= weight_decay * mean(x_i ** 2)`` (with
+  ``maximize=False``: ``loss_i += weight_decay * mean(x_i ** 2)``). This changes the objective, so it
+  MOVES THE OPTIMUM towards 0: ``||x - c||^2`` in n dimensions is then minimized at
+  ``c / (1 + weight_decay / n)``, and the flatter the objective the larger the shift. The paper's
+  baseline uses 0.05 (on episode returns): the run config's ``es.cmaes_weight_decay`` keeps 0.05 and the
+  trainer passes it; the Python API defaults to ``weight_decay=0.0`` (plain CMA-ES, no shift);
 - above ``diagonal_above`` parameters the full covariance (O(n^2) memory, O(n^3) updates) is replaced
   by the separable/diagonal variant (pycma option ``CMA_diagonal=True``; the paper notes full CMA-ES is
   infeasible beyond ~10k parameters).
 
-pycma minimizes, so it is told ``-fitness``. pycma draws from numpy's GLOBAL random state; every call
-into pycma runs with a private global state (the caller's is saved and restored around it), so the
-strategy is deterministic whatever else runs in the process and leaves others' draws untouched.
+pycma minimizes, so it is told ``-fitness`` (the loss itself if ``maximize=False``). pycma draws from
+numpy's GLOBAL random state; every call into pycma runs with a private global state (the caller's is
+saved and restored around it), so the strategy is deterministic whatever else runs in the process and
+leaves others' draws untouched.
 
 Exact resume without pickle: ``state_dict`` keeps the told fitness history (G, popsize);
 ``load_state_dict`` rebuilds pycma from ``x0`` with the same seed and replays the G ask/tell rounds,
@@ -29,11 +36,19 @@ from shaped_es.strategies.fitness import l2_fitness_penalty
 
 
 class CMAES(Strategy):
-    """pycma CMA-ES (separable above ``diagonal_above`` params) behind the common ask/tell API."""
+    """pycma CMA-ES (separable above ``diagonal_above`` params) behind the common ask/tell API.
 
-    def __init__(self, x0, sigma: float = 0.1, pairs: int = 32, seed: int = 0,
-                 weight_decay: float = 0.05, mu: int = 25, diagonal_above: int = 2000):
-        super().__init__(x0, pairs, seed, fitness_shaping="none", weight_decay=weight_decay)
+    Maximizes fitness (``maximize=True``, default); ``maximize=False`` minimizes a loss. ``pairs``
+    (default 32) or ``popsize`` (even, ``2 * pairs``). ``weight_decay`` (default 0.0): estool's fitness
+    penalty ``wd * mean(x ** 2)``, which moves the optimum towards 0 (module doc); the paper's baseline,
+    and the run config's ``es.cmaes_weight_decay``, use 0.05.
+    """
+
+    def __init__(self, x0, sigma: float = 0.1, pairs: int | None = None, seed: int = 0,
+                 weight_decay: float = 0.0, mu: int = 25, diagonal_above: int = 2000, *,
+                 popsize: int | None = None, maximize: bool = True):
+        super().__init__(x0, pairs, seed, fitness_shaping="none", weight_decay=weight_decay,
+                         popsize=popsize, maximize=maximize)
         if not sigma > 0:
             raise ValueError(f"sigma must be > 0, got {sigma}")
         if int(mu) != mu or mu < 1:
@@ -83,13 +98,15 @@ class CMAES(Strategy):
         return np.array(self._pending, dtype=np.float64)  # (2P, n)
 
     def tell(self, fitness, surrogate=None) -> None:
-        """Update from fitness (popsize,), larger is better. ``surrogate`` is accepted and ignored."""
-        f = self._check_fitness(fitness)  # (2P,)
+        """Update from fitness (popsize,): larger is better if ``maximize`` (default), else a loss.
+        ``surrogate`` is accepted and ignored."""
+        f = self._check_fitness(fitness)  # (2P,) as told (the history replays it)
+        score = self._score(f)  # (2P,) to maximize
         if self._pending is None:
             self.ask()
         solutions = self._pending  # 2P rows of (n,), as asked (no copy of the population)
-        self._record_best(f, lambda i: solutions[i])
-        penalized = l2_fitness_penalty(f, solutions, self.weight_decay)  # (2P,) estool weight decay
+        self._record_best(score, lambda i: solutions[i])
+        penalized = l2_fitness_penalty(score, solutions, self.weight_decay)  # (2P,) estool weight decay
         self._isolated(lambda: self._es.tell(solutions, (-penalized).tolist()))  # pycma minimizes
         self._pending = None
         self._history.append(f.copy())

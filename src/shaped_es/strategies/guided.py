@@ -126,17 +126,23 @@ def _greedy_cholesky(W: np.ndarray, rtol: float) -> tuple[list[int], np.ndarray]
 
 
 class GuidedES(VanillaES):
-    """Vanilla-ES whose perturbations are stretched along a surrogate-gradient subspace (maximizes)."""
+    """Vanilla-ES whose perturbations are stretched along a surrogate-gradient subspace.
 
-    def __init__(self, x0, sigma: float = 0.1, lr: float = 0.01, alpha: float = 0.5, pairs: int = 32,
-                 seed: int = 0, fitness_shaping: str = "rank", optimizer: str = "adam",
-                 momentum: float = 0.0, weight_decay: float = 0.0,
+    Maximizes fitness (``maximize=True``, default); ``maximize=False`` minimizes a loss (the subspace is
+    sign-free: surrogate gradients of the loss or of the fitness span the same one). ``pairs`` or
+    ``popsize`` as :class:`VanillaES`.
+    """
+
+    def __init__(self, x0, sigma: float = 0.1, lr: float = 0.01, alpha: float = 0.5,
+                 pairs: int | None = None, seed: int = 0, fitness_shaping: str = "rank",
+                 optimizer: str = "adam", momentum: float = 0.0, weight_decay: float = 0.0,
                  adam_betas: tuple[float, float] = (0.9, 0.999), adam_eps: float = 1e-8,
-                 float32_above: int | None = FLOAT32_ABOVE):
+                 float32_above: int | None = FLOAT32_ABOVE, *, popsize: int | None = None,
+                 maximize: bool = True):
         super().__init__(x0, sigma=sigma, lr=lr, pairs=pairs, seed=seed,
                          fitness_shaping=fitness_shaping, optimizer=optimizer, momentum=momentum,
                          weight_decay=weight_decay, adam_betas=adam_betas, adam_eps=adam_eps,
-                         float32_above=float32_above)
+                         float32_above=float32_above, popsize=popsize, maximize=maximize)
         if not 0.0 <= alpha <= 1.0:
             raise ValueError(f"alpha must be in [0, 1], got {alpha}")
         self.alpha = float(alpha)  # isotropic share of the search variance (paper: 0.6)
@@ -200,7 +206,8 @@ class GuidedES(VanillaES):
         self._U = orthonormal_basis(G)  # (n, k)
 
     def tell(self, fitness, surrogate=None) -> None:
-        """Update the mean (maximize); then ``guide(surrogate)``, or clear the subspace if None."""
+        """Update the mean (fitness to maximize, or a loss if not ``maximize``); then
+        ``guide(surrogate)``, or clear the subspace if None."""
         super().tell(fitness)
         self._clear_subspace()
         if surrogate is not None:

@@ -1,4 +1,5 @@
-"""Vanilla-ES: isotropic antithetic sampling and the finite-difference mean update (maximize).
+"""Vanilla-ES: isotropic antithetic sampling and the finite-difference mean update (maximizes fitness;
+``maximize=False``: minimizes a loss, negated in ``tell``).
 
 Lekkala & Itti, Sec. "Incorporating gradients", Eq. (4)::
 
@@ -33,15 +34,22 @@ FLOAT32_ABOVE = 20_000  # parameters above which Vanilla/Guided ES take the floa
 
 
 class VanillaES(Strategy):
-    """Antithetic Vanilla-ES with rank shaping and an SGD/Adam step on the mean (maximizes fitness)."""
+    """Antithetic Vanilla-ES with rank shaping and an SGD/Adam step on the mean.
 
-    def __init__(self, x0, sigma: float = 0.1, lr: float = 0.01, pairs: int = 32, seed: int = 0,
-                 fitness_shaping: str = "rank", optimizer: str = "adam", momentum: float = 0.0,
-                 weight_decay: float = 0.0, adam_betas: tuple[float, float] = (0.9, 0.999),
-                 adam_eps: float = 1e-8, float32_above: int | None = FLOAT32_ABOVE):
+    Maximizes fitness (``maximize=True``, default); ``maximize=False`` minimizes a loss. Population:
+    ``pairs`` antithetic pairs (default 32) or ``popsize`` (even, ``2 * pairs``). ``weight_decay``: L2
+    decay on the mean, ``g -= weight_decay * mu`` (0: none).
+    """
+
+    def __init__(self, x0, sigma: float = 0.1, lr: float = 0.01, pairs: int | None = None,
+                 seed: int = 0, fitness_shaping: str = "rank", optimizer: str = "adam",
+                 momentum: float = 0.0, weight_decay: float = 0.0,
+                 adam_betas: tuple[float, float] = (0.9, 0.999), adam_eps: float = 1e-8,
+                 float32_above: int | None = FLOAT32_ABOVE, *, popsize: int | None = None,
+                 maximize: bool = True):
         super().__init__(x0, pairs, seed, fitness_shaping, optimizer=optimizer, lr=lr,
                          momentum=momentum, weight_decay=weight_decay, adam_betas=adam_betas,
-                         adam_eps=adam_eps)
+                         adam_eps=adam_eps, popsize=popsize, maximize=maximize)
         if not sigma > 0:
             raise ValueError(f"sigma must be > 0, got {sigma}")
         if float32_above is not None and (int(float32_above) != float32_above or float32_above < 0):
@@ -109,11 +117,12 @@ class VanillaES(Strategy):
 
     # -- update ---------------------------------------------------------------------------------
     def tell(self, fitness, surrogate=None) -> None:
-        """Update the mean from this generation's fitness (2P,), larger is better.
+        """Update the mean from this generation's fitness (2P,): larger is better if ``maximize``
+        (default), else a loss (smaller is better; negated here).
 
         ``surrogate`` is accepted for a uniform interface and ignored (see :class:`GuidedES`).
         """
-        f = self._check_fitness(fitness)  # (2P,)
+        f = self._score(self._check_fitness(fitness))  # (2P,) to maximize
         z = self._directions()  # (P, n) the noise ask used
         self._record_best(f, self._member)  # rebuilds only the best member's row
         grad = antithetic_gradient(z, self.shape(f), self.sigma)  # (n,)  Eq. (4)
