@@ -215,15 +215,15 @@ class PPORun:
         return rows
 
     def _log_tb(self, row: dict) -> None:
+        """The row as grouped TensorBoard scalars at step ``row["env_steps"]``, as the ES trainer's
+        (:mod:`shaped_es.tblog`)."""
         if not self.cfg.tensorboard:
             return
-        if self._tb is None:
-            from torch.utils.tensorboard import SummaryWriter
+        from shaped_es import tblog
 
-            self._tb = SummaryWriter(str(self.store.root / "tb"), purge_step=int(row["generation"]))
-        for k, v in row.items():
-            if k != "generation" and isinstance(v, (int, float)) and math.isfinite(v):
-                self._tb.add_scalar(k, v, int(row["generation"]))
+        if self._tb is None:
+            self._tb = tblog.open_writer(self.store.root / "tb", row)
+        tblog.log_row(self._tb, row)
 
     def close(self) -> None:
         if self._tb is not None:
