@@ -308,7 +308,6 @@ class Trainer:
             self._tb = tblog.open_writer(self.store.root / "tb", row)
         tblog.log_row(self._tb, row)
 
-
     def close(self) -> None:
         if self._tb is not None:
             self._tb.close()
