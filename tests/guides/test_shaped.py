@@ -187,3 +187,12 @@ def test_an_untrained_mphi_is_said_once_and_logged(tmp_path, capsys):
     assert all(r["shaping_active"] == "0" for r in rows)
     err = capsys.readouterr().err
     assert err.count("no episode passed M_phi's filter") == 1 and "filter=none" in err
+
+
+def test_gradient_steps_on_process_workers_equal_inline(tmp_path):
+    """Master placement on the process executor labels in the master and runs the cloning steps in the
+    workers, in chunks: the same run as inline (float tolerance)."""
+    inline = _run(tmp_path, "inline", method="shaped").read_metrics()
+    proc = _run(tmp_path, "proc", method="shaped", executor="process", workers=2).read_metrics()
+    assert float(proc[-1]["mphi_iterations"]) > 0
+    _close(_strip(inline), _strip(proc))

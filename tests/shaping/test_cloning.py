@@ -193,3 +193,22 @@ def test_member_rows_in_blocks_equal_the_concatenated_lists():
         sb, qb = b.gather(pos)
         np.testing.assert_array_equal(sa, sb)
         np.testing.assert_array_equal(qa, qb)
+
+
+def test_fitting_in_chunks_elsewhere_gives_the_same_theta_star():
+    theta, states, labels = _population()
+    queries = [np.zeros((len(s), 2), np.float32) for s in states]
+    data = MemberRows.from_lists(states, queries)
+    cfg = CloningConfig(steps=12, lr=1e-2, batch_size=16)
+    label = lambda s, q: np.tanh(s[..., :2])  # noqa: E731
+    calls = []
+
+    def fake_map(fn, tasks):
+        calls.append(len(tasks))
+        return [fn(t) for t in tasks]
+
+    one = clone_sampled(SPEC, theta, data, label, cfg, np.arange(4))
+    many = clone_sampled(SPEC, theta, data, label, cfg, np.arange(4), map_fit=fake_map, map_chunks=3)
+    assert calls == [3]
+    np.testing.assert_allclose(many.theta_star, one.theta_star, rtol=1e-6, atol=1e-7)
+    np.testing.assert_allclose(many.loss_after, one.loss_after, rtol=1e-6)

@@ -137,6 +137,9 @@ class ShapedGuide(NoGuide):
         self.data_dir = Path(store.root) / "mphi_data"
         self._parts: list[tuple[int, int]] = []
         self._part_margin = cfg.keep_checkpoints * cfg.checkpoint_every  # older checkpoints' parts too
+        # master placement on local processes: labels here, the gradient steps in the idle workers
+        self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
+        self._workers_warm = False
         self.reference = _reference_fn(self.sh.reference_run, spec) if self.sh.reference_run else None
         self._warned = False
         if self.placement == "master":
@@ -286,6 +289,9 @@ class ShapedGuide(NoGuide):
 
     # -- cloning and the surrogate subspace ----------------------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
+        if self.fit_on_workers and not self._workers_warm:  # torch's first optimizer: before it counts
+            map_tasks(warm_up_task, list(range(max(1, len(results)))))
+            self._workers_warm = True
         self._write_time += float(sum(getattr(r, "store_time_s", 0.0) for r in results))  # on the workers
         if self.placement == "master":  # keep the generation in memory
             trs = sorted((tr for r in results for tr in r.transitions), key=lambda t: t.member)
@@ -379,8 +385,9 @@ class ShapedGuide(NoGuide):
             data = self._member_rows(gens, P)
             # one torch thread, as everywhere in the master: two threads were 1.7x faster on an idle
             # machine but 3x slower beside any other busy process (OpenMP spin-waits)
+            fit = {"map_fit": map_tasks, "map_chunks": n_tasks} if self.fit_on_workers and n_tasks > 1 else {}
             res = clone_sampled(self.spec, params, data, labeller(self.mphi, max_disp), self.clone_cfg, seeds,
-                                reference_fn=self.reference)
+                                reference_fn=self.reference, **fit)
             return res.theta_star, res, 0.0
         self._join_writes()
         snap = self.mphi.state_dict(with_training=False)
@@ -441,6 +448,10 @@ class ShapedGuide(NoGuide):
             self._join_writes()
         finally:
             self._writer.shutdown(wait=True)
+
+
+def warm_up_task(_: int) -> None:
+    warm_up_cloning()
 
 
 def _reference_fn(run_dir: str, spec: MLPSpec):

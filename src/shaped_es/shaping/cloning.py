@@ -268,6 +268,8 @@ def clone_sampled(
     seeds: Sequence[int] | np.ndarray,
     eval_batches: int = 4,
     reference_fn: Callable[[np.ndarray], np.ndarray] | None = None,
+    map_fit: Callable | None = None,
+    map_chunks: int = 2,
 ) -> CloneResult:
     """Clone every member towards ``label_fn`` on its own data: ``theta`` ``(P, n)`` -> ``theta*``.
 
@@ -281,6 +283,9 @@ def clone_sampled(
     labels to its actions, ``label_ref_error``), the same for the members' own actions before and after
     cloning (``own_ref_error``, ``clone_ref_error``) and the share of rows where the label is closer to
     the reference than the member's own action (``label_beats_own``).
+
+    ``map_fit(fn, tasks) -> results`` (an executor's map): the gradient steps of ``map_chunks`` chunks of
+    members run there (:func:`fit_rows` on :class:`FitTask`), after the labels are taken here.
     """
     cfg = config
     th = np.atleast_2d(np.asarray(theta, dtype=np.float32))  # (P, n)
@@ -317,7 +322,57 @@ def clone_sampled(
     else:
         S = np.zeros((draws, P, B, spec.obs_dim), np.float32)
         A = np.zeros((draws, P, B, spec.act_dim), np.float32)
-    S_t, A_t = torch.from_numpy(S), torch.from_numpy(A)
+    k_eval_rows = (S[:k_eval], A[:k_eval])
+    if map_fit is None or P < 2:
+        theta_star, before, after, own_before, own_after = fit_rows(
+            FitTask(spec, th, S, A, has, cfg.steps, cfg.optimizer, cfg.lr, k_eval))
+    else:  # chunks of members elsewhere (each member's steps are independent: the same theta*)
+        chunks = [c for c in np.array_split(np.arange(P), map_chunks) if c.size]
+        outs = map_fit(fit_rows, [FitTask(spec, th[c], S[:, c], A[:, c], has[c], cfg.steps, cfg.optimizer,
+                                          cfg.lr, k_eval) for c in chunks])
+        theta_star = np.concatenate([o[0] for o in outs])
+        before, after, own_before, own_after = (np.concatenate([o[j] for o in outs]) for j in range(1, 5))
+    s_eval = k_eval_rows[0].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, obs)
+    a_eval = k_eval_rows[1].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, act)
+    used = A[:, has].reshape(-1, spec.act_dim)  # (draws * P' * B, act)
+    ref = None
+    if reference_fn is not None and has.any():
+        r = np.asarray(reference_fn(s_eval[has]), np.float32)  # (P', kB, act)
+        d_lab = np.linalg.norm(a_eval[has] - r, axis=-1)  # (P', kB)
+        d_own = np.linalg.norm(own_before[has] - r, axis=-1)
+        d_cln = np.linalg.norm(own_after[has] - r, axis=-1)
+        ref = {"label_ref_error": float(d_lab.mean()), "own_ref_error": float(d_own.mean()),
+               "clone_ref_error": float(d_cln.mean()), "label_beats_own": float((d_lab < d_own).mean())}
+    return CloneResult(theta_star=theta_star, loss_before=before, loss_after=after, samples=n_i,
+                       label_std=float(used.std(axis=0).mean()) if used.size else 0.0, reference=ref)
+
+
+def _label_std(labels: Sequence[np.ndarray]) -> float:
+    lab = [x for x in labels if len(x)]
+    return float(np.concatenate(lab).std(axis=0).mean()) if lab else 0.0
+
+
+@dataclass
+class FitTask:
+    """Gradient steps of a chunk of members on rows already drawn and labelled (picklable)."""
+
+    spec: MLPSpec
+    theta: np.ndarray  # (P, n) float32
+    S: np.ndarray  # (draws, P, B, obs) float32: minibatch k is S[k]
+    A: np.ndarray  # (draws, P, B, act) float32 labels
+    has: np.ndarray  # (P,) bool: members with data
+    steps: int
+    optimizer: str
+    lr: float
+    k_eval: int  # the first k_eval minibatches are the eval rows
+
+
+def fit_rows(task: FitTask):
+    """``(theta_star (P, n), mse_before (P,), mse_after (P,), own actions before / after (P, kB, act))``
+    of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one torch computation for all."""
+    spec, th, has, k_eval = task.spec, np.asarray(task.theta, np.float32), np.asarray(task.has), task.k_eval
+    P, B = th.shape[0], task.S.shape[2]
+    S_t, A_t = torch.from_numpy(np.ascontiguousarray(task.S)), torch.from_numpy(np.ascontiguousarray(task.A))
     # one leaf per layer, (P, in, out) and (P, 1, out): no slicing of a flat (P, n) tensor every step
     # (the same elementwise Adam/SGD updates as on the flat vector, so the same theta*)
     leaves = []
@@ -343,9 +398,9 @@ def clone_sampled(
         return np.where(has, mse, np.nan)
 
     before = eval_mse()
-    if steps > 0 and has.any():
-        opt = (torch.optim.Adam if cfg.optimizer == "adam" else torch.optim.SGD)(leaves, lr=cfg.lr)
-        for k in range(steps):
+    if task.steps > 0 and has.any():
+        opt = (torch.optim.Adam if task.optimizer == "adam" else torch.optim.SGD)(leaves, lr=task.lr)
+        for k in range(task.steps):
             err = ((fwd(S_t[k]) - A_t[k]) ** 2).mean(-1)  # (P, B)
             loss = (err * w).sum()  # sum_i L_i(theta_i), Eq. L(theta) per member
             opt.zero_grad(set_to_none=True)
@@ -357,19 +412,4 @@ def clone_sampled(
         for (ws, bs), W, b in zip(spec.slices(), leaves[0::2], leaves[1::2]):
             theta_star[:, ws] = W.numpy().reshape(P, -1)
             theta_star[:, bs] = b.numpy().reshape(P, -1)
-    used = A[:, has].reshape(-1, spec.act_dim)  # (draws * P' * B, act)
-    ref = None
-    if reference_fn is not None and has.any():
-        r = np.asarray(reference_fn(s_eval.numpy()[has]), np.float32)  # (P', kB, act)
-        d_lab = np.linalg.norm(a_eval.numpy()[has] - r, axis=-1)  # (P', kB)
-        d_own = np.linalg.norm(acts[0][has] - r, axis=-1)
-        d_cln = np.linalg.norm(acts[1][has] - r, axis=-1)
-        ref = {"label_ref_error": float(d_lab.mean()), "own_ref_error": float(d_own.mean()),
-               "clone_ref_error": float(d_cln.mean()), "label_beats_own": float((d_lab < d_own).mean())}
-    return CloneResult(theta_star=theta_star, loss_before=before, loss_after=after, samples=n_i,
-                       label_std=float(used.std(axis=0).mean()) if used.size else 0.0, reference=ref)
-
-
-def _label_std(labels: Sequence[np.ndarray]) -> float:
-    lab = [x for x in labels if len(x)]
-    return float(np.concatenate(lab).std(axis=0).mean()) if lab else 0.0
+    return theta_star, before, after, acts[0], acts[1]
