@@ -4,6 +4,10 @@ The policy is the checkpoint's best one (``policy/best``: the member with the be
 best weights), or ``mean`` for the latest search mean / PPO weights. Frames come from
 ``env.render()`` with ``render_mode="rgb_array"`` (headless) and are written with Pillow. Episode seeds
 are drawn as ``evaluate`` draws them (a seed outside every training and test stream).
+
+Gymnasium's classic-control envs (CartPole, Pendulum, ...) draw their frames with pygame, which is not a
+dependency of the package: ``pip install -e ".[render]"`` brings it (without it, rendering one fails in
+one line naming that extra). The built-in envs and MuJoCo ones render without pygame.
 """
 
 from __future__ import annotations
@@ -60,10 +64,29 @@ def _rgb_env(env_id: str, env_kwargs: dict) -> gym.Env:
         raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames: {exc}") from None
 
 
+RENDER_EXTRA_HINT = 'pip install -e ".[render]" (or pip install "shaped-es[render]")'
+
+
+def _missing_pygame(exc: BaseException) -> bool:
+    """True if ``exc`` (or what caused it) is pygame failing to import (gymnasium raises
+    ``DependencyNotInstalled`` from the ``ImportError``)."""
+    seen = 0
+    while exc is not None and seen < 5:
+        if isinstance(exc, ImportError) and (exc.name or "").split(".")[0] == "pygame":
+            return True
+        if isinstance(exc, (ImportError, gym.error.DependencyNotInstalled)) and "pygame" in str(exc):
+            return True
+        exc, seen = exc.__cause__ or exc.__context__, seen + 1
+    return False
+
+
 def _frame(env, env_id: str) -> np.ndarray:
     try:
         frame = env.render()
     except (gym.error.Error, ImportError, RuntimeError, OSError, ValueError) as exc:  # e.g. no pygame/OpenGL
+        if _missing_pygame(exc):
+            raise EnvSpecError(f"env {env_id!r} renders with pygame, which is not installed: "
+                               f"{RENDER_EXTRA_HINT}") from None
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames: {msg}") from None
     frame = None if frame is None else np.asarray(frame)

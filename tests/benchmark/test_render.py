@@ -2,6 +2,7 @@
 
 import argparse
 import json
+import sys
 
 import gymnasium as gym
 import numpy as np
@@ -115,3 +116,18 @@ def test_render_cartpole_headless(tmp_path, method):
     assert _cli(run, "--out", out, "--max-steps", "30") == 0
     with Image.open(out) as im:
         assert im.size == (600, 400) and im.n_frames >= 2
+
+
+def test_render_classic_control_without_pygame_names_the_render_extra(tmp_path, monkeypatch, capsys):
+    from shaped_es.cli import main
+
+    run = _run(tmp_path, "CartPole-v1")
+    monkeypatch.setitem(sys.modules, "pygame", None)  # import pygame -> ImportError, as if not installed
+    monkeypatch.setitem(sys.modules, "pygame.gfxdraw", None)
+    with pytest.raises(EnvSpecError, match=r"pygame, which is not installed: pip install -e \".\[render\]\""):
+        _cli(run, "--out", tmp_path / "v.gif")
+    capsys.readouterr()
+    assert main(["render", str(run), "--out", str(tmp_path / "v.gif")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("shaped-es: error:") and "\n" not in err and ".[render]" in err, err
+    assert not (tmp_path / "v.gif").exists()
