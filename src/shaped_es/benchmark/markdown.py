@@ -77,8 +77,10 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
             "is better at every level of performance.", "", f"![Performance profile]({figures['profile']})", ""]
     out += ["## Fig. 5: inverse-dynamics model loss", ""]
     if figures.get("fig5"):
-        out += ["M_phi train loss (solid) and test loss (dashed) vs its training iterations (mean over seeds, "
-                "CI band).", "", f"![Fig. 5]({figures['fig5']})", ""]
+        out += ["M_phi train loss (solid), the paper's test loss (dash-dot: labels vs a fully trained policy's "
+                "actions, drawn for runs with `shaping.reference_run`) and the held-out fit on the next "
+                "generation's own transitions (dashed) vs its training iterations (mean over seeds, CI band).",
+                "", f"![Fig. 5]({figures['fig5']})", ""]
     else:
         out += ["_Not drawn: no run logs `mphi_train_loss` / `mphi_fit_test_loss` (the shaped method's "
                 "columns)._", ""]

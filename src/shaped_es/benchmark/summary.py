@@ -54,8 +54,9 @@ DEFAULT_THRESHOLDS = {
 REWARD_SCALE_KEYS = ("preset", "max_steps", "num_waypoints", "step_penalty", "collision_penalty")
 
 def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
-    """Run directories grouped by the method in their ``config.yaml`` (first-seen order), and one config
-    per method (the first run's)."""
+    """Run directories grouped by method (first-seen order), and one config per group (the first run's).
+    A run of a benchmark (``DIR/runs/<name>_s<seed>``) is grouped by ``<name>``, so benchmark variants
+    stay apart; any other run by the method in its ``config.yaml``."""
     groups: dict[str, list[Path]] = {}
     configs: dict[str, RunConfig] = {}
     for d in run_dirs:
@@ -63,8 +64,10 @@ def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
         cfg = store.read_config()
         if not store.metrics_path.is_file():
             raise StoreError(f"{d} has no metrics.csv yet")
-        groups.setdefault(cfg.method, []).append(Path(d))
-        configs.setdefault(cfg.method, cfg)
+        m = re.fullmatch(r"(.+)_s\d+", Path(d).name)
+        label = m.group(1) if m and Path(d).parent.name == "runs" else cfg.method
+        groups.setdefault(label, []).append(Path(d))
+        configs.setdefault(label, cfg)
     return groups, configs
 
 
