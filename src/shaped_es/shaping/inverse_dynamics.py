@@ -113,11 +113,11 @@ def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon
 def kept_episodes(tr: Transitions, min_return: float, filter: str = "total") -> tuple[np.ndarray, np.ndarray]:
     """``(episodes, kept)``: the episode ids of ``tr`` and those passing the filter (Sec. IV: "trajectories
     which do not have a cumulative positive reward of 5 are discarded")."""
-    eps = np.unique(tr.episode)
+    eps, inv = np.unique(tr.episode, return_inverse=True)
     if filter == "none":
         return eps, eps
     r = np.maximum(tr.reward, 0.0) if filter == "positive" else tr.reward
-    ret = np.array([r[tr.episode == e].sum() for e in eps], dtype=np.float64)
+    ret = np.bincount(inv.reshape(-1), weights=r.astype(np.float64), minlength=eps.size)  # (E,) returns
     return eps, eps[ret >= min_return]
 
 
@@ -207,6 +207,10 @@ class InverseDynamics:
             c = self.config
             s, disp, a = target_pairs(tr, c.frame, c.targets, c.horizon, self._rng)
             keep = np.isin(tr.episode[episode_end(tr) > np.arange(len(tr))], good)  # (T',) kept episodes
+            if keep.all():  # the usual case once episodes pass: no copies
+                xs.append(np.concatenate([s, disp], axis=1))
+                ys.append(a)
+                continue
             xs.append(np.concatenate([s[keep], disp[keep]], axis=1))  # (T', obs + d)
             ys.append(a[keep])  # (T', act)
         x = np.concatenate(xs).astype(np.float32) if xs else self._x[:0]
