@@ -136,7 +136,9 @@ class ShapedGuide(NoGuide):
         # checkpoint; a checkpoint names the parts that rebuild it. (generation, rows) of those parts:
         self.data_dir = Path(store.root) / "mphi_data"
         self._parts: list[tuple[int, int]] = []
-        self._part_margin = cfg.keep_checkpoints * cfg.checkpoint_every  # older checkpoints' parts too
+        # generations of slack for the older checkpoints kept on disk (a fallback if the newest is lost)
+        self._ckpt_margin = (cfg.keep_checkpoints - 1) * cfg.checkpoint_every
+        self._saved: tuple[int, int] | None = None  # (generation, oldest data part) of the last state_dict
         # master placement on local processes: labels here, the gradient steps in the idle workers
         self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
         self._workers_warm = False
@@ -202,8 +204,7 @@ class ShapedGuide(NoGuide):
         return time.perf_counter() - t0
 
     def _trim_parts(self) -> None:
-        """Keep the newest parts that hold the data set (FIFO-capped); delete files no kept checkpoint
-        names."""
+        """Keep (in the checkpoint's list) the newest parts that hold the data set (FIFO-capped)."""
         need, kept = self.mphi.dataset_size, []
         for g, rows in reversed(self._parts):
             if need <= 0:
@@ -211,13 +212,25 @@ class ShapedGuide(NoGuide):
             kept.insert(0, (g, rows))
             need -= rows
         self._parts = kept
-        if not self.data_dir.is_dir():
+
+    def _after_checkpoint(self) -> None:
+        """Once the checkpoint taken after generation ``g`` is on disk (the next generation starts only
+        then), drop the shards and data parts that neither it nor the older kept checkpoints read: a
+        re-run of ``g+1`` reads ``g`` (M_phi) and ``g-history+2 .. g`` (D_i). Deleting before the
+        checkpoint is durable would lose what the previous one needs if the run dies in between."""
+        if self._saved is None:
             return
-        oldest = (kept[0][0] if kept else self._last_generation + 1) - self._part_margin
-        for f in self.data_dir.iterdir():
-            m = re.fullmatch(r"added_(\d{6,})\.npz", f.name)
-            if m and int(m.group(1)) < oldest:
-                f.unlink(missing_ok=True)
+        g, oldest_part = self._saved
+        self._saved = None
+        old = [x for x in list_generations(self.traj_root)
+               if x <= g + 1 - max(self.sh.history, 2) - self._ckpt_margin]
+        if old:
+            delete_generations(self.traj_root, old)
+        if self.data_dir.is_dir():
+            for f in self.data_dir.iterdir():
+                m = re.fullmatch(r"added_(\d{6,})\.npz", f.name)
+                if m and int(m.group(1)) < oldest_part - self._ckpt_margin:
+                    f.unlink(missing_ok=True)
 
     def _read_parts(self, parts: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
         xs, ys = [], []
@@ -250,6 +263,7 @@ class ShapedGuide(NoGuide):
     def begin_generation(self, generation: int) -> None:
         self._pending = dict.fromkeys(METRIC_KEYS)
         self._join_writes()
+        self._after_checkpoint()  # the previous generation's checkpoint is durable by now
         self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
                              mphi_dataset_size=self.mphi.dataset_size)
         # shards a killed run left for this generation (maybe laid out by another placement) go first
@@ -412,19 +426,11 @@ class ShapedGuide(NoGuide):
         for g in [g for g in self._cache if g < keep_from]:
             del self._cache[g]
 
-    def _prune(self) -> None:
-        """At a checkpoint after generation ``g``: drop shards no re-run from it reads (a re-run of
-        ``g+1`` reads ``g`` for M_phi and ``g-history+2 .. g`` for D_i); between checkpoints keep all."""
-        g = self._last_generation
-        old = [x for x in list_generations(self.traj_root) if x <= g + 1 - max(self.sh.history, 2)]
-        if old:
-            delete_generations(self.traj_root, old)
-
     # -- checkpoint ---------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         self._join_writes()  # the checkpoint may only name shards and data parts that are durable
-        self._prune()
         self._trim_parts()
+        self._saved = (self._last_generation, self._parts[0][0] if self._parts else self._last_generation + 1)
         st = {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
         st["step_norm"] = self.step_norm
         st["mphi_parts"] = np.array(self._parts, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
