@@ -92,8 +92,9 @@ class InverseDynamicsSettings(_Strict):
         "distance |w_t - p_t| (matched)")
     horizon: Int = Field(8, ge=1, le=1000, description="hindsight/matched: at most this many steps ahead")
     filter: Literal["total", "positive", "none"] = Field(
-        "total", description="which return min_return tests: the whole return, its positive (waypoint) "
-        "part as the paper words it, or none (keep every transition)")
+        "positive", description="which return min_return tests: its positive (waypoint) part, as the "
+        "paper words it ('a cumulative positive reward of 5'; measured best, docs/shaped-results.md), the "
+        "whole return (before), or none (keep every transition)")
 
 
 class CloningSettings(_Strict):

@@ -44,7 +44,7 @@ class InverseDynamicsConfig:
     frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
     targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
     horizon: int = 8  # hindsight/matched: at most this many steps ahead
-    filter: str = "total"  # which return min_return tests: total (as coded before) | positive (paper) | none
+    filter: str = "positive"  # which return min_return tests: positive (paper) | total | none
     seed: int = 0  # seeds weight init and minibatch sampling
 
     def __post_init__(self):
