@@ -134,7 +134,11 @@ def query_displacement(tr: Transitions, frame: str = "world") -> np.ndarray:
 
 
 class RunningNorm:
-    """Running mean / variance of inputs (Chan et al. parallel update), as explicit float64 arrays."""
+    """Running mean / variance of inputs (Chan et al. parallel update), as explicit float64 arrays.
+
+    Kept instead of SB3's ``RunningMeanStd`` (the same update): ours caches the float32 shift/scale that
+    labelling ~80k rows a generation applies (6x faster than its float64 normalize) and leaves constant
+    features unscaled instead of dividing by ``sqrt(var + eps)``."""
 
     def __init__(self, dim: int):
         self.count = 0.0
