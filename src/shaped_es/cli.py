@@ -1,19 +1,31 @@
 """``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / bench.
 
-Bad input (config, env, run directory, checkpoint) prints one line ``shaped-es: error: ...`` and exits
-with code 2; nothing already saved is touched.
+Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
+directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
+values (its exception's type and message in the line), a search that went non-finite, a full disk (the
+run stays resumable), a run directory another process is writing, a dead MPI worker. The full traceback
+goes to ``RUN/error.log`` (when the run directory exists) and, with ``--debug``, to the terminal. An
+unexpected internal error is reported the same way with exit code 1. Warnings are one line each,
+``shaped-es: warning: ...``.
 """
 
 from __future__ import annotations
 
 import argparse
 import copy
+import errno
 import json
 import os
+import signal
+import subprocess
 import sys
+import traceback
+import warnings
 from pathlib import Path
 
 USAGE_ERROR = 2
+INTERNAL_ERROR = 1
+_SUPERVISED = "SHAPED_ES_SUPERVISED"  # set in the child process of an MPI-supervised command
 
 
 def _user_errors() -> tuple[type[BaseException], ...]:
@@ -22,7 +34,9 @@ def _user_errors() -> tuple[type[BaseException], ...]:
     from shaped_es.rollout import EnvSpecError
     from shaped_es.store import StoreError
 
-    errs: list[type[BaseException]] = [ConfigError, StoreError, EnvSpecError, ExecutorError]
+    from shaped_es.trainer import DivergedError
+
+    errs: list[type[BaseException]] = [ConfigError, StoreError, EnvSpecError, ExecutorError, DivergedError]
     try:
         from shaped_es.shaping.trajectories import TrajectoryStoreError
 
@@ -78,37 +92,56 @@ def cmd_train(a: argparse.Namespace) -> int:
     if store.exists() or (store.root.exists() and not store.root.is_dir()):
         store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
     check_run(cfg)  # everything is validated before anything is written
-    store.create(cfg)
-    return _run(cfg, store, a)
+    with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
+        store.create(cfg)  # checks again, under the lock, that no other train got there first
+        return _run(cfg, store, a)
 
 
 def cmd_resume(a: argparse.Namespace) -> int:
-    from shaped_es.benchmark.runner import finished_generations
     from shaped_es.config import ConfigError, build_config, merge
     from shaped_es.store import RunStore
 
     store = RunStore(a.run_dir)
-    cfg = store.read_config()
-    if a.generations is not None:
-        done = finished_generations(store)
-        if a.generations < done:
+    store.read_config()  # "not a run directory" before anything is created or locked
+    with store.lock():
+        cfg = store.read_config()
+        loaded = _fitting_checkpoint(cfg, store)  # a foreign or unreadable checkpoint: nothing changes
+        done = int(loaded[1]["generation"]) if loaded else 0
+        if a.generations is not None and a.generations < done:
             raise ConfigError(f"{a.run_dir} has {done} generations done; --generations {a.generations} is "
                               f"fewer (a run cannot be shortened; evaluate it as it is, or train a new one)")
-    if a.generations is not None or a.executor is not None or a.workers is not None:
-        changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
-                                     "workers": a.workers}.items() if v is not None}
-        cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
-        from shaped_es.config import dump_config
-        from shaped_es.store import atomic_write_text
+        if a.generations is not None or a.executor is not None or a.workers is not None:
+            changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
+                                         "workers": a.workers}.items() if v is not None}
+            new = build_config(merge(cfg.model_dump(mode="json"), changes))
+            if new != cfg:
+                from shaped_es.config import dump_config
+                from shaped_es.store import atomic_write_text
 
-        atomic_write_text(store.config_path, dump_config(cfg))
-    return _run(cfg, store, a)
+                atomic_write_text(store.config_path, dump_config(new))
+            cfg = new
+        return _run(cfg, store, a)
+
+
+def _fitting_checkpoint(cfg, store):
+    """The run's newest checkpoint, checked to come from this run's config (``StoreError`` if not)."""
+    from shaped_es.store import StoreError
+    from shaped_es.trainer import config_digest
+
+    loaded = store.load_checkpoint()
+    if loaded is not None:
+        meta = loaded[1]
+        if meta.get("method", cfg.method) != cfg.method or meta.get("config_digest") != config_digest(cfg):
+            raise StoreError(f"checkpoint gen_{meta['generation']:06d} in {store.ckpt_dir} was made with a "
+                             f"different config than {store.config_path}")
+    return loaded
 
 
 def _run(cfg, store, a) -> int:
     if cfg.method == "ppo":
         from shaped_es.baselines.ppo import train_ppo
 
+        store.recover(loaded=_fitting_checkpoint(cfg, store))  # the ES trainer does this in restore
         train_ppo(cfg, store, progress=not a.quiet)
     else:
         from shaped_es.trainer import Trainer
@@ -213,6 +246,9 @@ def build_parser() -> argparse.ArgumentParser:
     d = _config_default
     p = argparse.ArgumentParser(prog="shaped-es", description="Shaped policy search with evolution strategies")
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    p.add_argument("--debug", action="store_true",
+                   help="print full tracebacks of errors (accepted anywhere on the command line; they also "
+                   "go to RUN/error.log)")
     sub = p.add_subparsers(dest="command", required=True)
 
     cfg_note = "; flags override --config, which overrides the built-in default"
@@ -309,24 +345,162 @@ def _import_from_cwd() -> None:
         os.environ["PYTHONPATH"] = os.pathsep.join([cwd, *paths])
 
 
+def _run_dir(a: argparse.Namespace) -> str | None:
+    return getattr(a, "out", None) or getattr(a, "run_dir", None)
+
+
+def _continue_hint(a: argparse.Namespace) -> str:
+    run = _run_dir(a)
+    if a.command == "benchmark":
+        return "rerun the same command to continue (finished runs are skipped)"
+    return f"continue with: shaped-es resume {run}" if run and a.command in ("train", "resume") else ""
+
+
+def _log_detail(a: argparse.Namespace, text: str) -> str:
+    """Append a traceback to RUN/error.log (only if the run directory exists); returns a pointer."""
+    from shaped_es.store import RunStore
+
+    run = _run_dir(a)
+    if not run or not text.strip():
+        return ""
+    try:
+        path = RunStore(run).log_error(text)
+    except Exception:  # noqa: BLE001 - logging must never hide the error itself
+        path = None
+    return f" (traceback in {path})" if path else ""
+
+
+def _error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[str, int]:
+    """(the one line, exit code) for an exception that reached the command line."""
+    from shaped_es.rollout import EnvError
+
+    detail = "".join(traceback.format_exception(exc))
+    if isinstance(exc, EnvError) and exc.detail:
+        detail = exc.detail + "\n" + detail
+    if debug:
+        print(detail, file=sys.stderr, end="")
+    if isinstance(exc, _user_errors()):
+        msg, code = str(exc), USAGE_ERROR
+        where = _log_detail(a, detail) if isinstance(exc, EnvError) and exc.detail else ""
+    elif isinstance(exc, MemoryError):
+        msg = (f"out of memory ({_first(exc) or 'MemoryError'}); a smaller policy.hidden, es.pairs or "
+               f"rollout.episodes needs less")
+        code, where = USAGE_ERROR, _log_detail(a, detail)
+    elif isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        hint = _continue_hint(a)
+        msg = (f"no space left on device{_os_where(exc)}; what was saved stays consistent (the last "
+               f"checkpoint is in force){': free space, then ' + hint if hint else ''}")
+        code, where = USAGE_ERROR, ""
+    elif isinstance(exc, OSError):
+        msg, code, where = f"{exc.strerror or _first(exc)}{_os_where(exc)}", USAGE_ERROR, _log_detail(a, detail)
+    else:
+        msg = f"internal error {type(exc).__name__}: {_first(exc)}"
+        code, where = INTERNAL_ERROR, _log_detail(a, detail)
+        where = where or " (run with --debug for the traceback)"
+    msg = " ".join(msg.split())  # one line, whatever the message held
+    return f"shaped-es: error: {msg}{where}", code
+
+
+def _first(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else ""
+
+
+def _os_where(exc: OSError) -> str:
+    return f": {exc.filename}" if exc.filename else ""
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None, _orig=warnings.showwarning):
+    from shaped_es.executors import ExecutorWarning
+
+    if issubclass(category, ExecutorWarning):
+        print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
+    else:
+        _orig(message, category, filename, lineno, file, line)
+
+
+def _mpi_spawn_command(a: argparse.Namespace) -> bool:
+    """True for train/resume/benchmark runs that would spawn MPI workers from this process."""
+    if os.environ.get(_SUPERVISED) or a.command not in ("train", "resume", "benchmark"):
+        return False
+    executor = getattr(a, "executor", None)
+    if executor is None and a.command == "resume":
+        from shaped_es.store import RunStore
+
+        executor = RunStore(a.run_dir).read_config().executor
+    if executor is None and a.command == "train" and getattr(a, "config", None):
+        from shaped_es.config import read_yaml
+
+        executor = read_yaml(a.config).get("executor")
+    if executor != "mpi":
+        return False
+    from shaped_es.executors.mpi_executor import under_mpiexec
+
+    return not under_mpiexec()
+
+
+def _supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
+    """Run the command in a child process and report, in one line, how it ended when MPI ended it.
+
+    With spawned MPI workers, a worker that dies makes Open MPI end the trainer's process itself (exit
+    14, a few lines of MPI's own output). The child's stderr is relayed line by line, except MPI's
+    output, which goes to RUN/error.log; the child dies with this process."""
+    env = {**os.environ, _SUPERVISED: "1"}
+
+    def die_with_parent() -> None:  # pragma: no cover - runs in the child
+        if sys.platform.startswith("linux"):
+            import ctypes
+
+            ctypes.CDLL(None).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
+
+    child = subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *argv], env=env,
+                             stderr=subprocess.PIPE, text=True, errors="replace", preexec_fn=die_with_parent)
+    old_int = signal.signal(signal.SIGINT, signal.SIG_IGN)  # the child gets the terminal's Ctrl-C
+    old_term = signal.signal(signal.SIGTERM, lambda *_: child.terminate())
+    other: list[str] = []
+    try:
+        for line in child.stderr:
+            if debug or line.startswith(("shaped-es:", "[")):
+                sys.stderr.write(line)
+                sys.stderr.flush()
+            else:
+                other.append(line)
+        rc = child.wait()
+    finally:
+        signal.signal(signal.SIGINT, old_int)
+        signal.signal(signal.SIGTERM, old_term)
+    where = _log_detail(a, "".join(other)) if other else ""
+    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):
+        return rc
+    how = f"signal {-rc}" if rc < 0 else f"exit {rc}"
+    hint = _continue_hint(a)
+    print(f"shaped-es: error: the MPI job ended abruptly ({how}): a worker died or was killed, and MPI "
+          f"cannot replace a lost rank{'; ' + hint if hint else ''}{where}", file=sys.stderr)
+    return USAGE_ERROR
+
+
 def main(argv: list[str] | None = None) -> int:
     _import_from_cwd()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
     parser = build_parser()
-    a = parser.parse_args(argv)
-    errors = _user_errors()
+    a = parser.parse_args([x for x in argv if x != "--debug"])
+    old_show = warnings.showwarning
+    warnings.showwarning = _show_warning
     try:
+        if _mpi_spawn_command(a):
+            return _supervise(a, argv, debug)
         return int(a.fn(a) or 0)
-    except errors as exc:
-        print(f"shaped-es: error: {exc}", file=sys.stderr)
-        return USAGE_ERROR
     except KeyboardInterrupt:
-        run = getattr(a, "out", None) or getattr(a, "run_dir", None)
-        if a.command == "benchmark":
-            hint = "; rerun the same command to continue (finished runs are skipped)"
-        else:
-            hint = f"; continue with: shaped-es resume {run}" if run else ""
-        print(f"shaped-es: interrupted{hint}", file=sys.stderr)
+        hint = _continue_hint(a)
+        print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)
         return 130
+    except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
+        line, code = _error_line(exc, a, debug)
+        print(line, file=sys.stderr)
+        return code
+    finally:
+        warnings.showwarning = old_show
 
 
 if __name__ == "__main__":

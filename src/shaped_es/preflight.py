@@ -2,11 +2,14 @@
 
 ``train`` and ``benchmark`` call :func:`check_run` first, so bad input (an unknown env, spaces the
 policy cannot use, ``--method shaped`` on an env without the waypoint contract, PPO without a time
-limit, strategy settings the strategy refuses, a missing optional executor) fails with one line and
-leaves no directory that would block the retry.
+limit, strategy settings the strategy refuses, a missing optional executor, a policy or population
+that cannot fit in memory, more local workers than a machine runs) fails with one line and leaves no
+directory that would block the retry.
 """
 
 from __future__ import annotations
+
+import os
 
 from shaped_es.config import ConfigError, RunConfig
 
@@ -22,6 +25,7 @@ def check_run(cfg: RunConfig) -> None:
     finally:
         env.close()
     _check_executor(cfg.executor)
+    _check_workers(cfg)
     if cfg.method == "ppo":
         from shaped_es.baselines.ppo import env_time_limit
         from shaped_es.baselines.ppo_settings import iterations_per_generation, ppo_settings
@@ -34,6 +38,7 @@ def check_run(cfg: RunConfig) -> None:
     from shaped_es.trainer import build_strategy
 
     spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+    _check_memory(cfg, spec.num_params)
     try:
         build_strategy(cfg, np.zeros(spec.num_params))
     except ValueError as exc:
@@ -44,6 +49,39 @@ def check_run(cfg: RunConfig) -> None:
         from shaped_es.guides.shaped import waypoint_dim
 
         waypoint_dim(cfg)  # the env contract: info['position'] and info['waypoint']
+
+
+def _physical_memory() -> int | None:
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return None
+
+
+def _check_memory(cfg: RunConfig, n: int) -> None:
+    """The population matrix (float32) and the strategy's state must fit in half of this machine's RAM."""
+    pop = 2 * cfg.es.pairs
+    need = pop * n * 4 + 4 * n * 8  # population + mean/optimizer state
+    if cfg.method == "cmaes" and n <= cfg.es.cmaes_diagonal_above:
+        need += 3 * n * n * 8  # full covariance, its eigenbasis and a copy
+    ram = _physical_memory()
+    if ram and need > ram // 2:
+        raise ConfigError(f"policy.hidden {list(cfg.policy.hidden)} gives {n:,} parameters; a population of "
+                          f"{pop} needs {need / 2**30:,.1f} GiB, more than half of this machine's "
+                          f"{ram / 2**30:,.1f} GiB: use a smaller policy.hidden or es.pairs")
+
+
+def _check_workers(cfg: RunConfig) -> None:
+    from shaped_es.executors.base import MAX_LOCAL_WORKERS, ExecutorError
+
+    local = cfg.executor == "process" or (cfg.executor == "mpi" and not _under_mpiexec())
+    if cfg.workers is not None and local and cfg.workers > MAX_LOCAL_WORKERS:
+        raise ExecutorError(f"--workers {cfg.workers} is more than {MAX_LOCAL_WORKERS} local {cfg.executor} "
+                            f"workers (this machine has {os.cpu_count()} cores); use --executor ray on a cluster")
+
+
+def _under_mpiexec() -> bool:
+    return any(v in os.environ for v in ("OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK"))
 
 
 def _check_executor(name: str) -> None:

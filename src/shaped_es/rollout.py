@@ -15,7 +15,9 @@ take the argmax. Results depend only on the task's parameters and seeds, never o
 from __future__ import annotations
 
 import json
+import math
 import time
+import traceback
 from dataclasses import dataclass, field
 
 import gymnasium as gym
@@ -28,6 +30,24 @@ from shaped_es.policies import MLPSpec, forward
 
 class EnvSpecError(ValueError):
     """The environment cannot be created or does not fit the policy/contract."""
+
+
+class EnvError(EnvSpecError):
+    """The environment failed while running: it raised, returned a non-finite reward or observation, or
+    changed an observation's shape. The message is one line (the env's exception type and message);
+    ``detail`` holds the full traceback (for a log file), from whichever process ran the env."""
+
+    def __init__(self, message: str, detail: str = ""):
+        super().__init__(message)
+        self.detail = detail
+
+    def __reduce__(self):  # crosses process boundaries with its traceback text
+        return type(self), (str(self), self.detail)
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
 
 
 @dataclass
@@ -73,9 +93,11 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
     """``gymnasium.make`` with one clear error for unknown ids (``module:Env-v0`` ids import the module)."""
     try:
         return gym.make(env_id, **(env_kwargs or {}))
-    except (gym.error.Error, ModuleNotFoundError, ImportError, TypeError, ValueError) as exc:
+    except (gym.error.Error, ModuleNotFoundError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
+    except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
+        raise EnvError(f"cannot make env {env_id!r}: {_first_line(exc)}", traceback.format_exc()) from None
 
 
 def env_dims(env: gym.Env) -> tuple[int, int]:
@@ -90,8 +112,12 @@ def env_dims(env: gym.Env) -> tuple[int, int]:
     raise EnvSpecError(f"action space must be a flat Box or Discrete, got {act_space}")
 
 
+def _env_key(env_id: str, env_kwargs: dict) -> str:
+    return env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
+
+
 def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:
-    key = env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
+    key = _env_key(env_id, env_kwargs)
     envs = _ENV_CACHE.setdefault(key, [])
     while len(envs) < count:
         envs.append(make_env(env_id, env_kwargs))
@@ -108,14 +134,39 @@ def _to_env_action(space: gym.Space, a: np.ndarray):
 def run_task(task: RolloutTask) -> RolloutResult:
     """Evaluate every member of ``task`` on its seeds (the worker-side entry point)."""
     t_cpu = time.process_time()
-    env0 = _envs(task.env_id, task.env_kwargs, 1)[0]
-    core = get_batch_core(env0)
-    if core is not None:
-        out = _run_batched(core, task)
-    else:
-        out = _run_gym(task)
+    try:
+        env0 = _envs(task.env_id, task.env_kwargs, 1)[0]
+        core = get_batch_core(env0)
+        if core is not None:
+            out = _run_batched(core, task)
+        else:
+            out = _run_gym(task)
+    except Exception as exc:
+        _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)  # envs in an unknown state
+        if isinstance(exc, EnvError):
+            raise
+        raise EnvError(f"env {task.env_id!r} raised {_first_line(exc)} (generation {task.generation}, "
+                       f"episode seeds {_seed_text(task.seeds)})", traceback.format_exc()) from None
     out.cpu_time_s = time.process_time() - t_cpu
     return out
+
+
+def _seed_text(seeds: np.ndarray) -> str:
+    flat = list(dict.fromkeys(int(x) for x in np.asarray(seeds).reshape(-1)))  # distinct, in order
+    return ", ".join(map(str, flat[:3])) + (", ..." if len(flat) > 3 else "")
+
+
+def _bad_output(task: RolloutTask, what: str, seed, step: int) -> EnvError:
+    return EnvError(f"env {task.env_id!r} returned {what} (generation {task.generation}, episode seed "
+                    f"{int(seed)}, step {step}); check the env's step/reset")
+
+
+def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> None:
+    if obs.shape != shape:
+        raise _bad_output(task, f"an observation of shape {obs.shape}, its observation space says {shape}",
+                          seed, step)
+    if not np.isfinite(obs).all():
+        raise _bad_output(task, "a non-finite observation (inf/NaN)", seed, step)
 
 
 class _Recorder:
@@ -186,9 +237,20 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
         returns += rew
         lengths += alive
         alive &= ~(term | trunc)
+        if nobs.shape != obs.shape:
+            raise _bad_output(task, f"observations of shape {nobs.shape} after {obs.shape}",
+                              task.seeds.reshape(B)[0], int(lengths.max()))
         obs = nobs
         if not alive.any():
             break
+    # Non-finite values persist in the sums, so one check per task covers every step (the loop stays lean)
+    bad = ~np.isfinite(returns)
+    if bad.any():
+        b = int(np.flatnonzero(bad)[0])
+        raise _bad_output(task, "a non-finite reward (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
+    if not np.isfinite(obs).all():
+        b = int(np.flatnonzero(~np.isfinite(obs.reshape(B, -1)).all(axis=1))[0])
+        raise _bad_output(task, "a non-finite observation (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
     return _finish(task, returns, lengths, rec)
 
 
@@ -203,6 +265,9 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     envs = _envs(task.env_id, task.env_kwargs, B)
     seeds = task.seeds.reshape(B)  # (m, E) -> (B,)
     first = [env.reset(seed=int(s)) for env, s in zip(envs, seeds)]
+    shape = tuple(envs[0].observation_space.shape)
+    for b, (o, _) in enumerate(first):
+        _check_obs(task, np.asarray(o, dtype=np.float32), shape, seeds[b], 0)
     obs = np.stack([np.asarray(o, dtype=np.float32) for o, _ in first])  # (B, obs)
     pos = np.stack([_info_vec(i, POSITION_KEY) for _, i in first])  # (B, d)
     wp = np.stack([_info_vec(i, WAYPOINT_KEY) for _, i in first])  # (B, d)
@@ -218,6 +283,11 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
         stepped = alive.copy()
         for b in np.flatnonzero(stepped):
             o, r, term, trunc, info = envs[b].step(_to_env_action(envs[b].action_space, act[b]))
+            o = np.asarray(o, dtype=np.float32)
+            if o.shape != shape or not math.isfinite(r) or not np.isfinite(o).all():
+                if not math.isfinite(r):
+                    raise _bad_output(task, f"a non-finite reward ({r})", seeds[b], t + 1)
+                _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b] = o, r
             if npos.shape[1]:
                 npos[b], nwp[b] = _info_vec(info, POSITION_KEY), _info_vec(info, WAYPOINT_KEY)

@@ -9,19 +9,37 @@ Layout::
     RUN/checkpoints/latest.json  name of the newest complete checkpoint (written last)
     RUN/trajectories/            Parquet shards (shaped method)
     RUN/figures/                 plots
+    RUN/.lock                    pid of the process writing the run (train, resume, benchmark)
+    RUN/error.log                full tracebacks of errors the command line reported in one line
 
-A checkpoint is complete once ``latest.json`` names it; a crash mid-write leaves the previous one in force.
+Crash safety: every file is written to a ``.NAME.*.tmp`` file, fsynced and renamed, and a checkpoint is
+its ``.npz`` then its ``.json``; a checkpoint is complete once both exist. A kill at any point leaves the
+previous complete checkpoint in force. :meth:`RunStore.recover` (resume) deletes what a killed writer
+left (``.tmp`` files, an ``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
+``latest.json`` says (it only names the newest one for people and other tools, and is rewritten), and
+drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included.
+
+One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``RUN/.lock`` holding the pid,
+``flock``-ed, so a killed holder's lock is free again; without ``flock`` a lock of a dead pid on this
+host is taken over). Writes outside a held lock check that no other process holds it.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import errno
 import io
 import json
 import math
 import os
+import re
+import socket
+import sys
 import tempfile
+import time
 import zipfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -29,9 +47,20 @@ import numpy as np
 
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
 
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX
+    fcntl = None
+
+LOCK_NAME = ".lock"
+ERROR_LOG = "error.log"
+_CKPT_RE = re.compile(r"gen_(\d{6,})")
+_NON_FLOAT = ("", "True", "False")  # empty: no value (None or NaN); booleans as csv writes them
+_TMP_RE = re.compile(r"\..+\.tmp")  # atomic_write_bytes' (and the trajectory store's) temporaries
+
 
 class StoreError(RuntimeError):
-    """The run directory is missing, foreign, or holds a malformed file (message: one line)."""
+    """The run directory is missing, foreign, locked, or holds a malformed file (message: one line)."""
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> None:
@@ -50,6 +79,101 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
 
 def atomic_write_text(path: Path, text: str) -> None:
     atomic_write_bytes(path, text.encode())
+
+
+# -- the run lock ------------------------------------------------------------------------------------
+class _Lock:
+    def __init__(self, path: Path, fd: int | None):
+        self.path, self.fd, self.count = path, fd, 0
+
+
+_HELD: dict[str, _Lock] = {}  # lock path -> this process's lock (re-entrant within the process)
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _read_owner(path: Path) -> dict:
+    try:
+        owner = json.loads(path.read_text())
+        return owner if isinstance(owner, dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
+def _owner_text(owner: dict) -> str:
+    pid, host = owner.get("pid", "?"), owner.get("host", "?")
+    cmd = f" ({owner['command']})" if owner.get("command") else ""
+    return f"process {pid} on {host}{cmd}"
+
+
+def _owner_record() -> bytes:
+    cmd = " ".join(Path(sys.argv[0]).name if i == 0 else a for i, a in enumerate(sys.argv))[:200]
+    return json.dumps({"pid": os.getpid(), "host": socket.gethostname(), "command": cmd,
+                       "since": time.strftime("%Y-%m-%dT%H:%M:%S")}).encode()
+
+
+def _acquire(root: Path) -> _Lock:
+    path = root / LOCK_NAME
+    for _ in range(10):  # only loops when another process unlinked the file between our open and flock
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            if fcntl is not None:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                except BlockingIOError:
+                    raise StoreError(_locked_message(root, _read_owner(path))) from None
+                except OSError as exc:  # a filesystem without flock: fall back to the pid check
+                    if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL):
+                        raise
+                    _check_pid_lock(root, path)
+            else:  # pragma: no cover
+                _check_pid_lock(root, path)
+            try:
+                same = os.stat(path).st_ino == os.fstat(fd).st_ino
+            except FileNotFoundError:
+                same = False
+            if not same:  # the previous holder released (unlinked) it meanwhile: lock the new file
+                os.close(fd)
+                continue
+            os.ftruncate(fd, 0)
+            os.write(fd, _owner_record())
+            os.fsync(fd)
+            return _Lock(path, fd)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.close(fd)
+            raise
+    raise StoreError(f"cannot lock {root}: the lock file keeps changing")
+
+
+def _check_pid_lock(root: Path, path: Path) -> None:
+    owner = _read_owner(path)
+    pid = owner.get("pid")
+    if (isinstance(pid, int) and pid != os.getpid() and owner.get("host") == socket.gethostname()
+            and _pid_alive(pid)):
+        raise StoreError(_locked_message(root, owner))
+
+
+def _locked_message(root: Path, owner: dict) -> str:
+    return (f"{root} is in use by {_owner_text(owner)}; wait for it to finish or stop it (a lock left by "
+            f"a process that died is taken over)")
+
+
+def _release(lock: _Lock) -> None:
+    with contextlib.suppress(OSError):
+        if lock.fd is not None and os.stat(lock.path).st_ino == os.fstat(lock.fd).st_ino:
+            lock.path.unlink()
+    if lock.fd is not None:
+        with contextlib.suppress(OSError):
+            os.close(lock.fd)
 
 
 class RunStore:
@@ -77,34 +201,129 @@ class RunStore:
     def figures_dir(self) -> Path:
         return self.root / "figures"
 
+    @property
+    def lock_path(self) -> Path:
+        return self.root / LOCK_NAME
+
+    @property
+    def error_log(self) -> Path:
+        return self.root / ERROR_LOG
+
+    # -- lock --------------------------------------------------------------------------------------
+    def _lock_key(self) -> str:
+        return os.path.realpath(self.lock_path)
+
+    def holds_lock(self) -> bool:
+        return self._lock_key() in _HELD
+
+    @contextlib.contextmanager
+    def lock(self) -> Iterator[None]:
+        """Hold the run's exclusive lock (re-entrant within this process); ``StoreError`` (one line
+        naming the holder) if another live process holds it. Creates the run directory if needed."""
+        key = self._lock_key()
+        held = _HELD.get(key)
+        if held is None:
+            if self.root.exists() and not self.root.is_dir():
+                raise StoreError(f"{self.root} exists and is not a directory")
+            try:
+                self.root.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise StoreError(f"cannot create run directory {self.root}: {exc.strerror or exc}") from None
+            held = _HELD[key] = _acquire(self.root)
+        held.count += 1
+        try:
+            yield
+        finally:
+            held.count -= 1
+            if held.count == 0:
+                _HELD.pop(key, None)
+                _release(held)
+
+    def _check_writable(self) -> None:
+        """A write outside :meth:`lock`: refused while another live process holds the lock."""
+        if self.holds_lock() or not self.lock_path.exists():
+            return
+        with self.lock():
+            pass
+
     # -- config ------------------------------------------------------------------------------------
     def exists(self) -> bool:
         return self.config_path.is_file()
 
     def create(self, cfg: RunConfig) -> None:
+        if self.root.exists() and not self.root.is_dir():
+            raise StoreError(f"--out {self.root} exists and is not a directory")
         if self.exists():
             raise StoreError(
                 f"{self.root} already holds a run; use 'shaped-es resume {self.root}' or another --out"
             )
-        if self.root.exists() and not self.root.is_dir():
-            raise StoreError(f"--out {self.root} exists and is not a directory")
-        self.root.mkdir(parents=True, exist_ok=True)
+        try:
+            self.root.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise StoreError(f"cannot create run directory {self.root}: {exc.strerror or exc}") from None
+        self._check_writable()
         atomic_write_text(self.config_path, dump_config(cfg))
 
     def read_config(self) -> RunConfig:
         if not self.exists():
+            if self.root.exists() and not self.root.is_dir():
+                raise StoreError(f"{self.root} is not a run directory (not a directory)")
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         return build_config(read_yaml(self.config_path))
 
     # -- metrics -----------------------------------------------------------------------------------
+    def _metrics_table(self) -> tuple[list[str], list[dict[str, str]]]:
+        """(header, complete rows) of metrics.csv; a torn last line (no newline: a write cut short) is
+        left out; anything else malformed is a ``StoreError``."""
+        path = self.metrics_path
+        if not path.exists():
+            return [], []
+        try:
+            text = path.read_bytes().decode("utf-8")
+        except UnicodeDecodeError:
+            raise StoreError(f"{path} is not a CSV text file (binary content)") from None
+        except OSError as exc:
+            raise StoreError(f"cannot read {path}: {exc.strerror or exc}") from None
+        if "\x00" in text:
+            raise StoreError(f"{path} is not a CSV text file (binary content)")
+        lines = text.splitlines(keepends=True)
+        if lines and not lines[-1].endswith(("\n", "\r")):
+            lines = lines[:-1]  # torn last row
+        if not lines:
+            return [], []
+        try:
+            table = list(csv.reader(lines))
+        except csv.Error as exc:
+            raise StoreError(f"{path} is not valid CSV: {exc}") from None
+        header, body = table[0], table[1:]
+        if not header or header[0] != "generation" or len(set(header)) != len(header):
+            raise StoreError(f"{path} has no valid header (its first column must be 'generation')")
+        rows, last = [], -1
+        for i, cells in enumerate(body, start=2):
+            if not cells:
+                continue
+            if len(cells) != len(header):
+                raise StoreError(f"{path} line {i} has {len(cells)} fields, the header has {len(header)}")
+            try:
+                g = int(cells[0])
+                for c in cells[1:]:
+                    if c not in _NON_FLOAT:
+                        float(c)
+            except ValueError:
+                raise StoreError(f"{path} line {i} holds a non-numeric value") from None
+            if g <= last:
+                raise StoreError(f"{path} line {i}: generation {g} does not follow generation {last}")
+            last = g
+            rows.append(dict(zip(header, cells)))
+        return header, rows
+
     def read_metrics(self) -> list[dict[str, str]]:
-        if not self.metrics_path.is_file():
-            return []
-        with self.metrics_path.open(newline="") as fh:
-            return list(csv.DictReader(fh))
+        """Every complete row (a torn last row, left by a killed write, is not one)."""
+        return self._metrics_table()[1]
 
     def append_metrics(self, row: dict[str, Any]) -> None:
         """Append one row; the first row fixes the header (later rows may not add columns)."""
+        self._check_writable()
         new = not self.metrics_path.is_file() or self.metrics_path.stat().st_size == 0
         if new:
             fields = list(row)
@@ -123,20 +342,35 @@ class RunStore:
             os.fsync(fh.fileno())
 
     def truncate_metrics(self, last_generation: int) -> None:
-        """Drop rows after ``last_generation`` (rows a killed run wrote past its last checkpoint)."""
-        rows = self.read_metrics()
-        if not rows:
+        """Drop rows after ``last_generation`` (rows a killed run wrote past its last checkpoint) and a
+        torn last row; ``-1`` drops every row."""
+        if not self.metrics_path.exists():
             return
-        fields = list(rows[0])
+        header, rows = self._metrics_table()
         keep = [r for r in rows if int(r["generation"]) <= last_generation]
         buf = io.StringIO()
-        w = csv.DictWriter(buf, fieldnames=fields, lineterminator="\n")
-        w.writeheader()
-        w.writerows(keep)
+        if header:
+            w = csv.DictWriter(buf, fieldnames=header)  # "\r\n", as append_metrics writes
+            w.writeheader()
+            w.writerows(keep)
+        if buf.getvalue().encode() == self.metrics_path.read_bytes():
+            return
+        self._check_writable()
         atomic_write_text(self.metrics_path, buf.getvalue())
 
     # -- checkpoints -------------------------------------------------------------------------------
+    def _check_ckpt_dir(self) -> bool:
+        """True if the checkpoint directory exists; ``StoreError`` if something else is in its place."""
+        if not self.ckpt_dir.exists():
+            return False
+        if not self.ckpt_dir.is_dir():
+            raise StoreError(f"{self.ckpt_dir} is not a directory; move it away to resume")
+        return True
+
     def save_checkpoint(self, generation: int, arrays: dict[str, np.ndarray], meta: dict, keep: int) -> Path:
+        self._check_writable()
+        if self.ckpt_dir.exists() and not self.ckpt_dir.is_dir():
+            raise StoreError(f"{self.ckpt_dir} is not a directory; move it away to resume")
         name = f"gen_{generation:06d}"
         buf = io.BytesIO()
         np.savez(buf, **{k: np.asarray(v) for k, v in arrays.items()})
@@ -149,19 +383,128 @@ class RunStore:
             old.with_suffix(".json").unlink(missing_ok=True)
         return self.ckpt_dir / f"{name}.npz"
 
-    def load_checkpoint(self) -> tuple[dict[str, np.ndarray], dict] | None:
-        """The newest complete checkpoint as (arrays, meta), or None if the run has none yet."""
+    def checkpoints(self) -> list[int]:
+        """Generations of the complete checkpoints on disk (``.npz`` and ``.json`` both present), ascending."""
+        if not self._check_ckpt_dir():
+            return []
+        names = {p.name for p in self.ckpt_dir.iterdir()}
+        gens = []
+        for n in names:
+            m = _CKPT_RE.fullmatch(n[:-4]) if n.endswith(".npz") else None
+            if m and f"{n[:-4]}.json" in names:
+                gens.append(int(m.group(1)))
+        return sorted(gens)
+
+    def _latest_named(self) -> int | None:
+        """The generation ``latest.json`` names (None if absent or unreadable); ``StoreError`` if it names
+        anything but a checkpoint of this directory (``../../x``)."""
         latest = self.ckpt_dir / "latest.json"
-        if not latest.is_file():
-            return None
         try:
-            name = json.loads(latest.read_text())["name"]
-            meta = json.loads((self.ckpt_dir / f"{name}.json").read_text())
+            data = json.loads(latest.read_bytes().decode("utf-8"))
+        except (OSError, ValueError):  # absent, binary or not JSON: it is advisory, the scan decides
+            return None
+        name = data.get("name") if isinstance(data, dict) else None
+        if name is None:
+            return None
+        m = _CKPT_RE.fullmatch(name) if isinstance(name, str) else None
+        if m is None:
+            raise StoreError(f"{latest} names {name!r}, which is not a checkpoint of this run (gen_NNNNNN); "
+                             f"delete {latest.name} to resume from the newest checkpoint found")
+        return int(m.group(1))
+
+    def newest_generation(self) -> int:
+        """Generations covered by the newest complete checkpoint (0 without one); reads no arrays."""
+        gens = self.checkpoints()
+        return gens[-1] if gens else 0
+
+    def load_checkpoint(self) -> tuple[dict[str, np.ndarray], dict] | None:
+        """The newest complete checkpoint as (arrays, meta), or None if the run has none yet.
+
+        Found by scanning ``checkpoints/`` (``latest.json`` is advisory: it may lag a kill by one
+        checkpoint, or be missing); one that is unreadable is an error naming it, never silently
+        skipped."""
+        gens = self.checkpoints()
+        named = self._latest_named() if self.ckpt_dir.is_dir() else None
+        if named is not None and (not gens or named > gens[-1]):
+            have = f"the newest found is gen_{gens[-1]:06d}" if gens else "none is found"
+            raise StoreError(f"{self.ckpt_dir}/latest.json names gen_{named:06d}, which is missing "
+                             f"({have}); delete latest.json to resume from what is there")
+        if not gens:
+            return None
+        g = gens[-1]
+        name = f"gen_{g:06d}"
+        older = f"; delete {name}.npz and {name}.json to resume from gen_{gens[-2]:06d}" if len(gens) > 1 else ""
+        try:
+            meta = json.loads((self.ckpt_dir / f"{name}.json").read_bytes().decode("utf-8"))
             with np.load(self.ckpt_dir / f"{name}.npz", allow_pickle=False) as z:
                 arrays = {k: z[k] for k in z.files}
-        except (OSError, KeyError, ValueError, zipfile.BadZipFile, json.JSONDecodeError) as exc:
-            raise StoreError(f"checkpoint in {self.ckpt_dir} is unreadable: {type(exc).__name__}") from None
+        except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+            why = type(exc).__name__
+            raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable ({why}){older}") from None
+        if not isinstance(meta, dict) or meta.get("generation") != g or isinstance(meta.get("generation"), bool):
+            raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable (its .json is not this "
+                             f"checkpoint's metadata){older}")
         return arrays, meta
+
+    # -- resume ------------------------------------------------------------------------------------
+    def clean_temporaries(self) -> list[Path]:
+        """Delete ``.*.tmp`` files a killed writer left in the run directory (and its sub-directories)
+        and checkpoint files without their pair; returns what was deleted. Only for the lock holder."""
+        removed = []
+        for dirpath, dirnames, filenames in os.walk(self.root):
+            dirnames[:] = [d for d in dirnames if d not in ("tb", "figures")]
+            for f in filenames:
+                if _TMP_RE.fullmatch(f):
+                    p = Path(dirpath) / f
+                    p.unlink(missing_ok=True)
+                    removed.append(p)
+        if self._check_ckpt_dir():
+            names = {p.name for p in self.ckpt_dir.iterdir()}
+            for n in names:
+                stem, ext = os.path.splitext(n)
+                other = {".npz": ".json", ".json": ".npz"}.get(ext)
+                if other and _CKPT_RE.fullmatch(stem) and stem + other not in names:
+                    p = self.ckpt_dir / n  # half a checkpoint: its pair was never written, or pruned
+                    p.unlink(missing_ok=True)
+                    removed.append(p)
+        return removed
+
+    def recover(self, loaded: Any = ...) -> tuple[dict[str, np.ndarray], dict] | None:
+        """Make the run directory consistent before a writer continues it (call with the lock held):
+        delete what a killed writer left, load the newest complete checkpoint (``load_checkpoint``, or
+        take ``loaded``, what it returned), point ``latest.json`` at it and drop the metrics rows it does
+        not cover (every row without a checkpoint; the rows still waiting for test episodes when it was
+        written are written again)."""
+        self._check_writable()
+        if loaded is ...:
+            loaded = self.load_checkpoint()  # validates before anything is changed
+        self.clean_temporaries()
+        if loaded is None:
+            self.truncate_metrics(-1)
+            if self.ckpt_dir.is_dir():
+                (self.ckpt_dir / "latest.json").unlink(missing_ok=True)
+            return None
+        _, meta = loaded
+        g = int(meta["generation"])
+        if self._latest_named() != g:
+            atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": f"gen_{g:06d}"}))
+        waiting = [r.get("generation") for r in meta.get("waiting_rows") or [] if isinstance(r, dict)]
+        waiting = [int(x) for x in waiting if isinstance(x, int)]
+        self.truncate_metrics((min(waiting) if waiting else g) - 1)
+        return loaded
+
+    # -- errors ------------------------------------------------------------------------------------
+    def log_error(self, text: str) -> Path | None:
+        """Append ``text`` (a traceback) to ``RUN/error.log``; None if the directory cannot take it."""
+        if not self.root.is_dir():
+            return None
+        try:
+            with self.error_log.open("a") as fh:
+                fh.write(f"--- {time.strftime('%Y-%m-%d %H:%M:%S')} pid {os.getpid()}: "
+                         f"{' '.join(sys.argv)}\n{text.rstrip()}\n")
+        except OSError:
+            return None
+        return self.error_log
 
 
 def _fmt(v: Any) -> Any:

@@ -21,6 +21,7 @@ metrics rows written after it, and continues, giving the rows an uninterrupted r
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import time
@@ -39,6 +40,10 @@ from shaped_es.progress import ProgressDisplay
 from shaped_es.rollout import RolloutTask, env_dims, make_env, policy_episode_tasks, run_task
 from shaped_es.store import RunStore, StoreError
 from shaped_es.strategies import make_strategy
+
+class DivergedError(RuntimeError):
+    """The search went non-finite (inf/NaN mean or state); the run stops, its last good checkpoint kept."""
+
 
 TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
 
@@ -143,26 +148,62 @@ class Trainer:
         for i, item in enumerate(self._waiting):
             if item.theta is not None:
                 arrays[f"waiting/{i}"] = item.theta
+        bad = [k for k, v in arrays.items() if k.startswith(("strategy/", "policy/", "waiting/"))
+               and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
+        if bad:  # never save a state a resume could not continue from; the previous one stays
+            raise DivergedError(self._diverged(self.c.generation - 1, f"the state to checkpoint ({bad[0]})"))
         self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
+        after = getattr(self.guide, "after_checkpoint", None)
+        if after is not None:  # the checkpoint is durable: what only older ones needed may go
+            after(self.c.generation)
+
+    def _diverged(self, g: int, what: str) -> str:
+        gens = self.store.checkpoints()
+        kept = f"generation {gens[-1]}" if gens else "none yet"
+        knobs = "es.sigma / es.lr" + (" / shaping.eta" if self.cfg.method == "shaped" else "")
+        return (f"generation {g}: {what} became non-finite (inf/NaN); the run stopped, its last good "
+                f"checkpoint ({kept}) is kept; lower {knobs}")
 
     def restore(self) -> bool:
-        """Load the newest checkpoint if any; returns True if one was loaded."""
+        """Load the newest complete checkpoint if any (whatever ``latest.json`` says), after checking it
+        belongs to this run; then ``RunStore.recover`` deletes what a killed run left and drops the
+        metrics rows past the checkpoint. Returns True if one was loaded. Nothing on disk changes when
+        the checkpoint does not fit."""
         loaded = self.store.load_checkpoint()
         if loaded is None:
+            self.store.recover(loaded=None)
             return False
         arrays, meta = loaded
-        if meta.get("config_digest") != config_digest(self.cfg):
-            raise StoreError(f"checkpoint in {self.store.ckpt_dir} was made with a different config")
+        where = f"checkpoint gen_{meta['generation']:06d} in {self.store.ckpt_dir}"
+        if meta.get("method", self.cfg.method) != self.cfg.method or \
+                meta.get("config_digest") != config_digest(self.cfg):
+            raise StoreError(f"{where} was made with a different config")
+        waiting = meta.get("waiting_rows", [])
         try:
+            if not isinstance(waiting, list) or not all(
+                    isinstance(r, dict) and type(r.get("generation")) is int for r in waiting):
+                raise ValueError("malformed waiting_rows")
+            counters = {k: meta[k] for k in Counters.__dataclass_fields__}
+            for k, v in counters.items():
+                if not (v is None and k == "best_test_reward") and (
+                        isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)):
+                    raise ValueError(f"counter {k}={v!r}")
+            if counters["generation"] != meta["generation"]:
+                raise ValueError("counter generation differs from the checkpoint's")
             self.strategy.load_state_dict(_sub(arrays, "strategy/"))
             self.guide.load_state_dict(_sub(arrays, "guide/"))
             self.best_params = arrays["policy/best"]
-        except (KeyError, ValueError) as exc:
-            raise StoreError(f"checkpoint in {self.store.ckpt_dir} does not fit this run: {exc}") from None
-        for k in Counters.__dataclass_fields__:
-            setattr(self.c, k, meta[k] if meta[k] is not None else -math.inf)
+            if np.shape(self.best_params) != (self.spec.num_params,):
+                raise ValueError(f"policy/best has shape {np.shape(self.best_params)}")
+        except (KeyError, ValueError, TypeError, IndexError) as exc:
+            msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            msg = f"it lacks {msg}" if isinstance(exc, KeyError) else msg
+            raise StoreError(f"{where} does not fit this run: {msg}") from None
+        self.store.recover(loaded=loaded)
+        for k, v in counters.items():
+            setattr(self.c, k, v if v is not None else -math.inf)
         self._waiting = []
-        for i, row in enumerate(meta.get("waiting_rows", [])):
+        for i, row in enumerate(waiting):
             item = _Row(dict(row))
             if f"waiting/{i}" in arrays:
                 self._submit_eval(item, np.asarray(arrays[f"waiting/{i}"], dtype=np.float32),
@@ -192,14 +233,12 @@ class Trainer:
         item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
 
     def _collect(self, item: _Row) -> dict:
-        """Finish a waiting row: gather its test episodes (rerun through ``map``, which retries, if a
-        submitted attempt was lost with its worker) and update the best-so-far policy."""
+        """Finish a waiting row: gather its test episodes (``Executor.collect``: attempts lost with their
+        worker, or still running ``task_timeout_s`` after this call, are rerun through ``map``, which
+        retries) and update the best-so-far policy."""
         row = item.row
         if item.tasks:
-            try:
-                res = [f.result() for f in item.futures]
-            except Exception:  # noqa: BLE001 - a lost worker; a task's own error recurs in map
-                res = self.eval_executor.map(run_task, item.tasks)
+            res = self.eval_executor.collect(run_task, item.tasks, item.futures)
             test_ret = np.concatenate([r.returns[0] for r in res])  # (E,)
             test_cpu = 0.0 if _in_process(self.eval_executor) else sum(r.cpu_time_s for r in res)
             self.c.cpu_time_s += test_cpu
@@ -247,6 +286,8 @@ class Trainer:
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness)
         extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
+        if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
+            raise DivergedError(self._diverged(g, "the search mean"))
         worker_cpu += float(extra.get("clone_cpu_time_s") or 0.0)  # shaped: cloning ran on the workers
         master_cpu = time.process_time() - cpu0
         self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps
@@ -271,8 +312,14 @@ class Trainer:
         """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
         # The master's linear algebra is small (QR of (n, k), M_phi minibatches): one thread avoids
         # oversubscribing the cores the workers use (multi-threaded BLAS was 100x slower here).
-        with threadpool_limits(limits=1):
-            return self._run()
+        with contextlib.ExitStack() as stack:
+            try:  # one writer per run directory (StoreError naming the holder otherwise)
+                stack.enter_context(self.store.lock())
+            except BaseException:
+                self.close()
+                raise
+            with threadpool_limits(limits=1):
+                return self._run()
 
     def _run(self) -> list[dict]:
         _limit_torch_threads()

@@ -6,7 +6,7 @@ them: ``pip install 'shaped-es[ray]'`` / ``'shaped-es[mpi]'``.
 
 from __future__ import annotations
 
-from shaped_es.executors.base import Executor, ExecutorError
+from shaped_es.executors.base import Executor, ExecutorError, ExecutorWarning
 from shaped_es.executors.inline import InlineExecutor
 from shaped_es.executors.process import ProcessExecutor
 
@@ -23,7 +23,8 @@ def _require(module: str, extra: str) -> None:
 def make_executor(name: str, workers: int | None = None, **options) -> Executor:
     """Build an executor by name.
 
-    ``inline`` and ``process`` take ``max_retries``/``task_timeout_s`` (inline ignores them); ``ray``
+    ``inline`` and ``process`` take ``max_retries``/``task_timeout_s`` (inline cannot apply them: a
+    timeout warns); ``ray``
     also takes ``address`` (None: private local Ray; ``"auto"`` or ``HOST:PORT``: a running cluster);
     ``mpi`` takes ``task_timeout_s`` (see ``mpi_executor`` for launching).
     """
@@ -44,4 +45,5 @@ def make_executor(name: str, workers: int | None = None, **options) -> Executor:
     raise ExecutorError(f"unknown executor {name!r}; choose one of {', '.join(EXECUTORS)}")
 
 
-__all__ = ["EXECUTORS", "Executor", "ExecutorError", "InlineExecutor", "ProcessExecutor", "make_executor"]
+__all__ = ["EXECUTORS", "Executor", "ExecutorError", "ExecutorWarning", "InlineExecutor", "ProcessExecutor",
+           "make_executor"]

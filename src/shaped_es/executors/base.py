@@ -10,12 +10,32 @@ import os
 import time
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future
+from concurrent.futures import CancelledError, Future, wait
 from typing import Any
 
 
 class ExecutorError(RuntimeError):
     """Tasks could not be completed (retries exhausted, or the backend is unavailable)."""
+
+
+class ExecutorWarning(UserWarning):
+    """A setting that cannot apply, or looks wrong (the command line prints it as one line)."""
+
+
+MAX_LOCAL_WORKERS = 1024  # processes on one machine; more is refused, more than 4 per core warned about
+
+
+def check_local_workers(workers: int, executor: str) -> None:
+    """Refuse a worker count no machine runs as local processes; warn above 4 per core."""
+    import warnings
+
+    cpus = os.cpu_count() or 1
+    if workers > MAX_LOCAL_WORKERS:
+        raise ExecutorError(f"--workers {workers} is more than {MAX_LOCAL_WORKERS} local {executor} workers "
+                            f"(this machine has {cpus} cores); use --executor ray on a cluster")
+    if workers > 4 * cpus:
+        warnings.warn(f"--workers {workers} starts {workers} {executor} workers on {cpus} cores (more than "
+                      f"4 per core only adds overhead)", ExecutorWarning, stacklevel=3)
 
 
 def pid_after(delay_s: float) -> int:
@@ -35,6 +55,48 @@ class Executor(ABC):
     def map(self, fn: Callable[[Any], Any], tasks: Sequence[Any]) -> list[Any]:
         futures = [self.submit(fn, t) for t in tasks]
         return [f.result() for f in futures]
+
+    # -- fault handling for submitted tasks (the trainer's test episodes) ---------------------------
+    task_timeout_s: float | None = None
+
+    def _is_fault(self, exc: BaseException) -> bool:
+        """True if ``exc`` (from a submitted task's future) means its worker was lost, not that the task
+        itself raised."""
+        return False
+
+    def _raise_task_error(self, exc: BaseException) -> None:
+        """Raise what ``fn`` itself raised (a backend may wrap it)."""
+        raise exc
+
+    def _abandon(self, futures: Sequence[Future]) -> None:  # noqa: B027 - nothing to stop by default
+        """Stop attempts that are past their timeout (their workers may be hung)."""
+
+    def collect(self, fn: Callable[[Any], Any], tasks: Sequence[Any], futures: Sequence[Future]) -> list[Any]:
+        """Results of ``tasks`` submitted earlier (``futures[i] = submit(fn, tasks[i])``), in order, with
+        ``map``'s fault handling: attempts that lost their worker, were cancelled, or are still running
+        ``task_timeout_s`` after this call are abandoned and run again through ``map`` (which retries
+        and times out in turn). An exception raised by ``fn`` itself propagates unchanged."""
+        _, not_done = wait(futures, timeout=self.task_timeout_s)
+        results: dict[int, Any] = {}
+        redo: list[int] = []
+        for i, f in enumerate(futures):
+            if f in not_done:
+                redo.append(i)
+                continue
+            try:
+                results[i] = f.result()
+            except CancelledError:
+                redo.append(i)
+            except Exception as exc:
+                if not self._is_fault(exc):
+                    self._raise_task_error(exc)
+                redo.append(i)
+        if not_done:
+            self._abandon(list(not_done))
+        if redo:
+            for i, r in zip(redo, self.map(fn, [tasks[i] for i in redo])):
+                results[i] = r
+        return [results[i] for i in range(len(tasks))]
 
     def shutdown(self) -> None:  # noqa: B027 - optional for executors with nothing to release
         pass

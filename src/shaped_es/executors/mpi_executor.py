@@ -3,8 +3,12 @@
 Two ways to get workers:
 
 - **spawn** (``shaped-es train --executor mpi --workers N``): the master calls ``MPI_Comm_spawn`` to
-  start N Python workers on this machine (this mode keeps MPI's TCP traffic on the loopback interface
-  unless ``OMPI_MCA_btl_tcp_if_include`` is already set);
+  start N Python workers on this machine. MPI's byte traffic stays on the loopback interface
+  (``OMPI_MCA_btl_tcp_if_include=lo`` unless already set), but this is **not** loopback-only: Open
+  MPI's TCP transport (``btl/tcp``) binds its listening sockets to every interface by design, as does
+  the ``prte`` launcher, and shared memory (``btl/sm``) cannot connect spawned jobs, so the listeners
+  cannot be confined (constructing the executor warns once). On an untrusted network use ``process``
+  or ``ray`` (whose laptop mode is loopback-only);
 - **mpiexec** (a cluster, or a fixed allocation)::
 
       mpiexec -n 5 python -m mpi4py.futures -m shaped_es.cli train --executor mpi ...
@@ -16,10 +20,12 @@ Open MPI refuses to start as root unless told to; as root, export ``OMPI_ALLOW_R
 ``PRTE_ALLOW_RUN_AS_ROOT_CONFIRM=1`` (checked up front: otherwise spawn hangs).
 
 Faults: MPI cannot replace a lost rank. With Open MPI's default error handler a worker that dies aborts
-the whole job, and a hung worker cannot be stopped from the master. So this executor does not retry
-(``max_retries`` is kept only for a uniform signature): a task past ``task_timeout_s`` raises
-:class:`ExecutorError`, and the job must be restarted (``shaped-es resume`` continues from the last
-checkpoint). Use ``--executor ray`` or ``process`` where workers may die.
+the whole job (the trainer's process exits with code 14), and a hung worker cannot be stopped from the
+master. So this executor does not retry (``max_retries`` is kept only for a uniform signature): a task
+past ``task_timeout_s`` raises :class:`ExecutorError`, and the job must be restarted (``shaped-es
+resume`` continues from the last checkpoint). The command line runs spawn-mode jobs in a child process
+and reports such an abort in one line with the resume command. Use ``--executor ray`` or ``process``
+where workers may die.
 """
 
 from __future__ import annotations
@@ -27,11 +33,12 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, wait
 from typing import Any
 
-from shaped_es.executors.base import Executor, ExecutorError
+from shaped_es.executors.base import Executor, ExecutorError, ExecutorWarning, check_local_workers
 
 ROOT_VARS = (
     "OMPI_ALLOW_RUN_AS_ROOT",
@@ -53,8 +60,11 @@ def _prepare_spawn_env() -> None:
         raise ExecutorError(
             "Open MPI refuses to run as root: export " + "=1 ".join(ROOT_VARS) + "=1 (or run as a user)"
         )
-    # One machine: keep MPI's byte transfer on loopback (the launcher's own channels already are).
+    # One machine: keep MPI's byte transfer on loopback. Its listeners still bind every interface.
     os.environ.setdefault("OMPI_MCA_btl_tcp_if_include", "lo")
+    warnings.warn("MPI spawn mode: Open MPI's TCP transport and launcher listen on every network interface "
+                  "(their traffic stays on loopback); on an untrusted network use --executor process or ray",
+                  ExecutorWarning, stacklevel=4)
 
 
 class MPIExecutor(Executor):
@@ -79,6 +89,7 @@ class MPIExecutor(Executor):
         opts: dict[str, Any] = {"main": False, "env": _WORKER_ENV, "path": [p for p in sys.path if p]}
         if spawn:
             opts["max_workers"] = int(workers or os.cpu_count() or 1)
+            check_local_workers(opts["max_workers"], "mpi")
         self._pool = MPIPoolExecutor(**opts)
         self._broken = False
         self.workers = self._bootup(startup_timeout_s)

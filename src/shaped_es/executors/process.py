@@ -5,25 +5,32 @@ not finished is submitted again, up to ``max_retries`` times; a task that runs l
 ``task_timeout_s`` is treated the same way. Seeds travel inside tasks, so a retry gives the result the
 lost attempt would have given. A new pool starts all its workers before tasks are submitted, so the
 timeout never counts process start-up; an exception raised by the task function itself propagates.
+Tasks started with ``submit`` get the same treatment through ``collect``.
+
+Workers never outlive the process that started them: each one is killed when its parent (the
+forkserver, which exits with the trainer) dies (Linux ``PR_SET_PDEATHSIG``), and a watchdog thread ends
+it within a second of the trainer's death elsewhere, even while a task hangs inside ``env.step``.
 """
 
 from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import signal
 import sys
+import threading
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
-from shaped_es.executors.base import Executor, ExecutorError, pid_after
+from shaped_es.executors.base import Executor, ExecutorError, check_local_workers, pid_after
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
 
-def _init_worker() -> None:
+def _init_worker(owner_pid: int | None = None) -> None:
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
     for var in _THREAD_VARS:
@@ -31,6 +38,45 @@ def _init_worker() -> None:
     torch = sys.modules.get("torch")
     if torch is not None:
         torch.set_num_threads(1)
+    if owner_pid is not None:
+        die_with(owner_pid)
+
+
+def _gone(pid: int) -> bool:
+    """True if ``pid`` no longer runs (a zombie counts as gone: killed, not yet reaped)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:
+        return False
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            return fh.read().rsplit(b")", 1)[1].split()[0] in (b"Z", b"X")
+    except (OSError, IndexError):
+        return False
+
+
+def die_with(owner_pid: int, period_s: float = 0.5) -> None:
+    """End this process when ``owner_pid`` (the trainer) or this process's parent dies, even while the
+    main thread is stuck in a task (a daemon thread checks every ``period_s``; on Linux the kernel also
+    kills it when its parent exits)."""
+    if sys.platform.startswith("linux") and os.getppid() != owner_pid:  # parent: the forkserver
+        try:
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # 1 = PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # pragma: no cover
+            pass
+    parent = os.getppid()
+
+    def watch() -> None:
+        while True:
+            time.sleep(period_s)
+            if os.getppid() != parent or _gone(owner_pid):
+                os._exit(70)
+
+    threading.Thread(target=watch, name="owner-watch", daemon=True).start()
 
 
 class ProcessExecutor(Executor):
@@ -43,6 +89,7 @@ class ProcessExecutor(Executor):
         startup_timeout_s: float = 120.0,
     ):
         self.workers = int(workers or os.cpu_count() or 1)
+        check_local_workers(self.workers, "process")
         if start_method not in ("spawn", "forkserver"):
             raise ExecutorError(f"start_method must be 'spawn' or 'forkserver', got {start_method!r}")
         self.start_method = start_method
@@ -59,7 +106,8 @@ class ProcessExecutor(Executor):
             for var in _THREAD_VARS:
                 os.environ.setdefault(var, "1")
             ctx = mp.get_context(self.start_method)
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=_init_worker)
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=_init_worker,
+                                             initargs=(os.getpid(),))
             self._warm_up(self._pool)
         return self._pool
 
@@ -86,7 +134,18 @@ class ProcessExecutor(Executor):
         self.restarts += 1
 
     def submit(self, fn: Callable[[Any], Any], task: Any) -> Future:
-        return self._get_pool().submit(fn, task)
+        try:
+            return self._get_pool().submit(fn, task)
+        except BrokenProcessPool:  # a worker died while the pool sat idle: a new pool takes it
+            self._reset_pool()
+            return self._get_pool().submit(fn, task)
+
+    def _is_fault(self, exc: BaseException) -> bool:
+        return isinstance(exc, BrokenProcessPool)
+
+    def _abandon(self, futures) -> None:
+        self.retries += len(futures)
+        self._reset_pool()  # the only way to stop a hung task: its worker goes with the pool
 
     def map(self, fn: Callable[[Any], Any], tasks: Sequence[Any]) -> list[Any]:
         """Results in task order. Each round submits the unfinished tasks; a dead worker or a round

@@ -18,7 +18,8 @@ references, so a retry ships nothing again. The trainer's tasks are disjoint pop
 worker, so the population matrix travels exactly once. Only the small result summaries come back
 (per-step transitions too when a task records them).
 
-Faults (``max_retries``, ``task_timeout_s``): a task whose worker process or node died is resubmitted;
+Faults (``max_retries``, ``task_timeout_s``; ``collect`` applies them to tasks from ``submit`` too): a
+task whose worker process or node died is resubmitted;
 a task still running ``task_timeout_s`` after its submission is force-cancelled, which kills its worker,
 and resubmitted. Worker start-up never counts against the timeout: the executor starts its workers
 before the first map, and a replacement worker before each retry. Seeds travel inside tasks, so a
@@ -159,7 +160,27 @@ class RayExecutor(Executor):
 
     # -- single submissions (no retries; ``map`` is the fault-tolerant path) ------------------------
     def submit(self, fn: Callable[[Any], Any], task: Any) -> Future:
-        return _remote_apply.remote(fn, task).future()
+        ref = _remote_apply.remote(fn, task)
+        fut = ref.future()
+        fut.ray_ref = ref  # so that ``collect`` can stop an attempt past its timeout
+        return fut
+
+    # -- ``collect`` (base class): the same faults as ``map`` for submitted tasks -------------------
+    def _is_fault(self, exc: BaseException) -> bool:
+        return isinstance(exc, _RETRYABLE) and not isinstance(exc, rex.RayTaskError)
+
+    def _raise_task_error(self, exc: BaseException) -> None:
+        cause = getattr(exc, "cause", None) if isinstance(exc, rex.RayTaskError) else None
+        if isinstance(cause, BaseException):
+            raise cause from exc
+        raise exc
+
+    def _abandon(self, futures) -> None:
+        for fut in futures:
+            ref = getattr(fut, "ray_ref", None)
+            if ref is not None:
+                ray.cancel(ref, force=True)  # kills the worker running it
+        self.retries += len(futures)
 
     # -- fault-tolerant ordered map -----------------------------------------------------------------
     def map(self, fn: Callable[[Any], Any], tasks: Sequence[Any]) -> list[Any]:

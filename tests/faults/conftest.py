@@ -1,0 +1,102 @@
+"""Shared helpers for the fault-injection tests: the command line as a subprocess (so that it can be
+SIGKILLed for real), tiny run configs, and snapshots of a run directory."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+HERE = Path(__file__).resolve().parent
+SRC = HERE.parents[1] / "src"
+TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
+
+# Tiny runs (seconds each): CartPole for the ES baselines and PPO, fault_envs:Reach-v0 for shaped.
+BASE = {"env": "CartPole-v1", "executor": "inline", "generations": 6, "seed": 3, "es": {"pairs": 4},
+        "policy": {"hidden": [4]}, "rollout": {"episodes": 1, "test_episodes": 2}, "tensorboard": False}
+METHODS = {
+    "vanilla": {"method": "vanilla"},
+    "cmaes": {"method": "cmaes"},
+    "shaped": {"method": "shaped", "env": "fault_envs:Reach-v0",
+               "shaping": {"history": 2, "inverse_dynamics": {"steps_per_generation": 20, "min_return": -1e9},
+                           "cloning": {"steps": 3}}},
+    "shaped_ce3": {"method": "shaped", "env": "fault_envs:Reach-v0", "checkpoint_every": 3,
+                   "shaping": {"history": 2, "inverse_dynamics": {"steps_per_generation": 20,
+                                                                  "min_return": -1e9},
+                               "cloning": {"steps": 3}}},
+    "ppo": {"method": "ppo", "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40},
+            "ppo": {"steps_per_generation": 64, "n_steps": 32, "batch_size": 32, "n_epochs": 1}},
+}
+
+
+def config(name: str, **over) -> dict:
+    out = {**BASE, **METHODS[name]}
+    out.update(over)
+    return out
+
+
+def env() -> dict:
+    path = [str(SRC), str(HERE)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(path)}
+
+
+def run_cli(*args, timeout: float = 300, cwd=None, prefix=None) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli"]), *map(str, args)]
+    return subprocess.run(cmd, env=env(), cwd=cwd or HERE, capture_output=True, text=True, timeout=timeout)
+
+
+def popen_cli(*args, prefix=None, **kw) -> subprocess.Popen:
+    cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli"]), *map(str, args)]
+    return subprocess.Popen(cmd, env=env(), cwd=HERE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, **kw)
+
+
+def write_config(path: Path, cfg: dict) -> Path:
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+def strip(rows: list[dict]) -> list[dict]:
+    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")} for r in rows]
+
+
+def snapshot(root: Path) -> dict[str, str]:
+    """sha256 of every file under ``root`` (error.log aside: it only ever grows with tracebacks)."""
+    if not root.exists():
+        return {}
+    if root.is_file():
+        return {".": hashlib.sha256(root.read_bytes()).hexdigest()}
+    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(root.rglob("*")) if p.is_file() and p.name != "error.log"}
+
+
+def leftovers(root: Path) -> list[str]:
+    """What a consistent run directory must not hold: temporaries, half checkpoints, a lock."""
+    bad = [str(p.relative_to(root)) for p in root.rglob("*.tmp")]
+    ck = root / "checkpoints"
+    if ck.is_dir():
+        names = {p.name for p in ck.iterdir()}
+        bad += [n for n in names if n.startswith("gen_") and
+                ({n[:-4] + ".json", n[:-5] + ".npz"} & names) == set()]
+    if (root / ".lock").exists():
+        bad.append(".lock")
+    return bad
+
+
+def one_error_line(stderr: str) -> str:
+    lines = [l for l in stderr.splitlines() if l.strip() and not l.startswith("shaped-es: warning:")]
+    assert len(lines) == 1 and lines[0].startswith("shaped-es: error: "), stderr[-3000:]
+    return lines[0]
+
+
+@pytest.fixture
+def faults_path(monkeypatch):
+    """Worker processes (and in-process runs) import fault_envs."""
+    monkeypatch.setenv("PYTHONPATH", env()["PYTHONPATH"])
+    monkeypatch.syspath_prepend(str(HERE))
+    return HERE

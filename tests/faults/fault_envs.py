@@ -1,0 +1,116 @@
+"""Small envs for fault injection: ``fault_envs:Reach-v0`` (the waypoint contract, for ``shaped``) and
+``fault_envs:Faulty-v0``, a point pushed to the origin that misbehaves on request (``env_kwargs``):
+
+``fault``: none | raise_step | raise_reset | raise_init | nan_reward | nan_obs | shape | hang | exit
+``at_step``: the step of an episode at which it misbehaves (default 3)
+``seeds``: only episodes reset with one of these seeds misbehave (default: every episode)
+``marker``: only the first caller that creates this file misbehaves (it writes its pid there); later
+calls, retries included, behave
+
+Importable by worker processes (``PYTHONPATH`` holds this directory).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import gymnasium as gym
+import numpy as np
+
+
+def claim(marker: str) -> bool:
+    try:
+        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+    except FileExistsError:
+        return False
+    os.write(fd, str(os.getpid()).encode())
+    os.close(fd)
+    return True
+
+
+class Faulty(gym.Env):
+    observation_space = gym.spaces.Box(-10, 10, (3,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def __init__(self, fault: str = "none", at_step: int = 3, seeds=None, marker: str | None = None):
+        if fault == "raise_init":
+            raise RuntimeError("the simulator failed to start (raise_init)")
+        self.fault, self.at_step, self.marker = fault, int(at_step), marker
+        self.seeds = None if seeds is None else {int(s) for s in seeds}
+        self._armed = False
+
+    def _arm(self, seed) -> bool:
+        if self.fault == "none" or (self.seeds is not None and seed not in self.seeds):
+            return False
+        return self.marker is None or claim(self.marker)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self._armed = self._arm(seed)
+        if self._armed and self.fault == "raise_reset":
+            raise ValueError("reset failed (raise_reset)")
+        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        self.t = 0
+        return self._obs(), {}
+
+    def _obs(self):
+        return np.array([self.x[0], self.x[1], self.t / 20.0], np.float32)
+
+    def step(self, action):
+        self.t += 1
+        self.x = np.clip(self.x + 0.2 * np.asarray(action, np.float32), -10, 10)
+        obs, reward = self._obs(), 1.0 - float(np.linalg.norm(self.x))
+        if self._armed and self.t == self.at_step:
+            f = self.fault
+            if f == "raise_step":
+                raise RuntimeError("the simulator lost its connection (raise_step)")
+            if f == "nan_reward":
+                reward = float("nan")
+            elif f == "nan_obs":
+                obs[1] = np.nan
+            elif f == "shape":
+                obs = np.zeros(5, np.float32)
+            elif f == "hang":
+                while True:
+                    time.sleep(1)
+            elif f == "exit":
+                os._exit(13)
+        return obs, reward, False, self.t >= 20, {}
+
+
+class Reach(gym.Env):
+    """A point following waypoints 0.5 apart along a random direction; carries info position/waypoint."""
+
+    observation_space = gym.spaces.Box(-20, 20, (4,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = np.zeros(2, np.float32)
+        ang = self.np_random.uniform(0, 2 * np.pi)
+        self.dir = np.array([np.cos(ang), np.sin(ang)], np.float32)
+        self.k = 1
+        return self._obs(), self._info()
+
+    def _wp(self):
+        return (0.5 * self.k * self.dir).astype(np.float32)
+
+    def _obs(self):
+        return np.concatenate([self.x, self._wp() - self.x]).astype(np.float32)
+
+    def _info(self):
+        return {"position": self.x.copy(), "waypoint": self._wp()}
+
+    def step(self, action):
+        self.x = (self.x + 0.3 * np.asarray(action, np.float32)).astype(np.float32)
+        reward = 0.0
+        if np.linalg.norm(self._wp() - self.x) < 0.3:
+            self.k += 1
+            reward = 10.0
+        reward -= 0.1 * float(np.linalg.norm(self._wp() - self.x))
+        return self._obs(), reward, False, False, self._info()
+
+
+gym.register("Faulty-v0", entry_point=Faulty, max_episode_steps=20)
+gym.register("Reach-v0", entry_point=Reach, max_episode_steps=25)
