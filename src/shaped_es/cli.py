@@ -439,12 +439,16 @@ def _mpi_spawn_command(a: argparse.Namespace) -> bool:
     return not under_mpiexec()
 
 
+_RELAYED = ("shaped-es:", "[train] ", "[ppo] ", "[benchmark] ")  # the command's own lines, progress included
+
+
 def _supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
     """Run the command in a child process and report, in one line, how it ended when MPI ended it.
 
     With spawned MPI workers, a worker that dies makes Open MPI end the trainer's process itself (exit
-    14, a few lines of MPI's own output). The child's stderr is relayed line by line, except MPI's
-    output, which goes to RUN/error.log; the child dies with this process."""
+    14, after a few lines of MPI's own output). The child's stderr is relayed: its ``shaped-es:`` and
+    progress lines as they come, the rest when it ends on its own, or into RUN/error.log when MPI ended
+    it; the child dies with this process."""
     env = {**os.environ, _SUPERVISED: "1"}
 
     def die_with_parent() -> None:  # pragma: no cover - runs in the child
@@ -460,7 +464,7 @@ def _supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
     other: list[str] = []
     try:
         for line in child.stderr:
-            if debug or line.startswith(("shaped-es:", "[")):
+            if debug or line.startswith(_RELAYED):
                 sys.stderr.write(line)
                 sys.stderr.flush()
             else:
@@ -469,9 +473,10 @@ def _supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
     finally:
         signal.signal(signal.SIGINT, old_int)
         signal.signal(signal.SIGTERM, old_term)
-    where = _log_detail(a, "".join(other)) if other else ""
-    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):
+    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):  # the child ended on its own: its other output too
+        sys.stderr.writelines(other)
         return rc
+    where = _log_detail(a, "".join(other)) if other else ""
     how = f"signal {-rc}" if rc < 0 else f"exit {rc}"
     hint = _continue_hint(a)
     print(f"shaped-es: error: the MPI job ended abruptly ({how}): a worker died or was killed, and MPI "

@@ -15,7 +15,6 @@ take the argmax. Results depend only on the task's parameters and seeds, never o
 from __future__ import annotations
 
 import json
-import math
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -284,14 +283,17 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
         for b in np.flatnonzero(stepped):
             o, r, term, trunc, info = envs[b].step(_to_env_action(envs[b].action_space, act[b]))
             o = np.asarray(o, dtype=np.float32)
-            if o.shape != shape or not math.isfinite(r) or not np.isfinite(o).all():
-                if not math.isfinite(r):
-                    raise _bad_output(task, f"a non-finite reward ({r})", seeds[b], t + 1)
+            if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b] = o, r
             if npos.shape[1]:
                 npos[b], nwp[b] = _info_vec(info, POSITION_KEY), _info_vec(info, WAYPOINT_KEY)
             alive[b] = not (term or trunc)
+        if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
+            b = int(np.flatnonzero(~(np.isfinite(rew) & np.isfinite(nobs).all(axis=1)))[0])
+            if not np.isfinite(rew[b]):
+                raise _bad_output(task, f"a non-finite reward ({rew[b]})", seeds[b], t + 1)
+            _check_obs(task, nobs[b], shape, seeds[b], t + 1)
         if rec is not None:
             rec.add(obs, pos, wp, act, rew, stepped)
         returns += rew

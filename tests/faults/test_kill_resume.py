@@ -20,19 +20,10 @@ from shaped_es.store import RunStore
 
 GEN = 3  # the checkpoint written after generation index 2 (of 6)
 FAST = {("vanilla", p) for p in POINTS} | {("cmaes", "npz_tmp"), ("cmaes", "latest")}
-# The shaped guide prunes trajectory shards when the checkpoint's state is taken, before the checkpoint is
-# durable: a kill before its .npz and .json are both renamed resumes from the previous checkpoint, whose
-# re-run reads a shard already deleted (guides/shaped.py; Trainer calls guide.after_checkpoint(g) once the
-# checkpoint is durable, where the pruning belongs).
-PRUNE_WINDOW = pytest.mark.xfail(reason="shaped guide prunes shards before the checkpoint is durable",
-                                 strict=False)
 
 
 def _marks(m: str, p: str) -> list:
-    marks = [] if (m, p) in FAST else [pytest.mark.slow]
-    if m == "shaped" and p in ("npz_tmp", "npz_rename"):
-        marks.append(PRUNE_WINDOW)
-    return marks
+    return [] if (m, p) in FAST else [pytest.mark.slow]
 
 
 CASES = [pytest.param(m, p, id=f"{m}-{p}", marks=_marks(m, p))
@@ -52,11 +43,36 @@ def _reference(method: str, tmp_path_factory) -> list[dict]:
 
 @pytest.mark.parametrize("method, point", CASES)
 def test_kill_at_checkpoint_step_then_resume(method, point, tmp_path, tmp_path_factory, faults_path):
+    _kill_resume_compare(method, point, GEN, tmp_path, tmp_path_factory)
+
+
+@pytest.mark.parametrize("point", ["npz_tmp", "json_rename", "metrics_append"])
+def test_kill_during_the_first_checkpoint(point, tmp_path, tmp_path_factory, faults_path):
+    # without latest.json, resume used to restart at generation 0 and keep row 0: a duplicate
+    _kill_resume_compare("vanilla", point, 1, tmp_path, tmp_path_factory)
+
+
+def test_finished_run_without_latest_json_resumes_to_nothing_new(tmp_path, tmp_path_factory, faults_path):
+    ref = _reference("vanilla", tmp_path_factory)
+    cfg = write_config(tmp_path / "cfg.yaml", config("vanilla"))
+    run = tmp_path / "run"
+    assert run_cli("train", "--config", cfg, "--out", run, "--quiet").returncode == 0
+    before = {p.name: p.read_bytes() for p in (run / "checkpoints").iterdir() if p.name != "latest.json"}
+    (run / "checkpoints" / "latest.json").unlink()
+    res = run_cli("resume", run, "--quiet")
+    assert res.returncode == 0, res.stderr
+    assert strip(RunStore(run).read_metrics()) == strip(ref)  # 6 rows, not 12
+    after = {p.name: p.read_bytes() for p in (run / "checkpoints").iterdir() if p.name != "latest.json"}
+    assert after == before  # no checkpoint overwritten
+    assert json.loads((run / "checkpoints" / "latest.json").read_text())["name"] == "gen_000006"
+
+
+def _kill_resume_compare(method, point, gen, tmp_path, tmp_path_factory):
     ref = _reference(method, tmp_path_factory)
     cfg = write_config(tmp_path / "cfg.yaml", config(method))
     run = tmp_path / "run"
     killed = run_cli("train", "--config", cfg, "--out", run, "--quiet",
-                     prefix=[str(HERE / "killer.py"), point, str(GEN)])
+                     prefix=[str(HERE / "killer.py"), point, str(gen)])
     assert killed.returncode == -9, killed.stderr[-3000:]  # the kill landed
     res = run_cli("resume", run, "--quiet")
     assert res.returncode == 0, res.stderr[-3000:]
@@ -67,6 +83,31 @@ def test_kill_at_checkpoint_step_then_resume(method, point, tmp_path, tmp_path_f
     newest = store.checkpoints()[-1]
     assert newest == 6 and json.loads((run / "checkpoints" / "latest.json").read_text())["name"] == "gen_000006"
     if method == "ppo":  # exact up to the checkpoint it resumed from (gen GEN-1 or GEN)
-        assert strip(rows)[: GEN - 1] == strip(ref)[: GEN - 1]
+        assert strip(rows)[: gen - 1] == strip(ref)[: gen - 1]
     else:
         assert strip(rows) == strip(ref)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(reason="shaping.trajectories.read_generation returns [] for a missing generation: the "
+                   "shaped guide resumes on less data without a word (owned by guides/ and shaping/)",
+                   strict=False)
+@pytest.mark.parametrize("what", ["shard", "folder"])
+def test_resume_with_a_deleted_trajectory_shard_is_loud(what, tmp_path, tmp_path_factory, faults_path):
+    import shutil
+
+    ref = _reference("shaped", tmp_path_factory)
+    cfg = write_config(tmp_path / "cfg.yaml", config("shaped", generations=4))
+    run = tmp_path / "run"
+    assert run_cli("train", "--config", cfg, "--out", run, "--quiet").returncode == 0
+    gen = sorted((run / "trajectories").iterdir())[-1]
+    if what == "shard":
+        for f in gen.iterdir():
+            f.unlink()
+    else:
+        shutil.rmtree(run / "trajectories")
+    res = run_cli("resume", run, "--generations", "6", "--quiet")
+    if res.returncode == 2:  # a loud, one-line error: fine
+        assert len(res.stderr.strip().splitlines()) == 1 and "traject" in res.stderr
+    else:  # or the same rows as if nothing had been deleted
+        assert strip(RunStore(run).read_metrics()) == strip(ref)

@@ -1,0 +1,74 @@
+"""What ``RunStore.recover`` makes of every state a killed writer can leave, file by file (no processes):
+temporaries, a ``.npz`` without its ``.json``, a ``.json`` whose ``.npz`` was pruned, a stale or missing
+``latest.json``, a torn last metrics row, rows past the checkpoint."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from shaped_es.store import RunStore, StoreError
+
+
+def _store(tmp_path, gens=(1, 2, 3), rows=5) -> RunStore:
+    store = RunStore(tmp_path / "run")
+    store.root.mkdir()
+    for g in gens:
+        store.save_checkpoint(g, {"a": np.full(2, g)}, {"k": g}, keep=3)
+    for g in range(rows):
+        store.append_metrics({"generation": g, "x": g / 2})
+    return store
+
+
+def test_recover_cleans_what_a_kill_leaves(tmp_path):
+    store = _store(tmp_path)
+    ck = store.ckpt_dir
+    (ck / ".gen_000004.npz.abc.tmp").write_bytes(b"half")  # killed before the rename
+    (store.root / ".metrics.csv.x.tmp").write_text("x")
+    (store.root / "mphi_data").mkdir()
+    (store.root / "mphi_data" / ".added_000004.npz.y.tmp").write_bytes(b"")
+    (ck / "gen_000004.npz").write_bytes(b"a complete npz without its json")  # killed before the json
+    (ck / "gen_000000.json").write_text("{}")  # pruning killed between the npz and the json
+    (ck / "latest.json").write_text(json.dumps({"name": "gen_000002"}))  # killed before latest.json
+    with store.metrics_path.open("a") as fh:
+        fh.write("5,2.")  # a torn row
+    assert [int(r["generation"]) for r in store.read_metrics()] == [0, 1, 2, 3, 4]  # torn row left out
+    with store.lock():
+        arrays, meta = store.recover()
+    assert meta["generation"] == 3 and (arrays["a"] == 3).all()
+    assert sorted(p.name for p in ck.iterdir()) == [f"gen_00000{g}.{e}" for g in (1, 2, 3)
+                                                    for e in ("json", "npz")] + ["latest.json"]
+    assert json.loads((ck / "latest.json").read_text())["name"] == "gen_000003"
+    assert not list(store.root.rglob("*.tmp"))
+    assert [int(r["generation"]) for r in store.read_metrics()] == [0, 1, 2]  # rows the checkpoint covers
+    assert store.metrics_path.read_bytes().endswith(b"\r\n")
+
+
+def test_recover_without_a_checkpoint_drops_every_row(tmp_path):
+    store = _store(tmp_path, gens=(), rows=2)
+    with store.lock():
+        assert store.recover() is None
+    assert store.read_metrics() == [] and store.metrics_path.read_text().startswith("generation")
+
+
+def test_waiting_rows_are_written_again(tmp_path):
+    store = RunStore(tmp_path / "run")
+    store.root.mkdir()
+    store.save_checkpoint(4, {"a": np.zeros(1)}, {"waiting_rows": [{"generation": 3}]}, keep=3)
+    for g in range(5):
+        store.append_metrics({"generation": g})
+    with store.lock():
+        store.recover()
+    assert [int(r["generation"]) for r in store.read_metrics()] == [0, 1, 2]
+
+
+def test_a_damaged_newest_checkpoint_is_an_error_not_a_silent_fallback(tmp_path):
+    store = _store(tmp_path)
+    (store.ckpt_dir / "gen_000003.npz").write_bytes(b"")
+    before = store.metrics_path.read_bytes()
+    with store.lock(), pytest.raises(StoreError, match="gen_000003.*delete gen_000003.npz and "
+                                                       "gen_000003.json to resume from gen_000002"):
+        store.recover()
+    assert store.metrics_path.read_bytes() == before  # nothing changed
