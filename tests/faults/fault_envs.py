@@ -1,7 +1,8 @@
 """Small envs for fault injection: ``fault_envs:Reach-v0`` (the waypoint contract, for ``shaped``) and
 ``fault_envs:Faulty-v0``, a point pushed to the origin that misbehaves on request (``env_kwargs``):
 
-``fault``: none | raise_step | raise_reset | raise_init | nan_reward | nan_obs | shape | hang | exit
+``fault``: none | raise_step | raise_reset | raise_init | nan_reward | nan_obs | shape | hang | exit |
+slow (every step sleeps 5 ms: a run that lasts)
 ``at_step``: the step of an episode at which it misbehaves (default 3)
 ``seeds``: only episodes reset with one of these seeds misbehave (default: every episode)
 ``marker``: only the first caller that creates this file misbehaves (it writes its pid there); later
@@ -59,6 +60,8 @@ class Faulty(gym.Env):
 
     def step(self, action):
         self.t += 1
+        if self.fault == "slow":
+            time.sleep(0.005)
         self.x = np.clip(self.x + 0.2 * np.asarray(action, np.float32), -10, 10)
         obs, reward = self._obs(), 1.0 - float(np.linalg.norm(self.x))
         if self._armed and self.t == self.at_step:

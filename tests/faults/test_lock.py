@@ -30,9 +30,11 @@ def _holder(run, seconds=60.0) -> subprocess.Popen:
     return p
 
 
-def test_resume_while_training_is_refused_and_rows_are_not_duplicated(tmp_path):
-    # the case: cmaes, 8 generations inline; resume as soon as latest.json exists
-    cfg = write_config(tmp_path / "c.yaml", config("cmaes", generations=8))
+def test_resume_while_training_is_refused_and_rows_are_not_duplicated(tmp_path, faults_path):
+    # the case: cmaes, 8 generations inline; resume as soon as latest.json exists (the env sleeps
+    # 5 ms a step, so that the training outlasts the second command's start-up)
+    cfg = write_config(tmp_path / "c.yaml", config("cmaes", generations=8, env="fault_envs:Faulty-v0",
+                                                   env_kwargs={"fault": "slow"}))
     run = tmp_path / "r"
     train = popen_cli("train", "--config", cfg, "--out", run, "--quiet")
     deadline = time.time() + 120
