@@ -1,4 +1,4 @@
-"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / bench.
+"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench).
 
 Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
 directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
@@ -298,7 +298,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_report_parser(sub)
     add_render_parser(sub)
 
-    b = sub.add_parser("bench", help="benchmarks that print figures (JSON with --json)")
+    # "speed", so it is not confused with "benchmark" (the multi-seed study); "bench" still works
+    b = sub.add_parser("speed", aliases=["bench"], help="speed benchmarks that print figures (JSON with --json)")
     bsub = b.add_subparsers(dest="what", required=True)
     be = bsub.add_parser("env", help="env + policy steps per second on all cores")
     be.add_argument("env_id")

@@ -60,3 +60,11 @@ def test_sizes_and_bad_arguments(capsys):
         with pytest.raises(SystemExit) as e:
             main(["bench", "strategies", *args])
         assert e.value.code == 2
+
+
+def test_speed_is_the_command_and_bench_its_alias(capsys):
+    for name in ("speed", "bench"):
+        with pytest.raises(SystemExit) as info:
+            main([name, "--help"])
+        assert info.value.code == 0
+        assert "shaping" in capsys.readouterr().out
