@@ -89,9 +89,6 @@ def _kill_resume_compare(method, point, gen, tmp_path, tmp_path_factory):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(reason="shaping.trajectories.read_generation returns [] for a missing generation: the "
-                   "shaped guide resumes on less data without a word (owned by guides/ and shaping/)",
-                   strict=False)
 @pytest.mark.parametrize("what", ["shard", "folder"])
 def test_resume_with_a_deleted_trajectory_shard_is_loud(what, tmp_path, tmp_path_factory, faults_path):
     import shutil

@@ -52,7 +52,8 @@ from shaped_es.rollout import RolloutTask, make_env, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled, warm_up_cloning
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
-from shaped_es.shaping.trajectories import delete_generations, list_generations, read_generation, write_shard
+from shaped_es.shaping.trajectories import TrajectoryStoreError, delete_generations, list_generations
+from shaped_es.shaping.trajectories import read_generation, write_shard
 from shaped_es.store import atomic_write_bytes
 
 MASTER_MAX_PARAMS = 20_000_000  # P x n above which ``auto`` clones on the workers
@@ -170,6 +171,10 @@ class ShapedGuide(NoGuide):
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""
         if generation not in self._cache:
             trs = read_generation(self.traj_root, generation)
+            if not trs:  # every generation's rollouts write a shard: this one was lost
+                raise TrajectoryStoreError(
+                    f"trajectory generation {generation} is missing from {self.traj_root} (deleted?); the "
+                    f"shaped method needs it to continue; restore it or start a new run")
             if self.placement == "workers":
                 return trs
             self._remember(generation, trs)

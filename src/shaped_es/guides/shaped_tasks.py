@@ -20,7 +20,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutResult, RolloutTask, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
-from shaped_es.shaping.trajectories import read_members, write_shard
+from shaped_es.shaping.trajectories import TrajectoryStoreError, read_members, write_shard
 
 # (traj_root, generation, member) -> transitions; per worker process, bounded by _CACHE_GENERATIONS
 _CACHE: dict[tuple[str, int, int], Transitions] = {}
@@ -56,6 +56,10 @@ def member_data(traj_root: str, members, generations) -> dict[int, list[Transiti
     missing = sorted({g for g in gens for m in members if (g, m) not in found})
     fresh = [tr for trs in (read_members(traj_root, members, missing) if missing else {}).values() for tr in trs]
     found |= {(tr.generation, tr.member): tr for tr in fresh}
+    lost = sorted({g for g in gens for m in members if (g, m) not in found})
+    if lost:  # every generation's rollouts write every member's shard: these were lost
+        raise TrajectoryStoreError(f"trajectory generation(s) {lost} missing from {traj_root} (deleted?); "
+                                   f"the shaped method needs them to continue")
     _remember(traj_root, fresh)
     return {m: [found[(g, m)] for g in gens if (g, m) in found] for m in members}
 
