@@ -120,8 +120,11 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
         alpha = 1.0 - level
         wins = [f"{x} > {y} (P = {_num(poi[x][y]['p'])}, Mann-Whitney p = {_num(poi[x][y]['p_value'], 3)})"
                 for x in names for y in names if x != y and beats(poi[x][y], alpha)]
+        n = min(len(s.get("final_test_reward_per_seed") or []) for s in methods.values())
+        p_min = 2.0 / math.comb(2 * n, n) if n else 1.0  # two-sided exact Mann-Whitney, n seeds a side
         rule = (f"X beats Y when the interval lies above 0.5 and the two-sided Mann-Whitney test rejects "
-                f"equal distributions at p < {alpha:g} (with 3 seeds a side the smallest possible p is 0.1)")
+                f"equal distributions at p < {alpha:g} (with {n} seeds a side the smallest possible p is "
+                f"{p_min:.2g})")
         out += [(f"{rule}: " + "; ".join(wins) + ".") if wins else
                 f"{rule}: no pair does, so these seeds show no method beating another.", ""]
     phases = sorted({p for s in methods.values() for p in s["time_split_s"]})

@@ -220,7 +220,27 @@ def method_settings(cfg: RunConfig) -> dict:
     """The settings a reader needs to tell the runs apart (ablation switches included)."""
     return {"env": cfg.env, "env_kwargs": cfg.env_kwargs, "pairs": cfg.es.pairs, "sigma": cfg.es.sigma,
             "alpha": cfg.es.alpha, "eta": cfg.shaping.eta, "episodes": cfg.rollout.episodes,
-            "test_episodes": cfg.rollout.test_episodes, "executor": cfg.executor, "workers": cfg.workers}
+            "test_episodes": cfg.rollout.test_episodes, "executor": cfg.executor, "workers": cfg.workers,
+            "other non-defaults": non_defaults(cfg)}
+
+
+def non_defaults(cfg: RunConfig) -> str:
+    """``key=value`` of the fields that differ from the defaults in the sections ``cfg.method`` reads
+    (what a benchmark ``--variant`` changed), besides the columns above."""
+    shown = {"es.pairs", "es.sigma", "es.alpha", "shaping.eta", "rollout.episodes", "rollout.test_episodes"}
+    sections = ["es", "rollout", "policy"] + (["shaping"] if cfg.method == "shaped" else []) + (
+        ["ppo"] if cfg.method == "ppo" else [])
+    mine, base = cfg.model_dump(mode="json"), RunConfig().model_dump(mode="json")
+
+    def flat(d, prefix):
+        for k, v in d.items():
+            yield from flat(v, f"{prefix}{k}.") if isinstance(v, dict) else [(f"{prefix}{k}", v)]
+
+    out = []
+    for sec in sections:
+        ref = dict(flat(base[sec], f"{sec}."))
+        out += [f"{k}={v}" for k, v in flat(mine[sec], f"{sec}.") if k not in shown and ref.get(k) != v]
+    return "; ".join(out) or "-"
 
 
 def clean_json(v):
