@@ -128,15 +128,9 @@ def run_configs(spec: BenchmarkSpec) -> dict[str, RunConfig]:
 
 
 def finished_generations(store: RunStore) -> int:
-    """Generations covered by the run's newest complete checkpoint (0 without one)."""
-    latest = store.ckpt_dir / "latest.json"
-    if not latest.is_file():
-        return 0
-    try:
-        name = json.loads(latest.read_text())["name"]
-        return int(json.loads((store.ckpt_dir / f"{name}.json").read_text())["generation"])
-    except (OSError, KeyError, ValueError, TypeError) as exc:
-        raise StoreError(f"checkpoint in {store.ckpt_dir} is unreadable: {type(exc).__name__}") from None
+    """Generations covered by the run's newest complete checkpoint (0 without one), whatever
+    ``latest.json`` says (the store's own rule, as resume uses it)."""
+    return store.newest_generation()
 
 
 def _first_difference(a: RunConfig, b: RunConfig) -> str:
@@ -211,7 +205,7 @@ def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str
         old = store.read_config()
         if old.method == cfg.method and method_digest(old) == method_digest(cfg):
             plan[name] = ("reuse", _reuse(old, cfg))
-        elif not (store.ckpt_dir / "latest.json").is_file():
+        elif not store.checkpoints():
             plan[name] = ("restart", cfg)  # nothing done yet (e.g. a run that failed to start)
         else:
             changed.append((name, _first_difference(old, cfg)))
@@ -242,14 +236,15 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
             shutil.rmtree(store.root)
         store.create(cfg)
         status = "new"
-    if cfg.method == "ppo":
-        from shaped_es.baselines.ppo import train_ppo
+    with store.lock():  # held for the whole run (PPO included), not only around each write
+        if cfg.method == "ppo":
+            from shaped_es.baselines.ppo import train_ppo
 
-        train_ppo(cfg, store, progress=progress)
-    else:
-        from shaped_es.trainer import Trainer
+            train_ppo(cfg, store, progress=progress)
+        else:
+            from shaped_es.trainer import Trainer
 
-        Trainer(cfg, store, progress=progress).run()
+            Trainer(cfg, store, progress=progress).run()
     return status
 
 
