@@ -19,10 +19,7 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
         raise StoreError("--episodes must be positive")
     store = RunStore(run_dir)
     cfg = store.read_config()
-    loaded = store.load_checkpoint()
-    if loaded is None:
-        raise StoreError(f"{run_dir} has no checkpoint yet")
-    arrays, meta = loaded
+    arrays, meta = store.require_checkpoint()
     seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)  # (1, E)
     if cfg.method == "ppo":  # one process, as PPO trains (SB3 policy, deterministic actions)
         from shaped_es.baselines.ppo import load_policy

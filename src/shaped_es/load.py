@@ -100,10 +100,7 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
 
     store = RunStore(run_dir)
     cfg = store.read_config()
-    loaded = store.load_checkpoint()
-    if loaded is None:
-        raise StoreError(f"{run_dir} has no checkpoint yet")
-    arrays, meta = loaded
+    arrays, meta = store.require_checkpoint()
     env = make_env(cfg.env, cfg.env_kwargs)
     try:
         obs_dim, act_dim = env_dims(env)

@@ -17,13 +17,9 @@ from shaped_es.config import ConfigError, RunConfig
 def check_run(cfg: RunConfig) -> None:
     """Raise ``ConfigError`` / ``EnvSpecError`` / ``ExecutorError`` (one line) if ``cfg`` cannot start."""
     import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import env_dims, make_env
+    from shaped_es.rollout import probe_dims
 
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        obs_dim, act_dim = env_dims(env)
-    finally:
-        env.close()
+    obs_dim, act_dim = probe_dims(cfg.env, cfg.env_kwargs)
     _check_executor(cfg.executor)
     _check_workers(cfg)
     if cfg.method == "ppo":

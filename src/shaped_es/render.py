@@ -26,10 +26,7 @@ from shaped_es.store import RunStore, StoreError
 def policy_fn(store: RunStore, which: str = "best"):
     """``obs (obs_dim,) -> env action`` for the run's saved policy."""
     cfg = store.read_config()
-    loaded = store.load_checkpoint()
-    if loaded is None:
-        raise StoreError(f"{store.root} has no checkpoint yet")
-    arrays, _ = loaded
+    arrays, _ = store.require_checkpoint()
     if cfg.method == "ppo":
         from shaped_es.baselines.ppo import load_policy
 

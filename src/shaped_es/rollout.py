@@ -115,6 +115,15 @@ def _env_key(env_id: str, env_kwargs: dict) -> str:
     return env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
 
 
+def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
+    """(obs_dim, act_dim) of ``env_id`` (an env made, measured and closed)."""
+    env = make_env(env_id, env_kwargs)
+    try:
+        return env_dims(env)
+    finally:
+        env.close()
+
+
 def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:
     key = _env_key(env_id, env_kwargs)
     envs = _ENV_CACHE.setdefault(key, [])

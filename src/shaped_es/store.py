@@ -417,6 +417,13 @@ class RunStore:
         gens = self.checkpoints()
         return gens[-1] if gens else 0
 
+    def require_checkpoint(self) -> tuple[dict[str, np.ndarray], dict]:
+        """:meth:`load_checkpoint`, with one clear ``StoreError`` when the run has none yet."""
+        loaded = self.load_checkpoint()
+        if loaded is None:
+            raise StoreError(f"{self.root} has no checkpoint yet")
+        return loaded
+
     def load_checkpoint(self) -> tuple[dict[str, np.ndarray], dict] | None:
         """The newest complete checkpoint as (arrays, meta), or None if the run has none yet.
 

@@ -37,7 +37,7 @@ from shaped_es.executors import Executor, make_executor
 from shaped_es.guides import NoGuide, PastUpdateGuide
 from shaped_es.policies import MLPSpec
 from shaped_es.progress import ProgressDisplay
-from shaped_es.rollout import RolloutTask, env_dims, make_env, policy_episode_tasks, run_task
+from shaped_es.rollout import RolloutTask, policy_episode_tasks, probe_dims, run_task
 from shaped_es.store import RunStore, StoreError
 from shaped_es.strategies import make_strategy
 
@@ -49,11 +49,7 @@ TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "cl
 
 
 def policy_spec(cfg: RunConfig) -> MLPSpec:
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        obs_dim, act_dim = env_dims(env)
-    finally:
-        env.close()
+    obs_dim, act_dim = probe_dims(cfg.env, cfg.env_kwargs)
     return MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
 
 

@@ -63,3 +63,18 @@ def get_batch_core(env: Any) -> BatchCore | None:
 def has_waypoint_contract(info: dict[str, Any]) -> bool:
     """True if an ``info`` dict carries the two keys the shaped method needs."""
     return POSITION_KEY in info and WAYPOINT_KEY in info
+
+
+def limited_entry_point(env_cls):
+    """A registration entry point: ``env_cls(**kwargs)`` under a ``TimeLimit`` of its config's
+    ``max_steps``, so the limit follows ``preset`` and overrides, which a fixed ``max_episode_steps``
+    could not; carries ``env_cls.metadata`` (``gymnasium.make`` reads the render modes there)."""
+    import gymnasium as gym
+
+    def make_limited(**kwargs):
+        env = env_cls(**kwargs)
+        return gym.wrappers.TimeLimit(env, env.config.max_steps)
+
+    make_limited.metadata = env_cls.metadata
+    make_limited.__doc__ = f"``{env_cls.__name__}(**kwargs)`` under a ``TimeLimit`` of its config's max_steps."
+    return make_limited

@@ -57,6 +57,7 @@ import numpy as np
 
 from shaped_es.envs.carnav.config import make_config
 from shaped_es.envs.carnav.core import ACT_DIM, CarNavCore
+from shaped_es.envs.core import limited_entry_point
 from shaped_es.envs.vector import BatchCoreVectorEnv
 
 
@@ -108,14 +109,7 @@ class CarNavEnv(gym.Env):
         return render_top_down(self.batch_core, self._state, 0)
 
 
-def make_limited(**kwargs: Any) -> gym.Env:
-    """``CarNavEnv(**kwargs)`` under a ``TimeLimit`` of its config's ``max_steps`` (the registered entry
-    point): the limit follows ``preset`` and overrides, which a fixed ``max_episode_steps`` could not."""
-    env = CarNavEnv(**kwargs)
-    return gym.wrappers.TimeLimit(env, env.config.max_steps)
-
-
-make_limited.metadata = CarNavEnv.metadata  # gymnasium.make reads the render modes from the entry point
+make_limited = limited_entry_point(CarNavEnv)  # the registered entry point
 
 
 class CarNavVectorEnv(BatchCoreVectorEnv):

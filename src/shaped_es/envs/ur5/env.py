@@ -33,6 +33,7 @@ import numpy as np
 from shaped_es.envs.ur5.bezier import bezier_waypoints
 from shaped_es.envs.ur5.config import make_config
 from shaped_es.envs.ur5.core import ACT_DIM, OBS_DIM, UR5Core
+from shaped_es.envs.core import limited_entry_point
 from shaped_es.envs.vector import BatchCoreVectorEnv
 
 
@@ -90,14 +91,7 @@ class UR5ReachEnv(gym.Env):
             self._renderer = None
 
 
-def make_limited(**kwargs: Any) -> gym.Env:
-    """``UR5ReachEnv(**kwargs)`` under a ``TimeLimit`` of its config's ``max_steps`` (the registered entry
-    point): the limit follows ``preset`` and overrides, which a fixed ``max_episode_steps`` could not."""
-    env = UR5ReachEnv(**kwargs)
-    return gym.wrappers.TimeLimit(env, env.config.max_steps)
-
-
-make_limited.metadata = UR5ReachEnv.metadata  # gymnasium.make reads the render modes from the entry point
+make_limited = limited_entry_point(UR5ReachEnv)  # the registered entry point
 
 
 class UR5ReachVectorEnv(BatchCoreVectorEnv):
