@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import matplotlib
@@ -16,10 +15,11 @@ from shaped_es.report.style import method_color  # noqa: E402
 
 
 def load_metrics(run_dir: str | Path) -> dict[str, np.ndarray]:
-    """``metrics.csv`` as columns of floats (empty cells -> NaN)."""
-    path = Path(run_dir) / "metrics.csv"
-    with path.open(newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    """``metrics.csv`` as columns of floats (empty cells -> NaN), read and validated by the run store (a
+    damaged file is one ``StoreError`` line; a torn last row is left out)."""
+    from shaped_es.store import RunStore
+
+    rows = RunStore(run_dir).read_metrics()
     if not rows:
         return {}
     cols = {}
