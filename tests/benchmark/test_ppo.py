@@ -130,3 +130,20 @@ def test_evaluate_a_ppo_run(tmp_path):
     assert a["episodes"] == 3 and np.isfinite(a["reward_mean"]) and a["generation"] == 2
     assert a == evaluate_run(store.root, episodes=3)  # deterministic policy, fixed seeds
     assert np.isfinite(b["reward_mean"])
+
+
+@pytest.mark.parametrize("bad", [{"generation": "2"}, {"env_steps": -5}, {"cpu_time_s": None},
+                                 {"generation": True}])
+def test_ppo_refuses_malformed_checkpoint_counters(tmp_path, bad):
+    import json
+
+    from shaped_es.baselines.ppo import train_ppo
+    from shaped_es.store import StoreError
+
+    cfg, store = _run(tmp_path, "ppo", "ppo")
+    meta_path = max(store.ckpt_dir.glob("gen_*.json"))
+    meta = json.loads(meta_path.read_text())
+    meta_path.write_text(json.dumps({**meta, **bad}))
+    longer = build_config({**cfg.model_dump(mode="json"), "generations": 3})
+    with pytest.raises(StoreError, match="malformed"):
+        train_ppo(longer, store, progress=False, settings=FAST)

@@ -152,7 +152,14 @@ class PPORun:
             msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise StoreError(f"checkpoint in {self.store.ckpt_dir} does not fit this run: {msg}") from None
         for k in Counters.__dataclass_fields__:
-            setattr(self.c, k, meta[k] if meta[k] is not None else -math.inf)
+            v = meta.get(k)
+            if k == "best_test_reward" and v is None:
+                v = -math.inf
+            counter = k in ("generation", "env_steps")
+            if isinstance(v, bool) or not isinstance(v, int if counter else (int, float)) or (
+                    k != "best_test_reward" and not math.isfinite(v)) or (counter and v < 0):
+                raise StoreError(f"checkpoint in {self.store.ckpt_dir} has a malformed '{k}': {v!r}")
+            setattr(self.c, k, int(v) if counter else float(v))
         self.model.num_timesteps = self.c.env_steps
         self.model.env.seed(seeding.derive_seed(self.cfg.seed, seeding.TRAIN, self.c.generation))
         self.store.truncate_metrics(self.c.generation - 1)
