@@ -178,38 +178,42 @@ def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> None:
 
 
 class _Recorder:
-    """Per-step buffers ``(T, B, ...)`` turned into per-member :class:`Transitions` at the end."""
+    """Per-step rows written into preallocated float32 buffers ``(T, B, ...)`` (grown by doubling when
+    the horizon is unknown), cut into per-member :class:`Transitions` at the end. Episodes run in
+    lock-step and stay dead once done, so episode ``b`` is rows ``0 .. len_b - 1`` of column ``b``."""
 
-    def __init__(self, task: RolloutTask):
-        self.task, self.steps = task, []
+    def __init__(self, task: RolloutTask, capacity: int = 256):
+        self.task, self.t, self.capacity = task, 0, max(1, int(capacity))
+        self.buf: list[np.ndarray] | None = None  # obs, pos, wp, act, rew, alive: (cap, B, ...)
 
     def add(self, obs, pos, wp, act, rew, alive):
-        self.steps.append((obs.copy(), pos.copy(), wp.copy(), act.copy(), rew.copy(), alive.copy()))
+        rows = (obs, pos, wp, act, rew, alive)
+        if self.buf is None:
+            self.buf = [np.zeros((self.capacity, *np.shape(x)), bool if i == 5 else np.float32)
+                        for i, x in enumerate(rows)]
+        if self.t == self.buf[0].shape[0]:  # grow: double the time axis
+            self.buf = [np.concatenate([b, np.zeros_like(b)]) for b in self.buf]
+        for b, x in zip(self.buf, rows):
+            b[self.t] = x
+        self.t += 1
 
     def build(self) -> list[Transitions]:
         m, E = self.task.seeds.shape
-        if not self.steps:
+        if self.buf is None or self.t == 0:
             return []
-        obs, pos, wp, act, rew, alive = (np.stack(x) for x in zip(*self.steps))  # (T, B, ...)
+        obs, pos, wp, act, rew, alive = (b[: self.t] for b in self.buf)  # (T, B, ...)
+        lens = alive.sum(axis=0)  # (B,) steps each episode took
         out = []
         for r in range(m):
-            parts = []
-            for e in range(E):
-                b = r * E + e
-                t = np.flatnonzero(alive[:, b])  # (T_e,) steps this episode actually took
-                parts.append((np.full(t.shape, e), t, obs[t, b], pos[t, b], wp[t, b], act[t, b], rew[t, b]))
-            ep, st, o, p, w, a, rw = (np.concatenate(x) for x in zip(*parts))
+            bs = range(r * E, r * E + E)
+            cat = lambda x: np.concatenate([x[: lens[b], b] for b in bs])  # noqa: E731 - (T_r, ...)
             out.append(
                 Transitions(
                     generation=self.task.generation,
                     member=int(self.task.members[r]),
-                    episode=ep.astype(np.int32),
-                    step=st.astype(np.int32),
-                    state=o.astype(np.float32),
-                    position=p.astype(np.float32),
-                    waypoint=w.astype(np.float32),
-                    action=a.astype(np.float32),
-                    reward=rw.astype(np.float32),
+                    episode=np.concatenate([np.full(lens[b], e, np.int32) for e, b in enumerate(bs)]),
+                    step=np.concatenate([np.arange(lens[b], dtype=np.int32) for b in bs]),
+                    state=cat(obs), position=cat(pos), waypoint=cat(wp), action=cat(act), reward=cat(rew),
                 )
             )
         return out
@@ -234,7 +238,7 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
-    rec = _Recorder(task) if task.record else None
+    rec = _Recorder(task, limit) if task.record else None
     for _ in range(limit):
         act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
         pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
