@@ -15,10 +15,12 @@ do not depend on timing.
 
 Where the shaping work runs (``shaping.placement``; both give the same numbers, tested):
 
-- ``master``: the rollouts send their transitions back with the returns (~4 MiB a generation for
-  CarNav-v0); the master keeps the last ``history`` generations in memory, labels and clones the whole
-  population in one batched computation, and writes one trajectory shard per generation in a
-  background thread (joined before each checkpoint: the durable copy is what resume reads).
+- ``master``: the rollouts send their transitions back with the returns (~2 MB a generation for
+  CarNav-v0); the master keeps the last ``history`` generations in memory, labels the rows the cloning
+  draws in one batch, runs the gradient steps in chunks on the (then idle) process workers (or itself,
+  inline), and writes one trajectory shard per generation in a background thread (joined before each
+  checkpoint: the durable copy is what resume reads). Shards and M_phi's data parts are pruned once the
+  next checkpoint is on disk.
 - ``workers``: the paper's cluster picture. Each worker writes its chunk's shard to the trajectory
   store (any pyarrow URI) and, for cloning, reads its members' ``D_i`` from its own in-memory cache or
   the store; only returns and ``theta*`` travel.
@@ -31,8 +33,8 @@ from __future__ import annotations
 
 import functools
 import io
-import sys
 import re
+import sys
 import threading
 import time
 from concurrent.futures import Future, ThreadPoolExecutor
