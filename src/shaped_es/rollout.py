@@ -73,6 +73,17 @@ class RolloutResult:
     transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
 
 
+def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray,
+                     workers: int, generation: int = 0, record: bool = False,
+                     max_steps: int | None = None) -> list[RolloutTask]:
+    """A population ``params`` ``(P, n)`` on its episode seeds ``(P, E)``, as at most ``workers`` tasks of
+    consecutive members (training rollouts)."""
+    members = np.arange(params.shape[0])
+    return [RolloutTask(env_id, env_kwargs, spec, params[idx], members[idx], seeds[idx], generation=generation,
+                        record=record, max_steps=max_steps)
+            for idx in np.array_split(members, max(1, min(len(members), workers)))]
+
+
 def policy_episode_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, theta: np.ndarray,
                          seeds: np.ndarray, workers: int, generation: int = 0,
                          max_steps: int | None = None) -> list[RolloutTask]:

@@ -37,7 +37,7 @@ from shaped_es.executors import Executor, make_executor
 from shaped_es.guides import NoGuide, PastUpdateGuide
 from shaped_es.policies import MLPSpec
 from shaped_es.progress import ProgressDisplay
-from shaped_es.rollout import RolloutTask, policy_episode_tasks, probe_dims, run_task
+from shaped_es.rollout import policy_episode_tasks, population_tasks, probe_dims, run_task
 from shaped_es.store import RunStore, StoreError
 from shaped_es.strategies import make_strategy
 
@@ -211,13 +211,9 @@ class Trainer:
         return True
 
     # -- one generation ----------------------------------------------------------------------------
-    def _tasks(self, params: np.ndarray, members: np.ndarray, seeds: np.ndarray, g: int, record: bool):
-        n_tasks = max(1, min(len(members), self.executor.workers))
-        return [
-            RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, params[idx], members[idx],
-                        seeds[idx], generation=g, record=record, max_steps=self.cfg.rollout.max_steps)
-            for idx in np.array_split(np.arange(len(members)), n_tasks)
-        ]
+    def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record: bool):
+        return population_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, params, seeds,
+                                self.executor.workers, g, record, self.cfg.rollout.max_steps)
 
     def _submit_eval(self, item: _Row, theta: np.ndarray, g: int) -> None:
         """Start generation ``g``'s test episodes of ``theta`` ``(n,)`` for ``item``'s row."""
@@ -266,7 +262,7 @@ class Trainer:
         self.guide.begin_generation(g)
         fn = self.guide.rollout_fn() or run_task
         t_roll = time.perf_counter()
-        results = self.executor.map(fn, self._tasks(X, members, seeds, g, self.guide.record))
+        results = self.executor.map(fn, self._tasks(X, seeds, g, self.guide.record))
         rollout_time = time.perf_counter() - t_roll
         done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
         returns = np.concatenate([r.returns for r in results])  # (P, E) in member order

@@ -50,7 +50,7 @@ from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone, labeller, rollout_and_store
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import RolloutTask, make_env, run_task
+from shaped_es.rollout import make_env, population_tasks, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled, warm_up_cloning
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
@@ -99,11 +99,10 @@ class _Block:
     """One generation's transitions in memory: all members' rows stacked, in member order."""
 
     trs: list[Transitions]  # per member (those with steps)
-    states: np.ndarray | None  # (N, obs) float32
+    big: Transitions | None  # trs concatenated (data.concat_members); its state is (N, obs)
     queries: np.ndarray | None  # (N, d) float32 raw M_phi queries w_t - p_t (frame applied)
     members: np.ndarray  # (k,) member index of each trs entry
     offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
-    big: Transitions | None = None  # trs concatenated (data.concat_members)
 
 
 class ShapedGuide(NoGuide):
@@ -130,8 +129,7 @@ class ShapedGuide(NoGuide):
         self._thread: threading.Thread | None = None
         self._pending: dict = {}
         self._last_generation = -1  # the newest generation whose after_tell ran
-        # master placement: generation -> {member: (transitions, states, raw queries)}
-        self._cache: dict[int, _Block] = {}
+        self._cache: dict[int, _Block] = {}  # master placement: generation -> its block in memory
         self._writer = ThreadPoolExecutor(1, thread_name_prefix="shaping-writer")
         self._writes: list[Future] = []
         self._write_time = 0.0  # background write time not yet reported
@@ -167,7 +165,7 @@ class ShapedGuide(NoGuide):
         big, offsets = concat_members(trs)  # per-step work once per generation, not per member
         q = query_displacement(big, self.mphi_cfg.frame).astype(np.float32)  # (N, d) w_t - p_t
         members = np.array([t.member for t in trs], np.int64)
-        self._cache[generation] = _Block(trs, big.state, q, members, offsets, big)
+        self._cache[generation] = _Block(trs, big, q, members, offsets)
 
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""
@@ -193,7 +191,7 @@ class ShapedGuide(NoGuide):
         if not blocks:
             return MemberRows([np.zeros((0, self.spec.obs_dim), np.float32)],
                               [np.zeros((0, self.mphi.pos_dim), np.float32)], spans)
-        return MemberRows([blk.states for blk in blocks], [blk.queries for blk in blocks], spans)
+        return MemberRows([blk.big.state for blk in blocks], [blk.queries for blk in blocks], spans)
 
     def _write(self, trs: list[Transitions], stacked: Transitions | None = None) -> float:
         t0 = time.perf_counter()
@@ -280,7 +278,7 @@ class ShapedGuide(NoGuide):
         data = [t for t in self._generation(generation - 1) if len(t)]
         blk = self._cache.get(generation - 1)
         if data:  # one Transitions for the generation: per-step work once, not per member
-            data = [blk.big if blk is not None and blk.big is not None else concat_members(data)[0]]
+            data = [blk.big if blk is not None else concat_members(data)[0]]
         trained = self.mphi.iterations > 0
         stats = self.mphi.add(data)
         rows = int(stats["added"])
@@ -339,7 +337,7 @@ class ShapedGuide(NoGuide):
         t0 = time.perf_counter()
         theta_star, res, worker_cpu = self._clone(generation, params, map_tasks, n_tasks=len(results))
         out["time_cloning_s"] = time.perf_counter() - t0
-        out["clone_cpu_time_s"] = worker_cpu  # on the workers (0 when the master clones)
+        out["clone_cpu_time_s"] = worker_cpu  # on the workers (0 when the master does all of it)
         t1 = time.perf_counter()
         mean = np.asarray(strategy.mean, dtype=np.float64)
         if self.sh.surrogate == "paper":
@@ -382,13 +380,11 @@ class ShapedGuide(NoGuide):
 
     def _return_gain(self, generation, theta_star, results, map_tasks) -> dict:
         """Diagnostics: returns of theta* on the generation's own episode seeds, against theta's."""
-        P = theta_star.shape[0]
-        members = np.arange(P)
-        seeds = seeding.episode_seeds(self.cfg.seed, seeding.TRAIN, generation, members,
-                                      self.cfg.rollout.episodes, self.cfg.rollout.common_seeds)  # (P, E)
-        tasks = [RolloutTask(self.cfg.env, self.cfg.env_kwargs, self.spec, theta_star[idx], members[idx],
-                             seeds[idx], generation=generation, max_steps=self.cfg.rollout.max_steps)
-                 for idx in np.array_split(members, max(1, len(results)))]
+        c = self.cfg
+        seeds = seeding.episode_seeds(c.seed, seeding.TRAIN, generation, np.arange(theta_star.shape[0]),
+                                      c.rollout.episodes, c.rollout.common_seeds)  # (P, E): the generation's
+        tasks = population_tasks(c.env, c.env_kwargs, self.spec, theta_star, seeds, len(results), generation,
+                                 max_steps=c.rollout.max_steps)
         after = np.concatenate([r.returns for r in map_tasks(run_task, tasks)]).mean(axis=1)  # (P,)
         before = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P,)
         return {"clone_return_gain": float((after - before).mean()),
@@ -409,8 +405,7 @@ class ShapedGuide(NoGuide):
             fit = {"map_fit": map_tasks, "map_chunks": n_tasks} if self.fit_on_workers and n_tasks > 1 else {}
             res = clone_sampled(self.spec, params, data, labeller(self.mphi, max_disp), self.clone_cfg, seeds,
                                 reference_fn=self.reference, **fit)
-            return res.theta_star, res, 0.0
-        self._join_writes()
+            return res.theta_star, res, res.fit_cpu_time_s
         snap = self.mphi.state_dict(with_training=False)
         tasks = [CloneTask(self.spec, params[idx], idx, seeds[idx], gens, self.traj_root, snap,
                            self.mphi_cfg, self.clone_cfg, max_disp)

@@ -21,6 +21,7 @@ rows, not on all of ``D_i`` (a full-data MSE cost as much as the cloning itself)
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -54,6 +55,7 @@ class CloneResult:
     samples: np.ndarray  # (P,) int64, samples of D_i used
     label_std: float = float("nan")  # spread of the labels used (a collapsed M_phi gives ~0)
     reference: dict | None = None  # label quality vs a reference policy (clone_sampled, when given one)
+    fit_cpu_time_s: float = 0.0  # CPU of gradient steps run in other processes (clone_sampled's map_fit)
 
 
 def pad_population(
@@ -328,9 +330,9 @@ def clone_sampled(
     else:
         S = np.zeros((draws, P, B, spec.obs_dim), np.float32)
         A = np.zeros((draws, P, B, spec.act_dim), np.float32)
-    k_eval_rows = (S[:k_eval], A[:k_eval])
+    fit_cpu = 0.0  # CPU seconds of gradient steps run elsewhere (here: counted by the caller's process)
     if map_fit is None or P < 2:
-        theta_star, before, after, own_before, own_after = fit_rows(
+        theta_star, before, after, own_before, own_after, _ = fit_rows(
             FitTask(spec, th, S, A, has, cfg.steps, cfg.optimizer, cfg.lr, k_eval))
     else:  # chunks of members elsewhere (each member's steps are independent: the same theta*)
         chunks = [c for c in np.array_split(np.arange(P), map_chunks) if c.size]
@@ -338,8 +340,9 @@ def clone_sampled(
                                           cfg.lr, k_eval) for c in chunks])
         theta_star = np.concatenate([o[0] for o in outs])
         before, after, own_before, own_after = (np.concatenate([o[j] for o in outs]) for j in range(1, 5))
-    s_eval = k_eval_rows[0].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, obs)
-    a_eval = k_eval_rows[1].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, act)
+        fit_cpu = float(sum(o[5] for o in outs))
+    s_eval = S[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
+    a_eval = A[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, act)
     used = A[:, has].reshape(-1, spec.act_dim)  # (draws * P' * B, act)
     ref = None
     if reference_fn is not None and has.any():
@@ -350,7 +353,8 @@ def clone_sampled(
         ref = {"label_ref_error": float(d_lab.mean()), "own_ref_error": float(d_own.mean()),
                "clone_ref_error": float(d_cln.mean()), "label_beats_own": float((d_lab < d_own).mean())}
     return CloneResult(theta_star=theta_star, loss_before=before, loss_after=after, samples=n_i,
-                       label_std=float(used.std(axis=0).mean()) if used.size else 0.0, reference=ref)
+                       label_std=float(used.std(axis=0).mean()) if used.size else 0.0, reference=ref,
+                       fit_cpu_time_s=fit_cpu)
 
 
 def _label_std(labels: Sequence[np.ndarray]) -> float:
@@ -374,8 +378,10 @@ class FitTask:
 
 
 def fit_rows(task: FitTask):
-    """``(theta_star (P, n), mse_before (P,), mse_after (P,), own actions before / after (P, kB, act))``
-    of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one torch computation for all."""
+    """``(theta_star (P, n), mse_before (P,), mse_after (P,), own actions before / after (P, kB, act),
+    CPU seconds)`` of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one torch
+    computation for all."""
+    cpu0 = time.process_time()
     spec, th, has, k_eval = task.spec, np.asarray(task.theta, np.float32), np.asarray(task.has), task.k_eval
     P, B = th.shape[0], task.S.shape[2]
     S_t, A_t = torch.from_numpy(np.ascontiguousarray(task.S)), torch.from_numpy(np.ascontiguousarray(task.A))
@@ -418,4 +424,4 @@ def fit_rows(task: FitTask):
         for (ws, bs), W, b in zip(spec.slices(), leaves[0::2], leaves[1::2]):
             theta_star[:, ws] = W.numpy().reshape(P, -1)
             theta_star[:, bs] = b.numpy().reshape(P, -1)
-    return theta_star, before, after, acts[0], acts[1]
+    return theta_star, before, after, acts[0], acts[1], time.process_time() - cpu0

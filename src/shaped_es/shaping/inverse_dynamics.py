@@ -122,10 +122,9 @@ def kept_episodes(tr: Transitions, min_return: float, filter: str = "total") -> 
 
 
 def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(s_t, position_{t+1} - position_t, a_t)`` for every step with a successor in its episode."""
-    mask, nxt = tr.next_position()  # (T,), (T, d)
-    disp = to_frame(tr, nxt - tr.position, frame)  # (T, d)
-    return tr.state[mask], disp[mask], tr.action[mask]
+    """``(s_t, position_{t+1} - position_t, a_t)`` for every step with a successor in its episode (the
+    paper's pairs: :func:`target_pairs` with ``targets="one_step"``)."""
+    return target_pairs(tr, frame, "one_step")
 
 
 def query_displacement(tr: Transitions, frame: str = "world") -> np.ndarray:
