@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from shaped_es.policies import MLPSpec, forward
-from shaped_es.shaping.cloning import CloningConfig, MemberRows, clone_population, clone_sampled, pad_population
+from shaped_es.shaping.cloning import CloningConfig, clone_population, clone_sampled, pad_population
+from shaped_es.shaping.member_rows import MemberRows
 
 SPEC = MLPSpec(obs_dim=5, act_dim=2, hidden=(8, 8))
 

@@ -32,8 +32,6 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 from __future__ import annotations
 
 import functools
-import io
-import re
 import sys
 import threading
 import time
@@ -51,12 +49,13 @@ from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone, labeller, rollout_and_store
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, population_tasks, run_task
-from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled, warm_up_cloning
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
+from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
 from shaped_es.shaping.trajectories import TrajectoryStoreError, delete_generations, list_generations
 from shaped_es.shaping.trajectories import read_generation, write_shard
-from shaped_es.store import atomic_write_bytes
+from shaped_es.guides.mphi_parts import DataParts
 
 MASTER_MAX_PARAMS = 20_000_000  # P x n above which ``auto`` clones on the workers
 
@@ -133,10 +132,9 @@ class ShapedGuide(NoGuide):
         self._writer = ThreadPoolExecutor(1, thread_name_prefix="shaping-writer")
         self._writes: list[Future] = []
         self._write_time = 0.0  # background write time not yet reported
-        # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data), not in every
-        # checkpoint; a checkpoint names the parts that rebuild it. (generation, rows) of those parts:
-        self.data_dir = Path(store.root) / "mphi_data"
-        self._parts: list[tuple[int, int]] = []
+        # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data, mphi_parts.py),
+        # not in every checkpoint; a checkpoint names the parts that rebuild it
+        self.parts = DataParts(Path(store.root) / "mphi_data")
         # generations of slack for the older checkpoints kept on disk (a fallback if the newest is lost)
         self._ckpt_margin = (cfg.keep_checkpoints - 1) * cfg.checkpoint_every
         self._saved: tuple[int, int] | None = None  # (generation, oldest data part) of the last state_dict
@@ -198,26 +196,6 @@ class ShapedGuide(NoGuide):
         write_shard(self.traj_root, trs, stacked)
         return time.perf_counter() - t0
 
-    def _part_path(self, generation: int) -> Path:
-        return self.data_dir / f"added_{generation:06d}.npz"
-
-    def _write_part(self, generation: int, x: np.ndarray, y: np.ndarray) -> float:
-        t0 = time.perf_counter()
-        buf = io.BytesIO()
-        np.savez(buf, x=x, y=y)
-        atomic_write_bytes(self._part_path(generation), buf.getvalue())
-        return time.perf_counter() - t0
-
-    def _trim_parts(self) -> None:
-        """Keep (in the checkpoint's list) the newest parts that hold the data set (FIFO-capped)."""
-        need, kept = self.mphi.dataset_size, []
-        for g, rows in reversed(self._parts):
-            if need <= 0:
-                break
-            kept.insert(0, (g, rows))
-            need -= rows
-        self._parts = kept
-
     def _after_checkpoint(self) -> None:
         """Once the checkpoint taken after generation ``g`` is on disk (the next generation starts only
         then), drop the shards and data parts that neither it nor the older kept checkpoints read: a
@@ -231,31 +209,7 @@ class ShapedGuide(NoGuide):
                if x <= g + 1 - max(self.sh.history, 2) - self._ckpt_margin]
         if old:
             delete_generations(self.traj_root, old)
-        if self.data_dir.is_dir():
-            for f in self.data_dir.iterdir():
-                m = re.fullmatch(r"added_(\d{6,})\.npz", f.name)
-                if m and int(m.group(1)) < oldest_part - self._ckpt_margin:
-                    f.unlink(missing_ok=True)
-
-    def _read_parts(self, parts: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
-        xs, ys = [], []
-        for g, rows in parts.reshape(-1, 2):
-            path = self._part_path(int(g))
-            try:
-                with np.load(path, allow_pickle=False) as z:
-                    x, y = z["x"], z["y"]
-            except (OSError, KeyError, ValueError) as exc:
-                raise ValueError(f"M_phi data part {path} is missing or unreadable ({type(exc).__name__})") \
-                    from None
-            if x.shape[0] != int(rows) or y.shape[0] != int(rows):
-                raise ValueError(f"M_phi data part {path} holds {x.shape[0]} rows, the checkpoint says {rows}")
-            xs.append(x)
-            ys.append(y)
-        x = np.concatenate(xs) if xs else np.zeros((0, self.mphi.in_dim), np.float32)
-        y = np.concatenate(ys) if ys else np.zeros((0, self.mphi.act_dim), np.float32)
-        if x.shape[0] < size:
-            raise ValueError(f"M_phi data parts hold {x.shape[0]} rows, the checkpoint needs {size}")
-        return x[x.shape[0] - size :], y[y.shape[0] - size :]
+        self.parts.delete_before(oldest_part - self._ckpt_margin)
 
     def _join_writes(self) -> float:
         """Wait for the background shard writes; returns their total time (raises their errors)."""
@@ -292,8 +246,8 @@ class ShapedGuide(NoGuide):
             cnt = self.step_norm[0] + norms.size
             self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
                                                                   self.step_norm[1]) / cnt])
-            self._writes.append(self._writer.submit(self._write_part, generation, x, y))
-            self._parts.append((generation, rows))
+            self._writes.append(self._writer.submit(self.parts.write, generation, x, y))
+            self.parts.add(generation, rows)
         self._pending.update(mphi_dataset_size=stats["dataset_size"],
                              mphi_kept_fraction=stats["kept_fraction"])
         self._thread = threading.Thread(target=self._train, name="mphi-train", daemon=True)
@@ -431,11 +385,11 @@ class ShapedGuide(NoGuide):
     # -- checkpoint ---------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         self._join_writes()  # the checkpoint may only name shards and data parts that are durable
-        self._trim_parts()
-        self._saved = (self._last_generation, self._parts[0][0] if self._parts else self._last_generation + 1)
+        self.parts.trim(self.mphi.dataset_size)
+        self._saved = (self._last_generation, self.parts.oldest(default=self._last_generation + 1))
         st = {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
         st["step_norm"] = self.step_norm
-        st["mphi_parts"] = np.array(self._parts, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
+        st["mphi_parts"] = np.array(self.parts.kept, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
         return st
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -443,8 +397,8 @@ class ShapedGuide(NoGuide):
         self.mphi.load_state_dict(mphi)
         if "data/x" not in mphi and "data/size" in mphi:  # the data set lives in RUN/mphi_data
             parts = np.asarray(state["mphi_parts"], np.int64).reshape(-1, 2)
-            self.mphi.set_data(*self._read_parts(parts, int(mphi["data/size"][0])))
-            self._parts = [(int(g), int(r)) for g, r in parts]
+            self.mphi.set_data(*self.parts.read(parts, int(mphi["data/size"][0]), self.mphi.in_dim,
+                                                 self.mphi.act_dim))
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
         self._cache.clear()
 

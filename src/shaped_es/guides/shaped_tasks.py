@@ -18,7 +18,8 @@ import numpy as np
 from shaped_es.data import Transitions
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutResult, RolloutTask, run_task
-from shaped_es.shaping.cloning import CloneResult, CloningConfig, MemberRows, clone_sampled
+from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
+from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.trajectories import TrajectoryStoreError, read_members, write_shard
 
@@ -61,7 +62,7 @@ def member_data(traj_root: str, members, generations) -> dict[int, list[Transiti
         raise TrajectoryStoreError(f"trajectory generation(s) {lost} missing from {traj_root} (deleted?); "
                                    f"the shaped method needs them to continue")
     _remember(traj_root, fresh)
-    return {m: [found[(g, m)] for g in gens if (g, m) in found] for m in members}
+    return {m: [found[(g, m)] for g in gens] for m in members}
 
 
 def clip_norm(d: np.ndarray, max_norm: float | None) -> np.ndarray:
