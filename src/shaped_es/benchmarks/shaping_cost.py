@@ -50,7 +50,7 @@ class _Stepper:
         self.store = RunStore(root)
         self.store.create(cfg)
         self.trainer = Trainer(cfg, self.store, progress=False)
-        self.rows: list[dict] = []
+        self.rows: list[dict] = []  # the metrics rows completed in timed generations
         self.wall: list[float] = []
         self.checkpoint: list[float] = []
 
@@ -65,7 +65,7 @@ class _Stepper:
         if timed:
             self.wall.append(t2 - t0)
             self.checkpoint.append(t2 - t1)
-            self.rows.append(self.trainer.c.__dict__ | {"done": done})
+            self.rows.extend(done)
 
     def close(self) -> None:
         self.trainer._drain()
@@ -108,7 +108,7 @@ def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str
         finally:
             for r in runs.values():
                 r.close()
-        shaped_rows = [r for row in runs["shaped"].rows for r in row["done"]]
+        shaped_rows = runs["shaped"].rows
         van, sha = _med(runs["vanilla"].wall), _med(runs["shaped"].wall)
         phases = {k: _med(r.get(k) for r in shaped_rows) for k in PHASES}
         phases["checkpoint_s"] = _med(runs["shaped"].checkpoint)
@@ -116,8 +116,7 @@ def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str
             "env": env_id, "timed_generations": generations,
             "vanilla_generation_s": van, "shaped_generation_s": sha,
             "ratio": sha / van if van else None,
-            "vanilla_rollout_s": _med(r.get("rollout_time_s") for row in runs["vanilla"].rows
-                                      for r in row["done"]),
+            "vanilla_rollout_s": _med(r.get("rollout_time_s") for r in runs["vanilla"].rows),
             "vanilla_checkpoint_s": _med(runs["vanilla"].checkpoint),
             "shaped_phases_s": phases,
             "lower_bound_s": {"mphi": bound["mphi_s"], "label_and_clone": bound["clone_s"]},

@@ -110,7 +110,7 @@ def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon
     return tr.state[rows], disp[rows], tr.action[rows]
 
 
-def kept_episodes(tr: Transitions, min_return: float, filter: str = "total") -> tuple[np.ndarray, np.ndarray]:
+def kept_episodes(tr: Transitions, min_return: float, filter: str) -> tuple[np.ndarray, np.ndarray]:
     """``(episodes, kept)``: the episode ids of ``tr`` and those passing the filter (Sec. IV: "trajectories
     which do not have a cumulative positive reward of 5 are discarded")."""
     eps, inv = np.unique(tr.episode, return_inverse=True)
