@@ -104,7 +104,7 @@ def test_resume_drops_rows_written_after_the_checkpoint(tmp_path, monkeypatch):
 
 
 def _cli(*args, **kw):
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "src")}
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
     return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
