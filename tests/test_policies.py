@@ -1,0 +1,30 @@
+import numpy as np
+import torch
+
+from shaped_es.policies import MLPSpec, forward, forward_torch
+
+
+def test_mlp_layout_and_forward_matches_manual():
+    spec = MLPSpec(3, 2, (4,))
+    assert spec.num_params == 3 * 4 + 4 + 4 * 2 + 2
+    theta = np.arange(spec.num_params, dtype=np.float32) / 100
+    obs = np.array([[[0.1, -0.2, 0.3]]], dtype=np.float32)  # (1, 1, 3)
+    W1 = theta[:12].reshape(3, 4)
+    b1 = theta[12:16]
+    W2 = theta[16:24].reshape(4, 2)
+    b2 = theta[24:26]
+    want = np.tanh(np.tanh(obs[0, 0] @ W1 + b1) @ W2 + b2)
+    got = forward(spec, theta[None], obs)
+    np.testing.assert_allclose(got[0, 0], want, rtol=1e-6)
+
+
+def test_forward_population_and_torch_twin():
+    spec = MLPSpec(5, 3, (8, 8))
+    P = np.stack([spec.init(i) for i in range(4)]) + 0.3  # (4, n)
+    obs = np.random.default_rng(0).normal(size=(4, 6, 5)).astype(np.float32)
+    out = forward(spec, P, obs)
+    assert out.shape == (4, 6, 3) and np.abs(out).max() <= 1
+    for i in range(4):  # each member's actions depend on its own parameters only
+        np.testing.assert_allclose(forward(spec, P[i : i + 1], obs[i : i + 1])[0], out[i], rtol=1e-6)
+    t = forward_torch(spec, torch.from_numpy(P), torch.from_numpy(obs)).numpy()
+    np.testing.assert_allclose(t, out, atol=1e-5)

@@ -1,0 +1,48 @@
+import json
+
+import numpy as np
+import pytest
+
+from shaped_es.config import build_config
+from shaped_es.store import RunStore, StoreError
+
+
+def test_store_checkpoint_and_metrics(tmp_path):
+    store = RunStore(tmp_path / "run")
+    cfg = build_config({"env": "CartPole-v1"})
+    store.create(cfg)
+    with pytest.raises(StoreError, match="already holds a run"):
+        store.create(cfg)
+    assert store.read_config() == cfg
+    for g in range(4):
+        store.append_metrics({"generation": g, "x": g * 0.5})
+    store.truncate_metrics(1)
+    assert [r["generation"] for r in store.read_metrics()] == ["0", "1"]
+    with pytest.raises(StoreError):
+        store.append_metrics({"generation": 2, "x": 1, "new": 3})
+    for g in (1, 2, 3, 4):
+        store.save_checkpoint(g, {"a": np.full(3, g)}, {"k": g}, keep=2)
+    arrays, meta = store.load_checkpoint()
+    assert meta["generation"] == 4 and (arrays["a"] == 4).all()
+    assert len(list(store.ckpt_dir.glob("gen_*.npz"))) == 2
+
+
+def test_store_rejects_bad_checkpoints(tmp_path):
+    store = RunStore(tmp_path)
+    store.save_checkpoint(1, {"a": np.zeros(2)}, {}, keep=3)
+    # an object array would need pickle to load: refused
+    np.save(tmp_path / "x.npy", np.array([{"a": 1}], dtype=object), allow_pickle=True)
+    obj = store.ckpt_dir / "gen_000001.npz"
+    import io
+    import zipfile
+
+    with zipfile.ZipFile(obj, "w") as z:
+        z.write(tmp_path / "x.npy", "a.npy")
+    with pytest.raises(StoreError, match="unreadable"):
+        store.load_checkpoint()
+    (store.ckpt_dir / "gen_000001.npz").write_bytes(b"garbage")
+    with pytest.raises(StoreError, match="unreadable"):
+        store.load_checkpoint()
+    (store.ckpt_dir / "latest.json").write_text(json.dumps({"nope": 1}))
+    with pytest.raises(StoreError):
+        store.load_checkpoint()
