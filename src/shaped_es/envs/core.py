@@ -36,6 +36,7 @@ import numpy as np
 POSITION_KEY = "position"
 WAYPOINT_KEY = "waypoint"
 REWARD_TERM_PREFIX = "reward_"
+EPISODE_SEED_HIGH = 2**63 - 1  # an env reset without a seed draws its episode seed as np_random.integers(this)
 
 
 @runtime_checkable

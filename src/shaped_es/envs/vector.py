@@ -29,7 +29,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-_SEED_HIGH = 2**63 - 1  # a single env draws its episode seed as ``np_random.integers(2**63 - 1)``
+from shaped_es.envs.core import EPISODE_SEED_HIGH
 
 
 def merge_rows(state: Any, rows: np.ndarray, sub: Any) -> Any:
@@ -94,7 +94,7 @@ class BatchCoreVectorEnv(VectorEnv):
                 self._rngs[i] = seeding.np_random(int(s))[0]
                 out[j] = int(s)
             else:
-                out[j] = int(self._rngs[i].integers(_SEED_HIGH))
+                out[j] = int(self._rngs[i].integers(EPISODE_SEED_HIGH))
         return out
 
     def _merge_state(self, rows: np.ndarray, sub) -> Any:
@@ -170,3 +170,21 @@ class BatchCoreVectorEnv(VectorEnv):
 
     def close_extras(self, **kwargs):
         self._state = None
+
+
+def vector_entry_point(env_cls):
+    """``gymnasium.make_vec``'s ``vector_entry_point`` for a ``BatchCoreEnv`` subclass: ``num_envs`` copies
+    of its core, with the spaces, config keywords and frame rate of ``env_cls`` (``envs/batch_env.py``)."""
+
+    def make_vec(num_envs: int = 1, preset: str = "default", max_episode_steps: int | None = None,
+                 render_mode: str | None = None, **overrides: Any) -> BatchCoreVectorEnv:
+        config = env_cls.make_config(preset, **overrides)
+        core = env_cls.core_cls(config)
+        env = BatchCoreVectorEnv(core, *env_cls.spaces(core), num_envs=num_envs,
+                                 max_episode_steps=max_episode_steps, render_mode=render_mode,
+                                 metadata={"render_modes": [], "render_fps": env_cls.fps(config)})
+        env.config = config
+        return env
+
+    make_vec.__doc__ = f"``num_envs`` copies of ``{env_cls.__name__}``'s batched core as one ``VectorEnv``."
+    return make_vec
