@@ -31,6 +31,7 @@ import torch
 
 from shaped_es.policies import MLPSpec, forward_torch
 from shaped_es.shaping.member_rows import MemberRows
+from shaped_es.shaping.population_mlp import PopulationMLP, make_optimizer
 
 
 @dataclass(frozen=True)
@@ -311,49 +312,28 @@ class FitTask:
 
 def fit_rows(task: FitTask):
     """``(theta_star (P, n), mse_before (P,), mse_after (P,), own actions before / after (P, kB, act),
-    CPU seconds)`` of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one torch
-    computation for all."""
+    CPU seconds)`` of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one NumPy
+    computation for all (:class:`PopulationMLP`; the same steps as torch's, to float tolerance)."""
     cpu0 = time.process_time()
-    spec, th, has, k_eval = task.spec, np.asarray(task.theta, np.float32), np.asarray(task.has), task.k_eval
-    P, B = th.shape[0], task.S.shape[2]
-    S_t, A_t = torch.from_numpy(np.ascontiguousarray(task.S)), torch.from_numpy(np.ascontiguousarray(task.A))
-    # one leaf per layer, (P, in, out) and (P, 1, out): no slicing of a flat (P, n) tensor every step
-    # (the same elementwise Adam/SGD updates as on the flat vector, so the same theta*)
-    leaves = []
-    for (i_, o_), (ws, bs) in zip(spec.layer_shapes, spec.slices()):
-        leaves.append(torch.tensor(th[:, ws].reshape(P, i_, o_), requires_grad=True))  # (P, in, out)
-        leaves.append(torch.tensor(th[:, bs].reshape(P, 1, o_), requires_grad=True))  # (P, 1, out)
-    w = torch.from_numpy(has.astype(np.float32))[:, None] / B  # (P, 1)
-
-    def fwd(x: torch.Tensor) -> torch.Tensor:  # (P, b, obs) -> (P, b, act), as policies.forward
-        for W, b in zip(leaves[0::2], leaves[1::2]):
-            x = torch.tanh(torch.baddbmm(b, x, W))
-        return x
-
-    s_eval = S_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
-    a_eval = A_t[:k_eval].transpose(0, 1).reshape(P, k_eval * B, -1)  # (P, kB, act)
+    has, k_eval = np.asarray(task.has), task.k_eval
+    net = PopulationMLP(task.spec, task.theta)
+    P, B = net.flat.shape[0], task.S.shape[2]
+    weight = has.astype(np.float32)  # (P,) members without data get no gradient
+    s_eval = task.S[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
+    a_eval = task.A[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, act)
     acts: list[np.ndarray] = []  # the members' own actions on the eval rows, before and after
 
     def eval_mse() -> np.ndarray:
-        with torch.no_grad():
-            pred = fwd(s_eval)  # (P, kB, act)
-            acts.append(pred.numpy().copy())
-            mse = ((pred - a_eval) ** 2).mean((1, 2)).double().numpy()  # (P,)
+        pred = net.forward(s_eval)  # (P, kB, act)
+        acts.append(pred)
+        mse = ((pred - a_eval) ** 2).mean((1, 2), dtype=np.float64)  # (P,)
         return np.where(has, mse, np.nan)
 
     before = eval_mse()
     if task.steps > 0 and has.any():
-        opt = (torch.optim.Adam if task.optimizer == "adam" else torch.optim.SGD)(leaves, lr=task.lr)
+        opt = make_optimizer(task.optimizer, net.flat.shape, task.lr)
         for k in range(task.steps):
-            err = ((fwd(S_t[k]) - A_t[k]) ** 2).mean(-1)  # (P, B)
-            loss = (err * w).sum()  # sum_i L_i(theta_i), Eq. L(theta) per member
-            opt.zero_grad(set_to_none=True)
-            loss.backward()
-            opt.step()
+            net.mse_backward(task.S[k], task.A[k], weight)  # sum_i L_i(theta_i), Eq. L(theta) per member
+            opt.step(net.flat, net.grad)
     after = eval_mse()
-    theta_star = np.empty_like(th)  # (P, n): the layers flattened back into the policy layout
-    with torch.no_grad():
-        for (ws, bs), W, b in zip(spec.slices(), leaves[0::2], leaves[1::2]):
-            theta_star[:, ws] = W.numpy().reshape(P, -1)
-            theta_star[:, bs] = b.numpy().reshape(P, -1)
-    return theta_star, before, after, acts[0], acts[1], time.process_time() - cpu0
+    return net.flat, before, after, acts[0], acts[1], time.process_time() - cpu0

@@ -63,16 +63,16 @@ class MemberRows:
             block[:, i] = b
             local[:, i] = self.spans[i, b, 0] + pos[:, i] - (ends[i, b] - lens[i, b])
         obs, d = self.states[0].shape[1], self.queries[0].shape[1]
-        # one np.take from the stacked blocks (concatenate + take: 3x faster than per-block masks)
-        sizes = np.array([len(x) for x in self.states], np.int64)
-        first = np.concatenate([[0], np.cumsum(sizes)[:-1]])  # (nb,) first row of each block
-        rows = np.where(block >= 0, first[np.maximum(block, 0)] + local, 0).reshape(-1)  # (draws*P*B,)
-        S_all, Q_all = np.concatenate(self.states), np.concatenate(self.queries)
-        if S_all.shape[0] == 0:
-            return (np.zeros((*pos.shape, obs), np.float32), np.zeros((*pos.shape, d), np.float32))
-        S = np.take(S_all, rows, axis=0)  # (draws * P * B, obs)
-        Q = np.take(Q_all, rows, axis=0)  # (draws * P * B, d)
-        empty = (block < 0).reshape(-1)
-        if empty.any():  # members without data: zeros
-            S[empty], Q[empty] = 0.0, 0.0
+        flat_b, flat_l = block.reshape(-1), local.reshape(-1)  # (draws*P*B,)
+        S = np.zeros((flat_b.size, obs), np.float32)  # (draws * P * B, obs); no data: zeros
+        Q = np.zeros((flat_b.size, d), np.float32)  # (draws * P * B, d)
+        # per block: one np.take of its drawn rows, scattered into place (no concatenation of the
+        # blocks, which copied every generation's whole data set for each gather)
+        order = np.argsort(flat_b, kind="stable")  # draws grouped by block
+        cuts = np.searchsorted(flat_b[order], np.arange(-1, len(self.states) + 1))  # (nb + 2,)
+        for b in range(len(self.states)):
+            sel = order[cuts[b + 1] : cuts[b + 2]]  # the draws that fall in block b
+            if sel.size:
+                S[sel] = np.take(self.states[b], flat_l[sel], axis=0)
+                Q[sel] = np.take(self.queries[b], flat_l[sel], axis=0)
         return S.reshape(*pos.shape, obs), Q.reshape(*pos.shape, d)
