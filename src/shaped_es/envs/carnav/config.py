@@ -18,8 +18,10 @@ laptop learns to follow the road. Every field can be overridden through ``gymnas
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass
 from typing import Any
+
+from shaped_es.envs.presets import preset_config
 
 KMH = 1.0 / 3.6  # km/h -> m/s
 
@@ -155,11 +157,4 @@ PRESETS: dict[str, CarNavConfig] = {
 
 def make_config(preset: str = "default", **overrides: Any) -> CarNavConfig:
     """A preset with ``overrides`` applied (lists become tuples); one-line ``ValueError`` on bad input."""
-    if preset not in PRESETS:
-        raise ValueError(f"CarNav-v0: unknown preset {preset!r}; choose one of {sorted(PRESETS)}")
-    names = {f.name for f in fields(CarNavConfig)}
-    unknown = sorted(set(overrides) - names)
-    if unknown:
-        raise ValueError(f"CarNav-v0: unknown option(s) {unknown}; valid: {sorted(names)}")
-    clean = {k: tuple(v) if isinstance(v, list) else v for k, v in overrides.items()}
-    return replace(PRESETS[preset], **clean).validate()
+    return preset_config("CarNav-v0", PRESETS, preset, overrides)

@@ -14,8 +14,10 @@ where ~5% of its paths hit the arm). Every field can be overridden through ``gym
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass
 from typing import Any
+
+from shaped_es.envs.presets import preset_config
 
 HALF_PI = math.pi / 2
 
@@ -104,11 +106,4 @@ PRESETS: dict[str, UR5Config] = {
 
 def make_config(preset: str = "default", **overrides: Any) -> UR5Config:
     """A preset with ``overrides`` applied (lists become tuples); one-line ``ValueError`` on bad input."""
-    if preset not in PRESETS:
-        raise ValueError(f"UR5Reach-v0: unknown preset {preset!r}; choose one of {sorted(PRESETS)}")
-    names = {f.name for f in fields(UR5Config)}
-    unknown = sorted(set(overrides) - names)
-    if unknown:
-        raise ValueError(f"UR5Reach-v0: unknown option(s) {unknown}; valid: {sorted(names)}")
-    clean = {k: tuple(v) if isinstance(v, list) else v for k, v in overrides.items()}
-    return replace(PRESETS[preset], **clean).validate()
+    return preset_config("UR5Reach-v0", PRESETS, preset, overrides)
