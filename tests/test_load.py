@@ -9,7 +9,7 @@ import torch
 
 from shaped_es import load_policy, seeding
 from shaped_es.cli import main
-from shaped_es.evaluate import EVAL_STREAM, evaluate_run
+from shaped_es.evaluate import evaluate_run
 
 EPISODES, SEED = 3, 12345
 COMMON = ["--generations", "2", "--executor", "inline", "--pairs", "2", "--set", "rollout.episodes=1",
@@ -53,7 +53,7 @@ def _returns_with(policy, seeds):
 def test_load_policy_returns_what_evaluate_reports(runs, name, which):
     policy = load_policy(runs[name], which=which)
     assert policy.generation == 2 and policy.which == which
-    seeds = seeding.episode_seeds(SEED, EVAL_STREAM, 0, np.zeros(1), EPISODES)[0]  # evaluate's seeds
+    seeds = seeding.episode_seeds(SEED, seeding.EVAL, 0, np.zeros(1), EPISODES)[0]  # evaluate's seeds
     ours = _returns_with(policy, seeds)
     ev = evaluate_run(runs[name], episodes=EPISODES, which=which, seed=SEED, executor="inline")
     assert ev["reward_mean"] == pytest.approx(ours.mean(), rel=1e-6, abs=1e-6)

@@ -46,20 +46,6 @@ def _user_errors() -> tuple[type[BaseException], ...]:
     return tuple(errs)
 
 
-def _parse_set(items: list[str]) -> dict:
-    import yaml
-
-    from shaped_es.config import ConfigError
-
-    out = {}
-    for item in items or []:
-        if "=" not in item:
-            raise ConfigError(f"--set expects KEY=VALUE, got {item!r}")
-        k, v = item.split("=", 1)
-        out[k.strip()] = yaml.safe_load(v)
-    return out
-
-
 def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
     """``--pairs`` / ``--popsize`` as ``es.pairs`` (population = 2 x pairs, antithetic)."""
     from shaped_es.config import ConfigError
@@ -75,7 +61,7 @@ def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
 
 
 def cmd_train(a: argparse.Namespace) -> int:
-    from shaped_es.config import build_config, merge, read_yaml
+    from shaped_es.config import build_config, merge, parse_set, read_yaml
     from shaped_es.preflight import check_run
     from shaped_es.store import RunStore
 
@@ -86,7 +72,7 @@ def cmd_train(a: argparse.Namespace) -> int:
     overrides.update(_pairs_override(a.pairs, a.popsize))
     if a.preset is not None:
         overrides["env_kwargs.preset"] = a.preset
-    overrides.update(_parse_set(a.set))
+    overrides.update(parse_set(a.set))
     cfg = build_config(merge(data, overrides))
     store = RunStore(a.out)
     if store.exists() or (store.root.exists() and not store.root.is_dir()):
@@ -126,7 +112,7 @@ def cmd_resume(a: argparse.Namespace) -> int:
 def _fitting_checkpoint(cfg, store):
     """The run's newest checkpoint, checked to come from this run's config (``StoreError`` if not)."""
     from shaped_es.store import StoreError
-    from shaped_es.trainer import config_digest
+    from shaped_es.run_meta import config_digest
 
     loaded = store.load_checkpoint()
     if loaded is not None:
@@ -195,10 +181,11 @@ def cmd_bench_executors(a: argparse.Namespace) -> int:
 
 def cmd_bench_shaping(a: argparse.Namespace) -> int:
     from shaped_es.benchmarks.shaping_cost import bench_shaping, format_table
+    from shaped_es.config import parse_set
 
     envs = tuple(e.strip() for e in a.envs.split(",") if e.strip())
     res = bench_shaping(envs, generations=a.generations, warmup=a.warmup, executor=a.executor,
-                        workers=a.workers, overrides=_parse_set(a.set))
+                        workers=a.workers, overrides=parse_set(a.set))
     print(json.dumps(res) if a.json else format_table(res))
     return 0
 

@@ -6,11 +6,8 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import make_executor
-from shaped_es.rollout import policy_episode_tasks, run_task
+from shaped_es.rollout import policy_episode_tasks, policy_spec, run_task
 from shaped_es.store import RunStore, StoreError
-from shaped_es.trainer import policy_spec
-
-EVAL_STREAM = 99
 
 
 def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 12345,
@@ -20,7 +17,7 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
     store = RunStore(run_dir)
     cfg = store.read_config()
     arrays, meta = store.require_checkpoint()
-    seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)  # (1, E)
+    seeds = seeding.episode_seeds(seed, seeding.EVAL, 0, np.zeros(1), episodes)  # (1, E)
     if cfg.method == "ppo":  # one process, as PPO trains (SB3 policy, deterministic actions)
         from shaped_es.baselines.ppo import load_policy
         from shaped_es.baselines.ppo_state import DeterministicEpisodes

@@ -18,8 +18,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.evaluate import EVAL_STREAM
-from shaped_es.rollout import EnvSpecError, _to_env_action, make_env
+from shaped_es.rollout import EnvSpecError, _to_env_action, make_env, policy_spec
 from shaped_es.store import RunStore, StoreError
 
 
@@ -33,7 +32,6 @@ def policy_fn(store: RunStore, which: str = "best"):
         policy = load_policy(cfg, arrays, which)
         return lambda obs: policy.predict(obs[None], deterministic=True)[0][0]
     from shaped_es.policies import forward
-    from shaped_es.trainer import policy_spec
 
     key = f"policy/{which}"
     if key not in arrays:
@@ -106,7 +104,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
     act = policy_fn(store, which)
     env = _rgb_env(cfg.env, cfg.env_kwargs)
     cap = max_steps or cfg.rollout.max_steps
-    seeds = seeding.episode_seeds(seed, EVAL_STREAM, 0, np.zeros(1), episodes)[0]  # (E,)
+    seeds = seeding.episode_seeds(seed, seeding.EVAL, 0, np.zeros(1), episodes)[0]  # (E,)
     frames, returns = [], []
     try:
         for s in seeds:

@@ -135,6 +135,12 @@ def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
         env.close()
 
 
+def policy_spec(cfg) -> MLPSpec:
+    """The MLP of a run config ``cfg`` (a ``config.RunConfig``) on its env: dims probed, ``policy.hidden``."""
+    obs_dim, act_dim = probe_dims(cfg.env, cfg.env_kwargs)
+    return MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+
+
 def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:
     key = _env_key(env_id, env_kwargs)
     envs = _ENV_CACHE.setdefault(key, [])

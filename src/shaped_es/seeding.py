@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 TRAIN, TEST, STRATEGY, SHAPING, INIT = 1, 2, 3, 4, 5
+EVAL = 99  # ``evaluate`` / ``render`` episodes of a saved policy: outside every training and test stream
 
 
 def derive_seed(root: int, *keys: int) -> int:

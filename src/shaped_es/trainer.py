@@ -22,7 +22,6 @@ metrics rows written after it, and continues, giving the rows an uninterrupted r
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import math
 import time
 from concurrent.futures import Future
@@ -37,7 +36,8 @@ from shaped_es.executors import Executor, make_executor
 from shaped_es.guides import NoGuide, PastUpdateGuide
 from shaped_es.policies import MLPSpec
 from shaped_es.progress import ProgressDisplay
-from shaped_es.rollout import policy_episode_tasks, population_tasks, probe_dims, run_task
+from shaped_es.rollout import policy_episode_tasks, policy_spec, population_tasks, run_task
+from shaped_es.run_meta import Counters, config_digest
 from shaped_es.store import RunStore, StoreError
 from shaped_es.strategies import make_strategy
 
@@ -46,11 +46,6 @@ class DivergedError(RuntimeError):
 
 
 TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
-
-
-def policy_spec(cfg: RunConfig) -> MLPSpec:
-    obs_dim, act_dim = probe_dims(cfg.env, cfg.env_kwargs)
-    return MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
 
 
 def build_strategy(cfg: RunConfig, x0: np.ndarray):
@@ -77,24 +72,6 @@ def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore):
 
         return ShapedGuide(cfg, spec, store)
     return NoGuide()
-
-
-def config_digest(cfg: RunConfig) -> str:
-    """Hash of the fields that determine results (not where or how the run executes)."""
-    d = cfg.model_dump(mode="json")
-    for k in ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
-              "eval_overlap", "eval_workers", "checkpoint_every", "keep_checkpoints", "tensorboard"):
-        d.pop(k, None)
-    return hashlib.sha256(repr(sorted(d.items())).encode()).hexdigest()[:16]
-
-
-@dataclass
-class Counters:
-    generation: int = 0  # generations completed
-    env_steps: int = 0
-    cpu_time_s: float = 0.0
-    wall_time_s: float = 0.0
-    best_test_reward: float = -math.inf
 
 
 @dataclass
@@ -385,4 +362,4 @@ def _executor_options(cfg: RunConfig) -> dict:
     return {k: v for k, v in opts.items() if v is not None or k == "task_timeout_s"}
 
 
-__all__ = ["Trainer", "policy_spec", "dump_config"]
+__all__ = ["Trainer", "dump_config"]

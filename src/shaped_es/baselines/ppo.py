@@ -46,8 +46,8 @@ from shaped_es.config import RunConfig
 from shaped_es.envs.core import get_batch_core
 from shaped_es.progress import ProgressDisplay
 from shaped_es.rollout import env_dims, make_env
+from shaped_es.run_meta import Counters, config_digest
 from shaped_es.store import RunStore, StoreError
-from shaped_es.trainer import Counters, config_digest
 
 
 def _train_env(cfg: RunConfig):

@@ -62,8 +62,7 @@ def _check_threshold(threshold: float | None) -> None:
 
 def cmd_benchmark(a: argparse.Namespace) -> int:
     from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
-    from shaped_es.cli import _parse_set
-    from shaped_es.config import ConfigError, RunConfig, read_yaml
+    from shaped_es.config import ConfigError, RunConfig, parse_set, read_yaml
 
     if a.seeds <= 0 or a.first_seed < 0:
         raise ConfigError("--seeds must be positive and --first-seed non-negative")
@@ -72,7 +71,7 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
                                    "address": a.address}.items() if v is not None}
     if a.preset is not None:
         overrides["env_kwargs.preset"] = a.preset
-    overrides.update(_parse_set(a.set))
+    overrides.update(parse_set(a.set))
     generations = a.generations if a.generations is not None else base.get(
         "generations", RunConfig.model_fields["generations"].default)
     _check_threshold(a.threshold)
@@ -80,7 +79,7 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     for text in a.variant:
         label, _, rest = text.partition("=")
         method, *sets = [x.strip() for x in rest.split(",")] if rest else [""]
-        variants[label.strip()] = {"method": method, **_parse_set([x for x in sets if x])}
+        variants[label.strip()] = {"method": method, **parse_set([x for x in sets if x])}
     spec = BenchmarkSpec(
         env=a.env, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),
         seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=int(generations), base=base,

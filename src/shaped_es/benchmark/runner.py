@@ -180,7 +180,7 @@ def _relevant(cfg: RunConfig) -> dict:
 
 def method_digest(cfg: RunConfig) -> str:
     """Hash of the settings that determine this run's results given its method."""
-    from shaped_es.trainer import config_digest
+    from shaped_es.run_meta import config_digest
 
     return f"{cfg.method}:{config_digest(build_config(_relevant(cfg)))}"
 
