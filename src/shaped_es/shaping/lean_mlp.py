@@ -72,18 +72,27 @@ class LeanMLP:
 class FlatAdam:
     """Adam (Kingma & Ba; PyTorch's defaults and bias correction) on one flat float32 buffer."""
 
-    def __init__(self, size: int, lr: float, betas=(0.9, 0.999), eps: float = 1e-8):
+    def __init__(self, size, lr: float, betas=(0.9, 0.999), eps: float = 1e-8):
         self.lr, (self.b1, self.b2), self.eps = lr, betas, eps
-        self.m = np.zeros(size, np.float32)  # (n,) first moment
-        self.v = np.zeros(size, np.float32)  # (n,) second moment
+        self.m = np.zeros(size, np.float32)  # (n,) or (P, n): first moment
+        self.v = np.zeros(size, np.float32)  # second moment
+        self._tmp = np.zeros(size, np.float32)  # scratch: one step allocates nothing
         self.t = 0
 
     def step(self, params: np.ndarray, grad: np.ndarray) -> None:
+        """One Adam step in place, as ``torch.optim.Adam``: ``p -= lr/bc1 * m / (sqrt(v)/sqrt(bc2) + eps)``."""
         self.t += 1
-        self.m *= self.b1
-        self.m += (1.0 - self.b1) * grad
-        self.v *= self.b2
-        self.v += (1.0 - self.b2) * grad * grad
-        c1 = self.lr / (1.0 - self.b1**self.t)
-        denom = np.sqrt(self.v) / np.sqrt(1.0 - self.b2**self.t) + self.eps
-        params -= (c1 * self.m / denom).astype(np.float32)
+        m, v, tmp = self.m, self.v, self._tmp
+        m *= self.b1
+        np.multiply(grad, 1.0 - self.b1, out=tmp)
+        m += tmp  # m = b1 m + (1 - b1) g
+        v *= self.b2
+        np.multiply(grad, grad, out=tmp)
+        tmp *= 1.0 - self.b2
+        v += tmp  # v = b2 v + (1 - b2) g^2
+        np.sqrt(v, out=tmp)
+        tmp /= np.sqrt(1.0 - self.b2**self.t)
+        tmp += self.eps  # denominator
+        np.divide(m, tmp, out=tmp)
+        tmp *= self.lr / (1.0 - self.b1**self.t)
+        params -= tmp
