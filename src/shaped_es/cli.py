@@ -124,15 +124,11 @@ def _fitting_checkpoint(cfg, store):
 
 
 def _run(cfg, store, a) -> int:
+    from shaped_es.methods import METHODS, resolve
+
     if cfg.method == "ppo":
-        from shaped_es.baselines.ppo import train_ppo
-
         store.recover(loaded=_fitting_checkpoint(cfg, store))  # the ES trainer does this in restore
-        train_ppo(cfg, store, progress=not a.quiet)
-    else:
-        from shaped_es.trainer import Trainer
-
-        Trainer(cfg, store, progress=not a.quiet).run()
+    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet)
     from shaped_es.report import plot_runs
 
     fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)
@@ -228,7 +224,8 @@ def _config_default(dotted: str):
 
 def build_parser() -> argparse.ArgumentParser:
     from shaped_es import __version__
-    from shaped_es.config import EXECUTORS, METHODS
+    from shaped_es.executors import EXECUTORS
+    from shaped_es.methods import METHODS
 
     d = _config_default
     p = argparse.ArgumentParser(prog="shaped-es", description="Shaped policy search with evolution strategies")
@@ -243,7 +240,7 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Start a run in a new directory" + cfg_note + ".")
     t.add_argument("--env", help=f"Gymnasium id, e.g. Pendulum-v1, CarNav-v0 or mypkg.envs:MyEnv-v0 "
                    f"(default: {d('env')})")
-    t.add_argument("--method", choices=METHODS, help=f"(default: {d('method')})")
+    t.add_argument("--method", choices=tuple(METHODS), help=f"(default: {d('method')})")
     t.add_argument("--generations", type=int, help=f"generations to run (default: {d('generations')})")
     t.add_argument("--seed", type=int, help=f"root seed (default: {d('seed')})")
     t.add_argument("--pairs", type=int, help=f"antithetic pairs, population = 2 x pairs "
@@ -251,7 +248,7 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--popsize", type=int, help=f"population size, even: sets --pairs to half of it "
                    f"(default: {2 * d('es.pairs')})")
     t.add_argument("--out", required=True, help="run directory (must not hold a run yet)")
-    t.add_argument("--executor", choices=EXECUTORS, help=f"(default: {d('executor')})")
+    t.add_argument("--executor", choices=tuple(EXECUTORS), help=f"(default: {d('executor')})")
     t.add_argument("--workers", type=int, help="worker count (default: all cores)")
     t.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster (default: a private "
                    "local Ray)")
@@ -266,7 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("run_dir")
     r.add_argument("--generations", type=int,
                    help="extend the run to this many generations (default: the run's config)")
-    r.add_argument("--executor", choices=EXECUTORS, help="(default: the run's config)")
+    r.add_argument("--executor", choices=tuple(EXECUTORS), help="(default: the run's config)")
     r.add_argument("--workers", type=int, help="(default: the run's config)")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(fn=cmd_resume)

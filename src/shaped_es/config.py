@@ -13,8 +13,8 @@ from typing import Annotated, Any, Literal
 import yaml
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, Strict, ValidationError, model_validator
 
-METHODS = ("vanilla", "guided", "cmaes", "shaped", "ppo")
-EXECUTORS = ("inline", "process", "ray", "mpi")
+from shaped_es.executors import EXECUTORS
+from shaped_es.methods import METHODS
 
 
 class ConfigError(ValueError):
@@ -150,10 +150,10 @@ class PPOConfig(_Strict):
 class RunConfig(_Strict):
     env: str = Field("Pendulum-v1", description="Gymnasium id; 'module:Env-v0' imports module first")
     env_kwargs: dict[str, Any] = Field(default_factory=dict, description="keyword args for gym.make")
-    method: Literal["vanilla", "guided", "cmaes", "shaped", "ppo"] = "vanilla"
+    method: Literal[tuple(METHODS)] = Field("vanilla", description="a name in methods.METHODS")
     generations: Int = Field(50, gt=0, description="generations to run (ES); PPO maps it to env steps")
     seed: Int = Field(0, ge=0, lt=SEED_LIMIT, description="root seed (below 2**32); every member/episode seed derives from it")
-    executor: Literal["inline", "process", "ray", "mpi"] = "process"
+    executor: Literal[tuple(EXECUTORS)] = Field("process", description="a name in executors.EXECUTORS")
     workers: Int | None = Field(None, gt=0, description="worker count (None: all cores)")
     address: str | None = Field(None, description="ray: 'auto' or HOST:PORT; None starts a local Ray")
     task_timeout_s: Float | None = Field(None, gt=0, description="a task running longer is retried")

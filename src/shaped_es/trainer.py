@@ -33,13 +33,13 @@ from threadpoolctl import threadpool_limits
 from shaped_es import seeding
 from shaped_es.config import RunConfig, dump_config
 from shaped_es.executors import Executor, make_executor
-from shaped_es.guides import NoGuide, PastUpdateGuide
+from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.progress import ProgressDisplay
 from shaped_es.rollout import policy_episode_tasks, policy_spec, population_tasks, run_task
 from shaped_es.run_meta import Counters, config_digest
 from shaped_es.store import RunStore, StoreError
-from shaped_es.strategies import make_strategy
+from shaped_es.strategies import Strategy
 
 class DivergedError(RuntimeError):
     """The search went non-finite (inf/NaN mean or state); the run stops, its last good checkpoint kept."""
@@ -48,30 +48,24 @@ class DivergedError(RuntimeError):
 TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
 
 
-def build_strategy(cfg: RunConfig, x0: np.ndarray):
-    es, seed = cfg.es, seeding.derive_seed(cfg.seed, seeding.STRATEGY)
-    if cfg.method == "cmaes":
-        return make_strategy(
-            "cmaes", x0, sigma=es.sigma, pairs=es.pairs, seed=seed, weight_decay=es.cmaes_weight_decay,
-            mu=es.cmaes_mu, diagonal_above=es.cmaes_diagonal_above,
-        )
-    common = dict(
-        sigma=es.sigma, lr=es.lr, pairs=es.pairs, seed=seed, fitness_shaping=es.fitness_shaping,
-        optimizer=es.optimizer, momentum=es.momentum, weight_decay=es.weight_decay,
-    )
-    if cfg.method == "vanilla":
-        return make_strategy("vanilla", x0, **common)
-    return make_strategy("guided", x0, alpha=es.alpha, **common)
+def build_strategy(cfg: RunConfig, x0: np.ndarray) -> Strategy:
+    """The strategy of ``cfg.method`` (its entry in :data:`methods.METHODS`) at ``x0`` ``(n,)``."""
+    method = METHODS[cfg.method]
+    if method.strategy is None:
+        raise ValueError(f"method {cfg.method!r} is not an ES method (it has its own run loop)")
+    seed = seeding.derive_seed(cfg.seed, seeding.STRATEGY)
+    return resolve(method.strategy)(x0, **method.strategy_args(cfg, seed))
 
 
 def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore):
-    if cfg.method == "guided":
-        return PastUpdateGuide(k=cfg.es.guided_k)
-    if cfg.method == "shaped":
-        from shaped_es.guides.shaped import ShapedGuide
+    """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`)."""
+    method = METHODS[cfg.method]
+    return resolve(method.guide)(**method.guide_args(cfg, spec, store))
 
-        return ShapedGuide(cfg, spec, store)
-    return NoGuide()
+
+def train(cfg: RunConfig, store: RunStore, progress: bool = True) -> list[dict]:
+    """Train (or resume) an ES run into ``store``; returns the metrics rows written (``Trainer.run``)."""
+    return Trainer(cfg, store, progress=progress).run()
 
 
 @dataclass

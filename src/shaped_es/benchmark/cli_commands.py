@@ -17,7 +17,7 @@ FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
 # -- benchmark -------------------------------------------------------------------------------------------
 def add_benchmark_parser(sub) -> argparse.ArgumentParser:
-    from shaped_es.config import EXECUTORS
+    from shaped_es.executors import EXECUTORS
 
     b = sub.add_parser("benchmark", help="run every (method, seed), then write summary.json and report.md")
     b.add_argument("--env", required=True, help="Gymnasium id, e.g. CarNav-v0 or Pendulum-v1")
@@ -34,7 +34,7 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     b.add_argument("--preset", help="env preset (built-in envs: default, paper)")
     b.add_argument("--config", help="YAML config applied to every run (flags override it)")
     b.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a field, e.g. es.sigma=0.1")
-    b.add_argument("--executor", choices=EXECUTORS)
+    b.add_argument("--executor", choices=tuple(EXECUTORS))
     b.add_argument("--workers", type=int)
     b.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster")
     b.add_argument("--sparse-waypoints", action="store_true",

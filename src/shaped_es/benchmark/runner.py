@@ -34,7 +34,8 @@ from pathlib import Path
 
 import yaml
 
-from shaped_es.config import METHODS, ConfigError, RunConfig, build_config, dump_config, merge
+from shaped_es.config import ConfigError, RunConfig, build_config, dump_config, merge
+from shaped_es.methods import METHODS, resolve
 from shaped_es.store import RunStore, StoreError, atomic_write_text
 
 SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
@@ -152,29 +153,16 @@ EXECUTION_FIELDS = ("generations", "executor", "workers", "address", "task_timeo
                     "eval_overlap", "eval_workers", "checkpoint_every", "keep_checkpoints", "tensorboard")
 # ``es`` fields a method never reads (trainer.build_strategy / build_guide, ppo_settings.horizon);
 # anything not listed here counts, so a new field is compared until it is known to be irrelevant.
-_UNUSED_ES = {
-    "vanilla": ("alpha", "guided_k", "cmaes_mu", "cmaes_weight_decay", "cmaes_diagonal_above"),
-    "guided": ("cmaes_mu", "cmaes_weight_decay", "cmaes_diagonal_above"),
-    "shaped": ("guided_k", "cmaes_mu", "cmaes_weight_decay", "cmaes_diagonal_above"),
-    "cmaes": ("lr", "optimizer", "momentum", "weight_decay", "fitness_shaping", "alpha", "guided_k"),
-}
-
-
 def _relevant(cfg: RunConfig) -> dict:
-    """The config as JSON with the sections and ``es`` fields ``cfg.method`` never reads reset to their
-    defaults (``ppo`` reads only ``es.pairs``, for its env-step budget)."""
+    """The config as JSON with the sections and ``es`` fields ``cfg.method`` never reads (``Method.reads``)
+    reset to their defaults (``ppo`` reads only ``es.pairs``, for its env-step budget)."""
     d = cfg.model_dump(mode="json")
     defaults = RunConfig().model_dump(mode="json")
-    if cfg.method != "ppo":
-        d["ppo"] = defaults["ppo"]
-    if cfg.method != "shaped":
-        d["shaping"] = defaults["shaping"]
-    unused = _UNUSED_ES.get(cfg.method)
-    if unused is None:  # ppo
-        unused = tuple(k for k in d["es"] if k != "pairs")
-    for k in unused:
-        if k in d["es"] and k in defaults["es"]:
-            d["es"][k] = defaults["es"][k]
+    reads = METHODS[cfg.method].reads
+    for section in ("es", "shaping", "ppo"):
+        if section not in reads:
+            d[section] = {k: (v if f"{section}.{k}" in reads else defaults[section][k])
+                          for k, v in d[section].items()}
     return d
 
 
@@ -237,14 +225,7 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
         store.create(cfg)
         status = "new"
     with store.lock():  # held for the whole run (PPO included), not only around each write
-        if cfg.method == "ppo":
-            from shaped_es.baselines.ppo import train_ppo
-
-            train_ppo(cfg, store, progress=progress)
-        else:
-            from shaped_es.trainer import Trainer
-
-            Trainer(cfg, store, progress=progress).run()
+        resolve(METHODS[cfg.method].train)(cfg, store, progress=progress)
     return status
 
 

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from shaped_es.config import RunConfig
+from shaped_es.methods import METHODS
 from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement
 from shaped_es.report.plots import load_metrics
 from shaped_es.report.stats import t_interval
@@ -228,8 +229,8 @@ def non_defaults(cfg: RunConfig) -> str:
     """``key=value`` of the fields that differ from the defaults in the sections ``cfg.method`` reads
     (what a benchmark ``--variant`` changed), besides the columns above."""
     shown = {"es.pairs", "es.sigma", "es.alpha", "shaping.eta", "rollout.episodes", "rollout.test_episodes"}
-    sections = ["es", "rollout", "policy"] + (["shaping"] if cfg.method == "shaped" else []) + (
-        ["ppo"] if cfg.method == "ppo" else [])
+    reads = METHODS[cfg.method].reads
+    sections = ["es", "rollout", "policy"] + [s for s in ("shaping", "ppo") if s in reads]
     mine, base = cfg.model_dump(mode="json"), RunConfig().model_dump(mode="json")
 
     def flat(d, prefix):

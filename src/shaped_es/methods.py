@@ -1,0 +1,84 @@
+"""The one registry of training methods: what ``method:`` in a run config may name, and how each is built.
+
+A method is a search strategy plus a guide (the per-generation hook that may shape its next ask) run by
+the ES trainer, or a method with its own run loop (PPO). The run config's ``method`` field, the CLI's
+``--method`` choices, the benchmark's method names and the trainer's builders all read :data:`METHODS`;
+adding a method is its file (a strategy in ``strategies/``, a guide in ``guides/``, or its own run loop)
+plus one entry here.
+
+The parts are named by import path (``"module:attr"``, as Gymnasium's entry points) and imported on first
+use (:func:`resolve`), so this table sits at the foot of the tree (the config reads it) while the parts
+live in the layers above it. The ``*_args`` functions say which config fields each part reads.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+
+def _no_args(*_) -> dict[str, Any]:
+    return {}
+
+
+@dataclass(frozen=True)
+class Method:
+    """How one method is built; see the module docstring."""
+
+    # "module:attr" of ``train(cfg, store, progress=True) -> metrics rows``: trains or resumes a run.
+    train: str = "shaped_es.trainer:train"
+    # ES methods: "module:attr" of the strategy class, built as ``cls(x0, **strategy_args(cfg, seed))``.
+    strategy: str | None = None
+    strategy_args: Callable[[Any, int], dict[str, Any]] = _no_args
+    # ES methods: "module:attr" of the guide class, built as ``cls(**guide_args(cfg, spec, store))``.
+    guide: str = "shaped_es.guides:NoGuide"
+    guide_args: Callable[[Any, Any, Any], dict[str, Any]] = _no_args
+    # The fields of the method-specific sections (``es``, ``shaping``, ``ppo``) it reads: "es.sigma" is a
+    # field, "shaping" a whole section. The benchmark compares and reports runs by them.
+    reads: tuple[str, ...] = ()
+
+
+def _es_args(cfg, seed: int) -> dict[str, Any]:
+    """Vanilla-ES keywords (also Guided ES's, with ``alpha``)."""
+    es = cfg.es
+    return dict(sigma=es.sigma, lr=es.lr, pairs=es.pairs, seed=seed, fitness_shaping=es.fitness_shaping,
+                optimizer=es.optimizer, momentum=es.momentum, weight_decay=es.weight_decay)
+
+
+def _guided_args(cfg, seed: int) -> dict[str, Any]:
+    return dict(alpha=cfg.es.alpha, **_es_args(cfg, seed))
+
+
+def _cmaes_args(cfg, seed: int) -> dict[str, Any]:
+    es = cfg.es
+    return dict(sigma=es.sigma, pairs=es.pairs, seed=seed, weight_decay=es.cmaes_weight_decay,
+                mu=es.cmaes_mu, diagonal_above=es.cmaes_diagonal_above)
+
+
+VANILLA_ES = "shaped_es.strategies.vanilla:VanillaES"
+GUIDED_ES = "shaped_es.strategies.guided:GuidedES"
+ES_READS = ("es.pairs", "es.sigma", "es.lr", "es.optimizer", "es.momentum", "es.weight_decay",
+            "es.fitness_shaping")  # what _es_args reads
+
+METHODS: dict[str, Method] = {
+    "vanilla": Method(strategy=VANILLA_ES, strategy_args=_es_args, reads=ES_READS),
+    "guided": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides:PastUpdateGuide",
+                     guide_args=lambda cfg, spec, store: {"k": cfg.es.guided_k},
+                     reads=ES_READS + ("es.alpha", "es.guided_k")),
+    "cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
+                    reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
+                           "es.cmaes_diagonal_above")),
+    "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
+                     guide_args=lambda cfg, spec, store: {"cfg": cfg, "spec": spec, "store": store},
+                     reads=ES_READS + ("es.alpha", "shaping")),
+    # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget
+    "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo")),
+}
+
+
+def resolve(path: str) -> Any:
+    """The object a ``"module:attr"`` path names (its module imported on first use)."""
+    module, _, attr = path.partition(":")
+    return getattr(importlib.import_module(module), attr)
