@@ -91,6 +91,9 @@ class InverseDynamicsSettings(_Strict):
         "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "
         "distance |w_t - p_t| (matched)")
     horizon: Int = Field(8, ge=1, le=1000, description="hindsight/matched: at most this many steps ahead")
+    query_scale: Literal["raw", "own_step"] = Field(
+        "raw", description="label queries: w_t - p_t (paper), or its direction at the length of the step the "
+        "agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the heading)")
     filter: Literal["total", "positive", "none"] = Field(
         "positive", description="which return min_return tests: its positive (waypoint) part, as the "
         "paper words it ('a cumulative positive reward of 5'; measured best, docs/shaped-results.md), the "

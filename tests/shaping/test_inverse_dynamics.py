@@ -178,3 +178,21 @@ def test_return_filters():
     assert m.add([tr])["added"] == 0
     m = InverseDynamics(3, 2, 2, InverseDynamicsConfig(min_return=5.0, filter="positive", targets="matched"))
     assert m.add([tr])["added"] == 18
+
+
+def test_own_step_queries_point_at_the_waypoint_at_the_agents_pace(make_transitions):
+    tr = make_transitions(np.random.default_rng(3), episodes=2, steps=6, B=B)
+    raw = query_displacement(tr)
+    q = query_displacement(tr, scale="own_step")
+    step = np.linalg.norm(np.diff(tr.position, axis=0), axis=1)  # (T-1,) |p_{t+1} - p_t|
+    want = np.empty(len(tr))
+    for t in range(len(tr)):
+        last = t + 1 == len(tr) or tr.episode[t + 1] != tr.episode[t]
+        want[t] = step[t - 1] if last else step[t]  # an episode's last step: the step into it
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), want, rtol=1e-5)
+    cos = (q * raw).sum(1) / (np.linalg.norm(q, axis=1) * np.linalg.norm(raw, axis=1))
+    np.testing.assert_allclose(cos, 1.0, atol=1e-5)  # the raw query's direction
+    with pytest.raises(ValueError, match="query scale must be one of"):
+        query_displacement(tr, scale="far")
+    with pytest.raises(ValueError, match="query_scale must be one of"):
+        InverseDynamicsConfig(query_scale="far")

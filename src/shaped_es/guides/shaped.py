@@ -118,6 +118,7 @@ class ShapedGuide(NoGuide):
             hidden=tuple(mp.hidden), lr=mp.lr, batch_size=mp.batch_size,
             steps_per_generation=mp.steps_per_generation, min_return=mp.min_return,
             max_dataset=mp.max_dataset, frame=frame, targets=mp.targets, horizon=mp.horizon,
+            query_scale=mp.query_scale,
             filter=mp.filter, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
         )
         c = self.sh.cloning
@@ -161,7 +162,7 @@ class ShapedGuide(NoGuide):
             self._cache[generation] = _Block([], None, None, np.zeros(0, np.int64), np.zeros(1, np.int64))
             return
         big, offsets = concat_members(trs)  # per-step work once per generation, not per member
-        q = query_displacement(big, self.mphi_cfg.frame).astype(np.float32)  # (N, d) w_t - p_t
+        q = query_displacement(big, self.mphi_cfg.frame, self.mphi_cfg.query_scale)  # (N, d) M_phi's queries
         members = np.array([t.member for t in trs], np.int64)
         self._cache[generation] = _Block(trs, big, q, members, offsets)
 

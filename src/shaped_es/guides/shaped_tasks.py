@@ -73,13 +73,13 @@ def clip_norm(d: np.ndarray, max_norm: float | None) -> np.ndarray:
     return d * np.minimum(1.0, max_norm / np.maximum(n, 1e-12))
 
 
-def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int,
-                       pos_dim: int) -> tuple[np.ndarray, np.ndarray]:
-    """One member's ``D_i`` as states ``(T, obs)`` and raw M_phi queries ``w_t - p_t`` ``(T, d)``."""
+def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_dim: int,
+                       scale: str = "raw") -> tuple[np.ndarray, np.ndarray]:
+    """One member's ``D_i`` as states ``(T, obs)`` and M_phi's queries ``(T, d)`` (before any clip)."""
     if not hist:
         return np.zeros((0, obs_dim), np.float32), np.zeros((0, pos_dim), np.float32)
     s = np.concatenate([h.state for h in hist])
-    q = np.concatenate([query_displacement(h, frame) for h in hist])
+    q = np.concatenate([query_displacement(h, frame, scale) for h in hist])
     return s, q.astype(np.float32)
 
 
@@ -116,7 +116,8 @@ def label_and_clone(task: CloneTask) -> CloneOutput:
     t_cpu = time.process_time()
     mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
     data = member_data(task.traj_root, task.members, task.generations)
-    sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim)
+    sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
+                             task.mphi_config.query_scale)
           for m in task.members]
     rows = MemberRows.from_lists([s for s, _ in sq], [q for _, q in sq])
     res = clone_sampled(task.spec, task.theta, rows, labeller(mphi, task.max_displacement), task.cloning,

@@ -45,6 +45,7 @@ class InverseDynamicsConfig:
     targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
     horizon: int = 8  # hindsight/matched: at most this many steps ahead
     filter: str = "positive"  # which return min_return tests: positive (paper) | total | none
+    query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
     seed: int = 0  # seeds weight init and minibatch sampling
 
     def __post_init__(self):
@@ -54,6 +55,8 @@ class InverseDynamicsConfig:
             raise ValueError("lr, batch_size, max_dataset and clip_input must be positive")
         if self.frame not in FRAMES:
             raise ValueError(f"frame must be one of {FRAMES}, got {self.frame!r}")
+        if self.query_scale not in QUERY_SCALES:
+            raise ValueError(f"query_scale must be one of {QUERY_SCALES}, got {self.query_scale!r}")
         if self.targets not in TARGETS or self.filter not in FILTERS or self.horizon < 1:
             raise ValueError(f"targets must be one of {TARGETS}, filter one of {FILTERS}, horizon >= 1; got "
                              f"{self.targets!r}, {self.filter!r}, {self.horizon}")
@@ -62,6 +65,7 @@ class InverseDynamicsConfig:
 TARGETS = ("one_step", "hindsight", "matched")
 LABEL_CHUNK = 4096  # rows per forward pass when labelling
 FILTERS = ("total", "positive", "none")
+QUERY_SCALES = ("raw", "own_step")
 
 
 def episode_end(tr: Transitions) -> np.ndarray:
@@ -127,9 +131,28 @@ def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, n
     return target_pairs(tr, frame, "one_step")
 
 
-def query_displacement(tr: Transitions, frame: str = "world") -> np.ndarray:
-    """``waypoint_t - position_t`` ``(T, d)``: the displacement M_phi is asked to produce."""
-    return to_frame(tr, (tr.waypoint - tr.position).astype(np.float32), frame)
+def query_displacement(tr: Transitions, frame: str = "world", scale: str = "raw") -> np.ndarray:
+    """The displacement ``(T, d)`` M_phi is asked to produce from ``s_t``.
+
+    - ``raw`` (paper): ``waypoint_t - position_t``;
+    - ``own_step``: its direction, at the length of the step the agent actually took from ``s_t``
+      (``|position_{t+1} - position_t|``; an episode's last step takes the one before it): "head for the
+      waypoint at the pace you go", a query inside the one-step training data by construction, whose label
+      corrects the heading and keeps the member's own pace.
+    """
+    q = to_frame(tr, (tr.waypoint - tr.position).astype(np.float32), frame)  # (T, d)
+    if scale == "raw" or len(tr) == 0:
+        return q
+    if scale != "own_step":
+        raise ValueError(f"query scale must be one of {QUERY_SCALES}, got {scale!r}")
+    end, idx = episode_end(tr), np.arange(len(tr))
+    nxt = np.minimum(idx + 1, end)  # (T,) the successor in the episode (itself on the last step)
+    first = np.append(True, ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1)))
+    step = np.linalg.norm(tr.position[nxt] - tr.position, axis=1)  # (T,) |p_{t+1} - p_t|
+    last = (nxt == idx) & ~first  # an episode's last step: the step into it
+    step[last] = step[idx[last] - 1]
+    n = np.linalg.norm(q, axis=1)  # (T,)
+    return (q * (step / np.maximum(n, 1e-12))[:, None]).astype(np.float32)  # (T, d)
 
 
 class RunningNorm:
@@ -272,7 +295,7 @@ class InverseDynamics:
 
     def label_transitions(self, tr: Transitions) -> np.ndarray:
         """Labels ``(T, act)`` for every step of ``tr``: ``M_phi(s_t, waypoint_t - position_t)``."""
-        return self.label(tr.state, query_displacement(tr, self.config.frame))
+        return self.label(tr.state, query_displacement(tr, self.config.frame, self.config.query_scale))
 
     def test_loss(self, states: np.ndarray, displacement: np.ndarray, reference_actions: np.ndarray) -> float:
         """Mean Euclidean distance between labels and reference actions (paper, Fig. 5 test loss)."""
