@@ -7,12 +7,14 @@ import sys
 import gymnasium as gym
 import numpy as np
 import pytest
+from helpers import train
 from PIL import Image
 
+from shaped_es.baselines.ppo_settings import PPOSettings
 from shaped_es.benchmark.cli_commands import add_render_parser
 from shaped_es.config import build_config
 from shaped_es.rollout import EnvSpecError
-from shaped_es.store import RunStore, StoreError
+from shaped_es.store import StoreError
 
 
 class DotEnv(gym.Env):
@@ -63,18 +65,7 @@ def _run(tmp_path, env, method="vanilla", **over):
     cfg = build_config({"env": env, "method": method, "generations": 1, "seed": 0, "executor": "inline",
                         "es": {"pairs": 2}, "policy": {"hidden": [4]}, "tensorboard": False,
                         "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40}, **over})
-    store = RunStore(tmp_path / f"{method}_{env}")
-    store.create(cfg)
-    if method == "ppo":
-        from shaped_es.baselines.ppo import train_ppo
-        from shaped_es.baselines.ppo_settings import PPOSettings
-
-        train_ppo(cfg, store, progress=False, settings=PPOSettings(n_steps=64, batch_size=32, n_epochs=1))
-    else:
-        from shaped_es.trainer import Trainer
-
-        Trainer(cfg, store, progress=False).run()
-    return store.root
+    return train(tmp_path / f"{method}_{env}", cfg, ppo=PPOSettings(n_steps=64, batch_size=32, n_epochs=1)).root
 
 
 def _cli(*argv):

@@ -5,10 +5,10 @@ import math
 from types import SimpleNamespace
 
 import pytest
+from helpers import train
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
 from shaped_es.config import build_config
-from shaped_es.store import RunStore
 from shaped_es.tblog import tb_tag
 from shaped_es.trainer import Trainer
 
@@ -44,9 +44,7 @@ def test_trainer_events_grouped_at_env_steps(tmp_path):
     base = {"env": "CartPole-v1", "method": "vanilla", "seed": 0, "executor": "inline",
             "es": {"pairs": 2}, "policy": {"hidden": [4]}, "tensorboard": True,
             "rollout": {"episodes": 1, "test_episodes": 1, "max_steps": 30}}
-    store = RunStore(tmp_path / "run")
-    store.create(build_config({**base, "generations": 2}))
-    Trainer(build_config({**base, "generations": 2}), store, progress=False).run()
+    store = train(tmp_path / "run", {**base, "generations": 2})
     Trainer(build_config({**base, "generations": 3}), store, progress=False).run()  # resumed
 
     metrics = store.read_metrics()

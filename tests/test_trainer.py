@@ -1,18 +1,10 @@
 """Tiny end-to-end runs on CartPole-v1: learning, executor independence, kill-and-resume."""
 
-import os
-import signal
-import subprocess
-import sys
-import time
-from pathlib import Path
-
-import numpy as np
 import pytest
 
-from shaped_es.config import build_config
+from helpers import kill_after_rows, new_run, popen_cli, run_until_crash, strip_time, train
 from shaped_es.store import RunStore
-from shaped_es.trainer import TIME_COLUMNS, Trainer
+from shaped_es.trainer import Trainer
 
 TINY = {
     "env": "CartPole-v1",
@@ -26,15 +18,7 @@ TINY = {
 
 
 def _train(tmp_path, name, **over):
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / name)
-    store.create(cfg)
-    Trainer(cfg, store, progress=False).run()
-    return store.read_metrics()
-
-
-def _strip(rows):
-    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS} for r in rows]
+    return train(tmp_path / name, {**TINY, **over}).read_metrics()
 
 
 @pytest.mark.parametrize("method", ["vanilla", "guided", "cmaes"])
@@ -50,39 +34,23 @@ def test_tiny_train_improves(tmp_path, method):
 def test_inline_equals_process(tmp_path):
     a = _train(tmp_path, "inline", executor="inline", method="guided")
     b = _train(tmp_path, "proc", executor="process", workers=2, method="guided")
-    assert _strip(a) == _strip(b)
+    assert strip_time(a) == strip_time(b)
 
 
 def test_overlapped_and_separate_evaluation_equal_blocking(tmp_path):
     blocking = _train(tmp_path, "blocking", executor="process", workers=2, eval_overlap=False)
     overlap = _train(tmp_path, "overlap", executor="process", workers=2)
     separate = _train(tmp_path, "separate", executor="process", workers=1, eval_workers=1)
-    assert _strip(overlap) == _strip(blocking) == _strip(separate)
+    assert strip_time(overlap) == strip_time(blocking) == strip_time(separate)
     assert all(r["test_reward_mean"] != "" for r in overlap)
-
-
-class _Crash(Exception):
-    pass
 
 
 def _crash_and_resume(tmp_path, monkeypatch, crash_at: int, **over):
     """Run until ``step(crash_at)`` raises; returns (full run's rows, rows the crash left, rows after resume)."""
     full = _train(tmp_path, "full", **over)
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / "crashed")
-    store.create(cfg)
-    step = Trainer.step
-
-    def crashing(self, g):
-        if g == crash_at:
-            raise _Crash
-        return step(self, g)
-
-    monkeypatch.setattr(Trainer, "step", crashing)
-    with pytest.raises(_Crash):
-        Trainer(cfg, store, progress=False).run()
+    cfg, store = new_run(tmp_path / "crashed", {**TINY, **over})
+    run_until_crash(monkeypatch, cfg, store, crash_at)
     left = [int(r["generation"]) for r in store.read_metrics()]
-    monkeypatch.setattr(Trainer, "step", step)
     Trainer(cfg, store, progress=False).run()
     return full, left, store.read_metrics()
 
@@ -92,7 +60,7 @@ def test_resume_resubmits_test_episodes_in_flight_at_the_checkpoint(tmp_path, mo
     full, left, resumed = _crash_and_resume(tmp_path, monkeypatch, 4, executor="inline", generations=8,
                                             checkpoint_every=2)
     assert left == [0, 1, 2], left  # row 3 waited for its test episodes when the run died
-    assert _strip(resumed) == _strip(full)
+    assert strip_time(resumed) == strip_time(full)
 
 
 def test_resume_drops_rows_written_after_the_checkpoint(tmp_path, monkeypatch):
@@ -100,13 +68,7 @@ def test_resume_drops_rows_written_after_the_checkpoint(tmp_path, monkeypatch):
     full, left, resumed = _crash_and_resume(tmp_path, monkeypatch, 5, executor="inline", generations=8,
                                             checkpoint_every=3)
     assert left == [0, 1, 2, 3]
-    assert _strip(resumed) == _strip(full)
-
-
-def _cli(*args, **kw):
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1] / "src")}
-    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+    assert strip_time(resumed) == strip_time(full)
 
 
 def test_kill_and_resume_gives_identical_rows(tmp_path):
@@ -114,27 +76,19 @@ def test_kill_and_resume_gives_identical_rows(tmp_path):
     import yaml
 
     cfg.write_text(yaml.safe_dump({**TINY, "generations": 14, "executor": "inline"}))
-    full = _cli("train", "--config", str(cfg), "--out", str(tmp_path / "full"), "--quiet")
+    full = popen_cli("train", "--config", str(cfg), "--out", str(tmp_path / "full"), "--quiet")
     assert full.wait(timeout=300) == 0, full.stderr.read()
 
     run = tmp_path / "killed"
-    p = _cli("train", "--config", str(cfg), "--out", str(run), "--quiet")
-    deadline = time.time() + 120
-    while time.time() < deadline:
-        m = run / "metrics.csv"
-        if m.is_file() and len(m.read_text().splitlines()) >= 5:  # header + >= 4 rows
-            break
-        time.sleep(0.02)
-    p.send_signal(signal.SIGKILL)
-    p.wait()
-    n_before = len((run / "metrics.csv").read_text().splitlines()) - 1
+    p = popen_cli("train", "--config", str(cfg), "--out", str(run), "--quiet")
+    n_before = kill_after_rows(p, run, 4, poll=0.02)
     assert 0 < n_before < 14, "the kill must land mid-run"
-    r = _cli("resume", str(run), "--quiet")
+    r = popen_cli("resume", str(run), "--quiet")
     assert r.wait(timeout=300) == 0, r.stderr.read()
     a = RunStore(tmp_path / "full").read_metrics()
     b = RunStore(run).read_metrics()
     assert len(b) == 14
-    assert _strip(a) == _strip(b)
+    assert strip_time(a) == strip_time(b)
 
 
 @pytest.mark.parametrize(
@@ -151,7 +105,7 @@ def test_kill_and_resume_gives_identical_rows(tmp_path):
     ],
 )
 def test_cli_bad_input_one_line_exit_2(tmp_path, args, needle):
-    p = _cli(*[a.format(tmp=tmp_path) for a in args])
+    p = popen_cli(*[a.format(tmp=tmp_path) for a in args])
     out, err = p.communicate(timeout=120)
     assert p.returncode == 2, err
     lines = [l for l in err.splitlines() if l.strip()]
@@ -160,12 +114,12 @@ def test_cli_bad_input_one_line_exit_2(tmp_path, args, needle):
 
 
 def test_cli_existing_run_refused_and_untouched(tmp_path):
-    p = _cli("train", "--env", "CartPole-v1", "--generations", "1", "--executor", "inline",
+    p = popen_cli("train", "--env", "CartPole-v1", "--generations", "1", "--executor", "inline",
              "--set", "es.pairs=2", "--set", "rollout.test_episodes=1", "--out", str(tmp_path / "r"),
              "--quiet")
     assert p.wait(timeout=120) == 0, p.stderr.read()
     before = (tmp_path / "r" / "metrics.csv").read_bytes()
-    q = _cli("train", "--env", "CartPole-v1", "--out", str(tmp_path / "r"))
+    q = popen_cli("train", "--env", "CartPole-v1", "--out", str(tmp_path / "r"))
     _, err = q.communicate(timeout=60)
     assert q.returncode == 2 and "already holds a run" in err
     assert (tmp_path / "r" / "metrics.csv").read_bytes() == before

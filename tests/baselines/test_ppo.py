@@ -6,10 +6,10 @@ import zipfile
 import numpy as np
 import pytest
 
+from helpers import train
 from shaped_es import seeding
 from shaped_es.baselines.ppo_settings import PPOSettings, iterations_per_generation, ppo_settings
 from shaped_es.config import ConfigError, build_config
-from shaped_es.store import RunStore
 
 TINY = {"env": "CartPole-v1", "seed": 1, "generations": 2, "es": {"pairs": 4}, "policy": {"hidden": [8]},
         "rollout": {"episodes": 2, "test_episodes": 3, "max_steps": 60}, "tensorboard": False,
@@ -19,17 +19,7 @@ FAST = PPOSettings(n_steps=240, n_envs=2, batch_size=120, n_epochs=2)  # 2 itera
 
 def _run(tmp_path, name, method, **over):
     cfg = build_config({**TINY, "method": method, **over})
-    store = RunStore(tmp_path / name)
-    store.create(cfg)
-    if method == "ppo":
-        from shaped_es.baselines.ppo import train_ppo
-
-        train_ppo(cfg, store, progress=False, settings=FAST)
-    else:
-        from shaped_es.trainer import Trainer
-
-        Trainer(cfg, store, progress=False).run()
-    return cfg, store
+    return cfg, train(tmp_path / name, cfg, ppo=FAST)
 
 
 def test_iterations_per_generation_match_the_es_budget():

@@ -16,14 +16,12 @@ from executor_faults import (  # noqa: E402
     square,
     square_on_node,
 )
+from helpers import strip_time, train  # noqa: E402
 from loopback_check import listening_addresses, non_loopback  # noqa: E402
 from ray.cluster_utils import Cluster  # noqa: E402
 
-from shaped_es.config import build_config  # noqa: E402
 from shaped_es.executors import ExecutorError, make_executor  # noqa: E402
 from shaped_es.executors.ray_executor import LOOPBACK, RayExecutor  # noqa: E402
-from shaped_es.store import RunStore  # noqa: E402
-from shaped_es.trainer import TIME_COLUMNS, Trainer  # noqa: E402
 
 TASKS = list(range(6))
 EXPECTED = [x * x for x in TASKS]
@@ -121,11 +119,7 @@ def test_task_exception_propagates_and_already_initialized_is_refused(connect):
 
 
 def _train(tmp_path, name, runner=None, **over):
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / name)
-    store.create(cfg)
-    Trainer(cfg, store, executor=runner, progress=False).run()
-    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS} for r in store.read_metrics()]
+    return strip_time(train(tmp_path / name, {**TINY, **over}, executor=runner).read_metrics())
 
 
 def test_training_on_ray_equals_process_even_when_a_worker_dies(cluster, driver, tmp_path):

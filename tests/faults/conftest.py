@@ -14,7 +14,6 @@ import yaml
 
 HERE = Path(__file__).resolve().parent
 SRC = HERE.parents[1] / "src"
-TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
 
 # Tiny runs (seconds each): CartPole for the ES baselines and PPO, fault_envs:Reach-v0 for shaped.
 BASE = {"env": "CartPole-v1", "executor": "inline", "generations": 6, "seed": 3, "es": {"pairs": 4},
@@ -59,10 +58,6 @@ def popen_cli(*args, prefix=None, **kw) -> subprocess.Popen:
 def write_config(path: Path, cfg: dict) -> Path:
     path.write_text(yaml.safe_dump(cfg))
     return path
-
-
-def strip(rows: list[dict]) -> list[dict]:
-    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")} for r in rows]
 
 
 def snapshot(root: Path) -> dict[str, str]:

@@ -9,13 +9,11 @@ import time
 
 import numpy as np
 import pytest
-from conftest import config, popen_cli, strip, write_config
+from conftest import config, popen_cli, write_config
+from helpers import strip_time, train
 
 from shaped_es import seeding
 from shaped_es.cli import main
-from shaped_es.config import build_config
-from shaped_es.store import RunStore
-from shaped_es.trainer import Trainer
 
 FAULTY = "fault_envs:Faulty-v0"
 
@@ -26,11 +24,7 @@ def _test_seeds(cfg: dict, g: int) -> list[int]:
 
 
 def _train(root, cfg: dict) -> list[dict]:
-    c = build_config(cfg)
-    store = RunStore(root)
-    store.create(c)
-    Trainer(c, store, progress=False).run()
-    return store.read_metrics()
+    return train(root, cfg).read_metrics()
 
 
 def _cfg(**over) -> dict:
@@ -51,7 +45,7 @@ def test_test_episodes_survive_hangs_and_dead_workers(tmp_path, faults_path, fau
     t0 = time.perf_counter()
     rows = _train(tmp_path / "faulty", {**cfg, "env_kwargs": kwargs})
     assert marker.exists(), "the fault must have fired"
-    assert strip(rows) == strip(ref)
+    assert strip_time(rows) == strip_time(ref)
     assert time.perf_counter() - t0 < 200
 
 
@@ -63,7 +57,7 @@ def test_hung_training_episode_is_cut_off(tmp_path, faults_path):
     marker = tmp_path / "marker"
     rows = _train(tmp_path / "faulty", {**cfg, "env_kwargs": {"fault": "hang", "seeds": seeds,
                                                               "marker": str(marker)}})
-    assert marker.exists() and strip(rows) == strip(ref)
+    assert marker.exists() and strip_time(rows) == strip_time(ref)
 
 
 def test_inline_executor_says_task_timeout_cannot_apply(tmp_path, capsys):

@@ -13,7 +13,8 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import HERE, config, leftovers, run_cli, strip, write_config
+from conftest import HERE, config, leftovers, run_cli, write_config
+from helpers import strip_time
 from killer import POINTS
 
 from shaped_es.store import RunStore
@@ -61,7 +62,7 @@ def test_finished_run_without_latest_json_resumes_to_nothing_new(tmp_path, tmp_p
     (run / "checkpoints" / "latest.json").unlink()
     res = run_cli("resume", run, "--quiet")
     assert res.returncode == 0, res.stderr
-    assert strip(RunStore(run).read_metrics()) == strip(ref)  # 6 rows, not 12
+    assert strip_time(RunStore(run).read_metrics()) == strip_time(ref)  # 6 rows, not 12
     after = {p.name: p.read_bytes() for p in (run / "checkpoints").iterdir() if p.name != "latest.json"}
     assert after == before  # no checkpoint overwritten
     assert json.loads((run / "checkpoints" / "latest.json").read_text())["name"] == "gen_000006"
@@ -83,9 +84,9 @@ def _kill_resume_compare(method, point, gen, tmp_path, tmp_path_factory):
     newest = store.checkpoints()[-1]
     assert newest == 6 and json.loads((run / "checkpoints" / "latest.json").read_text())["name"] == "gen_000006"
     if method == "ppo":  # exact up to the checkpoint it resumed from (gen GEN-1 or GEN)
-        assert strip(rows)[: gen - 1] == strip(ref)[: gen - 1]
+        assert strip_time(rows)[: gen - 1] == strip_time(ref)[: gen - 1]
     else:
-        assert strip(rows) == strip(ref)
+        assert strip_time(rows) == strip_time(ref)
 
 
 @pytest.mark.slow
@@ -107,4 +108,4 @@ def test_resume_with_a_deleted_trajectory_shard_is_loud(what, tmp_path, tmp_path
     if res.returncode == 2:  # a loud, one-line error: fine
         assert len(res.stderr.strip().splitlines()) == 1 and "traject" in res.stderr
     else:  # or the same rows as if nothing had been deleted
-        assert strip(RunStore(run).read_metrics()) == strip(ref)
+        assert strip_time(RunStore(run).read_metrics()) == strip_time(ref)

@@ -4,9 +4,10 @@ both placements of the shaping work give the same run."""
 import numpy as np
 import pytest
 
+from helpers import kill_after_rows, new_run, popen_cli, run_until_crash, strip_time, train
 from shaped_es.config import ConfigError, build_config
 from shaped_es.store import RunStore
-from shaped_es.trainer import TIME_COLUMNS, Trainer
+from shaped_es.trainer import Trainer
 
 TINY = {
     "env": "UR5Reach-v0",
@@ -23,11 +24,7 @@ TINY = {
 
 
 def _run(tmp_path, name, **over):
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / name)
-    store.create(cfg)
-    Trainer(cfg, store, progress=False).run()
-    return store
+    return train(tmp_path / name, {**TINY, **over})
 
 
 def _rewards(rows):
@@ -51,9 +48,7 @@ def test_shaped_changes_search_and_resumes_exactly(tmp_path):
     part = _run(tmp_path, "part", method="shaped", generations=2)
     cfg = build_config({**TINY, "method": "shaped", "generations": 4})
     Trainer(cfg, part, progress=False).run()
-    strip = lambda rows: [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")}
-                          for r in rows]
-    assert strip(part.read_metrics()) == strip(full.read_metrics())
+    assert strip_time(part.read_metrics()) == strip_time(full.read_metrics())
     arrays, _ = full.load_checkpoint()
     assert "guide/mphi/data/x" not in arrays and (full.root / "mphi_data").is_dir()  # data set saved once
 
@@ -78,15 +73,9 @@ def test_trajectories_on_a_uri_root_give_the_same_run(tmp_path):
 
 
 def test_shaped_needs_the_waypoint_contract(tmp_path):
-    cfg = build_config({**TINY, "env": "CartPole-v1", "method": "shaped"})
-    store = RunStore(tmp_path / "cp")
-    store.create(cfg)
+    cfg, store = new_run(tmp_path / "cp", {**TINY, "env": "CartPole-v1", "method": "shaped"})
     with pytest.raises(ConfigError, match="info\\['position'\\]"):
         Trainer(cfg, store, progress=False)
-
-
-def _strip(rows):
-    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")} for r in rows]
 
 
 def _close(a, b, rel=1e-4):
@@ -110,7 +99,7 @@ def test_master_and_worker_placement_give_the_same_run(tmp_path, monkeypatch, wo
     sh = TINY["shaping"]
     master = _run(tmp_path, "master", method="shaped", shaping={**sh, "placement": "master"})
     workers = _run(tmp_path, "workers", method="shaped", shaping={**sh, "placement": "workers"})
-    a, b = _strip(master.read_metrics()), _strip(workers.read_metrics())
+    a, b = strip_time(master.read_metrics()), strip_time(workers.read_metrics())
     assert float(a[-1]["mphi_iterations"]) > 0 and int(a[-1]["surrogate_rank"]) > 0
     _close(a, b)
     assert sorted(p.name for p in (master.root / "trajectories" / "gen_000003").iterdir()) == [
@@ -125,25 +114,10 @@ def test_resume_between_sparse_checkpoints_is_exact(tmp_path, monkeypatch):
     over = dict(method="shaped", generations=6, checkpoint_every=3,
                 shaping={**TINY["shaping"], "history": 3})
     full = _run(tmp_path, "full", **over)
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / "crashed")
-    store.create(cfg)
-    step = Trainer.step
-
-    class Crash(Exception):
-        pass
-
-    def crashing(self, g):
-        if g == 4:
-            raise Crash
-        return step(self, g)
-
-    monkeypatch.setattr(Trainer, "step", crashing)
-    with pytest.raises(Crash):
-        Trainer(cfg, store, progress=False).run()
-    monkeypatch.setattr(Trainer, "step", step)
+    cfg, store = new_run(tmp_path / "crashed", {**TINY, **over})
+    run_until_crash(monkeypatch, cfg, store, 4)
     Trainer(cfg, store, progress=False).run()
-    assert _strip(store.read_metrics()) == _strip(full.read_metrics())
+    assert strip_time(store.read_metrics()) == strip_time(full.read_metrics())
 
 
 @pytest.mark.parametrize("placement", ["master", "workers"])
@@ -154,9 +128,7 @@ def test_a_crash_while_shards_are_written_resumes_exactly(tmp_path, monkeypatch,
 
     over = dict(method="shaped", generations=5, shaping={**TINY["shaping"], "placement": placement})
     full = _run(tmp_path, "full", **over)
-    cfg = build_config({**TINY, **over})
-    store = RunStore(tmp_path / "crashed")
-    store.create(cfg)
+    cfg, store = new_run(tmp_path / "crashed", {**TINY, **over})
     module = shaped if placement == "master" else shaped_tasks
     write = module.write_shard
 
@@ -172,7 +144,7 @@ def test_a_crash_while_shards_are_written_resumes_exactly(tmp_path, monkeypatch,
     assert arrays_meta is not None and arrays_meta[1]["generation"] == 2  # the checkpoint after g=1
     monkeypatch.setattr(module, "write_shard", write)
     Trainer(cfg, store, progress=False).run()
-    assert _strip(store.read_metrics()) == _strip(full.read_metrics())
+    assert strip_time(store.read_metrics()) == strip_time(full.read_metrics())
 
 
 def test_reference_metrics_and_return_diagnostics_are_logged(tmp_path):
@@ -202,43 +174,26 @@ def test_gradient_steps_on_process_workers_equal_inline(tmp_path):
     inline = _run(tmp_path, "inline", method="shaped").read_metrics()
     proc = _run(tmp_path, "proc", method="shaped", executor="process", workers=2).read_metrics()
     assert float(proc[-1]["mphi_iterations"]) > 0
-    _close(_strip(inline), _strip(proc))
+    _close(strip_time(inline), strip_time(proc))
 
 
 def test_sigkill_mid_run_and_resume_gives_identical_rows(tmp_path):
     """A real SIGKILL of a shaped run (wherever it lands: rollouts, the background shard write, the
     cloning, a checkpoint), then ``resume``: the same rows as an uninterrupted run."""
-    import os
-    import signal
-    import subprocess
-    import sys
-    import time
-    from pathlib import Path
-
     import yaml
 
     cfg = tmp_path / "tiny.yaml"
     cfg.write_text(yaml.safe_dump({**TINY, "method": "shaped", "generations": 12}))
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[2] / "src")}
 
     def cli(*args):
-        return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args, "--quiet"], env=env,
-                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        return popen_cli(*args, "--quiet")
 
     full = cli("train", "--config", str(cfg), "--out", str(tmp_path / "full"))
     assert full.wait(timeout=300) == 0, full.stderr.read()
     run = tmp_path / "killed"
     p = cli("train", "--config", str(cfg), "--out", str(run))
-    deadline = time.time() + 120
-    while time.time() < deadline:
-        m = run / "metrics.csv"
-        if m.is_file() and len(m.read_text().splitlines()) >= 6:
-            break
-        time.sleep(0.01)
-    p.send_signal(signal.SIGKILL)
-    p.wait()
-    done = len((run / "metrics.csv").read_text().splitlines()) - 1
+    done = kill_after_rows(p, run, 5)
     assert 0 < done < 12, "the kill must land mid-run"
     r = cli("resume", str(run))
     assert r.wait(timeout=300) == 0, r.stderr.read()
-    assert _strip(RunStore(run).read_metrics()) == _strip(RunStore(tmp_path / "full").read_metrics())
+    assert strip_time(RunStore(run).read_metrics()) == strip_time(RunStore(tmp_path / "full").read_metrics())

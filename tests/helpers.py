@@ -1,0 +1,87 @@
+"""Helpers shared by the test folders: ``from helpers import ...`` (``tests/conftest.py`` puts ``tests/`` on
+``sys.path``, pytest's default import mode). Runs in this process or as a killable command line, and metrics
+without their clock columns."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from shaped_es.config import RunConfig, build_config
+from shaped_es.store import RunStore
+from shaped_es.trainer import TIME_COLUMNS, Trainer
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+
+# --- runs ------------------------------------------------------------------------------------------------
+
+
+def new_run(root, cfg: dict | RunConfig) -> tuple[RunConfig, RunStore]:
+    """A run directory at ``root`` holding ``cfg`` (a dict is built first); nothing trained yet."""
+    cfg = build_config(cfg) if isinstance(cfg, dict) else cfg
+    store = RunStore(root)
+    store.create(cfg)
+    return cfg, store
+
+
+def train(root, cfg: dict | RunConfig, *, executor=None, ppo=None) -> RunStore:
+    """Create the run at ``root`` and train it to the end in this process, quietly; its store. PPO runs
+    take ``ppo`` (PPOSettings), the ES methods ``executor`` (None: the one the config names)."""
+    cfg, store = new_run(root, cfg)
+    if cfg.method == "ppo":
+        from shaped_es.baselines.ppo import train_ppo
+
+        train_ppo(cfg, store, progress=False, settings=ppo)
+    else:
+        Trainer(cfg, store, executor=executor, progress=False).run()
+    return store
+
+
+class Crash(Exception):
+    """Raised by :func:`run_until_crash` in place of a generation's step."""
+
+
+def run_until_crash(monkeypatch, cfg: RunConfig, store: RunStore, crash_at: int) -> None:
+    """Train until ``Trainer.step(crash_at)`` raises :class:`Crash`; the real step is back afterwards."""
+    step = Trainer.step
+
+    def crashing(self, g):
+        if g == crash_at:
+            raise Crash
+        return step(self, g)
+
+    monkeypatch.setattr(Trainer, "step", crashing)
+    with pytest.raises(Crash):
+        Trainer(cfg, store, progress=False).run()
+    monkeypatch.setattr(Trainer, "step", step)
+
+
+def strip_time(rows: list[dict]) -> list[dict]:
+    """Metrics rows without the columns that measure time (they differ between equal runs)."""
+    return [{k: v for k, v in r.items() if k not in TIME_COLUMNS and not k.startswith("time_")} for r in rows]
+
+
+def popen_cli(*args, **kw) -> subprocess.Popen:
+    """``python -m shaped_es.cli *args`` as a child process (so that it can be SIGKILLed), text pipes."""
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+
+
+def kill_after_rows(proc: subprocess.Popen, run: Path, rows: int, poll: float = 0.01) -> int:
+    """SIGKILL ``proc`` once ``run/metrics.csv`` holds ``rows`` rows (or after 120 s); the rows it holds."""
+    deadline = time.time() + 120
+    while time.time() < deadline:
+        m = run / "metrics.csv"
+        if m.is_file() and len(m.read_text().splitlines()) >= rows + 1:  # the header + rows
+            break
+        time.sleep(poll)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    return len((run / "metrics.csv").read_text().splitlines()) - 1
