@@ -1,9 +1,10 @@
 """Helpers shared by the test folders: ``from helpers import ...`` (``tests/conftest.py`` puts ``tests/`` on
-``sys.path``, pytest's default import mode). Runs in this process or as a killable command line, and metrics
-without their clock columns."""
+``sys.path``, pytest's default import mode). Runs in this process or as a killable command line, metrics
+without their clock columns, and the small loops the strategy tests drive."""
 
 from __future__ import annotations
 
+import io
 import os
 import signal
 import subprocess
@@ -11,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from shaped_es.config import RunConfig, build_config
@@ -85,3 +87,34 @@ def kill_after_rows(proc: subprocess.Popen, run: Path, rows: int, poll: float = 
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     return len((run / "metrics.csv").read_text().splitlines()) - 1
+
+
+# --- strategies ----------------------------------------------------------------------------------------
+
+
+def sphere(X):
+    """The sphere as a fitness to maximize, summed in float64 whatever the population's dtype."""
+    X = np.asarray(X, dtype=np.float64)
+    return -np.sum(X * X, axis=1)
+
+
+def run_generations(es, gens, surrogate=None):
+    """``gens`` ask/tell rounds on the shifted sphere; ``surrogate(g, n)`` gives each tell's surrogate.
+    Returns the populations (gens, popsize, n) and the means after each tell (gens, n)."""
+    Xs, means = [], []
+    for g in range(gens):
+        X = es.ask()
+        Xs.append(X)
+        G = None if surrogate is None else surrogate(g, es.num_params)
+        es.tell(sphere(X - 0.3), surrogate=G)
+        means.append(es.mean.copy())
+    return np.stack(Xs), np.stack(means)
+
+
+def npz_round_trip(state: dict) -> dict:
+    """``state`` saved with ``np.savez`` and loaded back without pickle."""
+    buf = io.BytesIO()
+    np.savez(buf, **state)
+    buf.seek(0)
+    with np.load(buf, allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}

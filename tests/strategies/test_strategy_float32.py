@@ -4,21 +4,16 @@
 tests' sizes; one check runs at the default threshold on a policy-sized problem.
 """
 
-import io
 import math
 
 import numpy as np
 import pytest
+from helpers import npz_round_trip, run_generations, sphere
 
 from shaped_es.strategies import GuidedES, VanillaES
 from shaped_es.strategies.fitness import standard_normal_f32
 from shaped_es.strategies.guided import RANK_RTOL_F32, gram_basis, orthonormal_basis
 from shaped_es.strategies.vanilla import FLOAT32_ABOVE
-
-
-def _sphere(X):
-    X = np.asarray(X, dtype=np.float64)
-    return -np.sum(X * X, axis=1)
 
 
 def _phi(x):
@@ -85,7 +80,7 @@ def test_vanilla_f32_population_gradient_and_best():
     mu32 = mu.astype(np.float32)
     np.testing.assert_array_equal(X[:6], mu32 + np.float32(0.2) * z)
     np.testing.assert_array_equal(X[6:], mu32 - np.float32(0.2) * z)
-    f = _sphere(X)
+    f = sphere(X)
     es.tell(f)
     expected = mu + 0.3 * ((f[:6] - f[6:]) @ z.astype(np.float64) / (2 * 0.2 * 6))  # Eq. (4) in float64
     np.testing.assert_allclose(es.mean, expected, rtol=1e-6, atol=1e-7)
@@ -94,37 +89,26 @@ def test_vanilla_f32_population_gradient_and_best():
     np.testing.assert_array_equal(es.best_params, X[np.argmax(f)].astype(np.float64))  # the asked row
 
 
-def _run(es, gens, surrogate=None):
-    Xs, means = [], []
-    for g in range(gens):
-        X = es.ask()
-        Xs.append(X)
-        G = None if surrogate is None else surrogate(g, es.num_params)
-        es.tell(_sphere(X - 0.3), surrogate=G)
-        means.append(es.mean.copy())
-    return np.stack(Xs), np.stack(means)
-
-
 def test_guided_f32_without_subspace_or_alpha1_is_vanilla_bitwise():
     x0 = np.linspace(-1, 1, 40)
     kw = dict(sigma=0.1, lr=0.05, pairs=3, seed=5, weight_decay=0.01, float32_above=0)
-    Xv, mv = _run(VanillaES(x0, **kw), 5)
-    Xg, mg = _run(GuidedES(x0, alpha=0.5, **kw), 5)
+    Xv, mv = run_generations(VanillaES(x0, **kw), 5)
+    Xg, mg = run_generations(GuidedES(x0, alpha=0.5, **kw), 5)
     assert np.array_equal(Xv, Xg) and np.array_equal(mv, mg)
 
     def sur(g, n):
         return np.random.default_rng(g).standard_normal((2, n))
 
-    Xa, ma = _run(GuidedES(x0, alpha=1.0, **kw), 5, sur)
+    Xa, ma = run_generations(GuidedES(x0, alpha=1.0, **kw), 5, sur)
     assert np.array_equal(Xv, Xa) and np.array_equal(mv, ma)
-    Xh, _ = _run(GuidedES(x0, alpha=0.5, **kw), 5, sur)
+    Xh, _ = run_generations(GuidedES(x0, alpha=0.5, **kw), 5, sur)
     assert np.array_equal(Xh[0], Xv[0]) and not np.array_equal(Xh[1], Xv[1])
 
 
 def test_vanilla_f32_learns_the_sphere():
     es = VanillaES(np.full(10, 1.5), sigma=0.1, lr=0.02, pairs=8, seed=0, float32_above=0)
     for _ in range(400):
-        es.tell(_sphere(es.ask()))
+        es.tell(sphere(es.ask()))
     assert np.linalg.norm(es.mean) < 0.05
 
 
@@ -223,14 +207,6 @@ def test_guide_f32_rejects_nonfinite_and_keeps_the_old_subspace():
         es.guide(G)
 
 
-def _npz(state):
-    buf = io.BytesIO()
-    np.savez(buf, **state)
-    buf.seek(0)
-    with np.load(buf, allow_pickle=False) as z:
-        return {k: z[k] for k in z.files}
-
-
 def test_basis_formats_load_on_either_path():
     n = 30
     G = np.random.default_rng(2).standard_normal((3, n))
@@ -239,7 +215,7 @@ def test_basis_formats_load_on_either_path():
     f64 = GuidedES(np.zeros(n), **kw)
     f32.guide(G)
     f64.guide(G)
-    s32, s64 = _npz(f32.state_dict()), _npz(f64.state_dict())
+    s32, s64 = npz_round_trip(f32.state_dict()), npz_round_trip(f64.state_dict())
     assert "U_rows" in s32 and "U_mix" in s32 and "U" not in s32 and "U" in s64
     a = GuidedES(np.zeros(n), **kw)
     a.load_state_dict(s32)  # float32 basis on the float64 path

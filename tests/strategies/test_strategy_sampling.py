@@ -2,13 +2,10 @@
 
 import numpy as np
 import pytest
+from helpers import run_generations, sphere
 
 from shaped_es.strategies import CMAES, GuidedES, VanillaES, make_strategy
 from shaped_es.strategies.guided import orthonormal_basis
-
-
-def _sphere(X):
-    return -np.sum(X * X, axis=1)
 
 
 def test_vanilla_population_is_antithetic_about_the_mean():
@@ -29,7 +26,7 @@ def test_vanilla_mean_update_is_eq4_with_sgd():
     es = VanillaES(mu, sigma=0.1, lr=0.3, pairs=2, seed=0, optimizer="sgd", fitness_shaping="none",
                    weight_decay=0.01)
     X = es.ask()
-    f = _sphere(X)
+    f = sphere(X)
     z = (X[:2] - mu) / 0.1
     expected = mu + 0.3 * ((f[:2] - f[2:]) @ z / (2 * 0.1 * 2) - 0.01 * mu)
     es.tell(f)
@@ -67,40 +64,29 @@ def test_guided_alpha0_samples_lie_in_the_subspace():
     assert np.abs(eps).max() > 0.1
 
 
-def _run(es, gens, surrogate=None):
-    Xs, means = [], []
-    for g in range(gens):
-        X = es.ask()
-        Xs.append(X)
-        G = None if surrogate is None else surrogate(g, es.num_params)
-        es.tell(_sphere(X - 0.3), surrogate=G)
-        means.append(es.mean.copy())
-    return np.stack(Xs), np.stack(means)
-
-
 @pytest.mark.parametrize("optimizer", ["adam", "sgd"])
 def test_guided_without_subspace_or_alpha1_is_vanilla_bitwise(optimizer):
     x0 = np.linspace(-1, 1, 7)
     kw = dict(sigma=0.1, lr=0.05, pairs=3, seed=5, optimizer=optimizer, momentum=0.5 * (optimizer == "sgd"),
               weight_decay=0.01)
-    Xv, mv = _run(VanillaES(x0, **kw), 6)
-    Xg, mg = _run(GuidedES(x0, alpha=0.5, **kw), 6)  # no surrogate
+    Xv, mv = run_generations(VanillaES(x0, **kw), 6)
+    Xg, mg = run_generations(GuidedES(x0, alpha=0.5, **kw), 6)  # no surrogate
     assert np.array_equal(Xv, Xg) and np.array_equal(mv, mg)
 
     def sur(g, n):
         return np.random.default_rng(g).standard_normal((2, n))
 
-    Xa, ma = _run(GuidedES(x0, alpha=1.0, **kw), 6, sur)  # surrogate given, alpha = 1
+    Xa, ma = run_generations(GuidedES(x0, alpha=1.0, **kw), 6, sur)  # surrogate given, alpha = 1
     assert np.array_equal(Xv, Xa) and np.array_equal(mv, ma)
-    Xh, _ = _run(GuidedES(x0, alpha=0.5, **kw), 6, sur)  # and the subspace does change things
+    Xh, _ = run_generations(GuidedES(x0, alpha=0.5, **kw), 6, sur)  # and the subspace does change things
     assert np.array_equal(Xh[0], Xv[0]) and not np.array_equal(Xh[1], Xv[1])
 
 
 def test_tell_without_surrogate_clears_and_guide_shapes_next_ask_only():
     es = GuidedES(np.zeros(4), sigma=0.1, alpha=0.2, pairs=2, seed=0)
-    es.tell(_sphere(es.ask()), surrogate=np.ones(4))
+    es.tell(sphere(es.ask()), surrogate=np.ones(4))
     assert es.subspace_dim == 1
-    es.tell(_sphere(es.ask()))
+    es.tell(sphere(es.ask()))
     assert es.subspace_dim == 0
     es.guide(np.ones((1, 4)))
     es.ask()

@@ -1,10 +1,9 @@
 """state_dict / load_state_dict: numpy-only, npz round trip, bitwise-exact continuation; CMA-ES RNG
 isolation."""
 
-import io
-
 import numpy as np
 import pytest
+from helpers import npz_round_trip
 
 from shaped_es.strategies import CMAES, make_strategy
 
@@ -37,14 +36,6 @@ def _build(name):
     return make_strategy(name.split("_")[0], np.linspace(-1, 1, 12), **HYPER[name])
 
 
-def _npz_round_trip(state):
-    buf = io.BytesIO()
-    np.savez(buf, **state)
-    buf.seek(0)
-    with np.load(buf, allow_pickle=False) as z:
-        return {k: z[k] for k in z.files}
-
-
 @pytest.mark.parametrize("name", list(HYPER))
 def test_resume_continues_bitwise(name):
     full = _build(name)
@@ -59,7 +50,7 @@ def test_resume_continues_bitwise(name):
     state = first.state_dict()
     for k, v in state.items():
         assert isinstance(v, np.ndarray) and v.dtype != object, k
-    loaded = _npz_round_trip(state)
+    loaded = npz_round_trip(state)
 
     resumed = _build(name)
     resumed.load_state_dict(loaded)
