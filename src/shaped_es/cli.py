@@ -21,7 +21,6 @@ import subprocess
 import sys
 import traceback
 import warnings
-from pathlib import Path
 
 USAGE_ERROR = 2
 INTERNAL_ERROR = 1
