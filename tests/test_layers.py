@@ -30,7 +30,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("trainer",),
     ("preflight",),
     ("evaluate", "render", "report"),
-    ("benchmark", "benchmarks"),
+    ("benchmark", "speed"),
     ("cli",),
     ("__main__",),
 ]

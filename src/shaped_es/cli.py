@@ -155,7 +155,7 @@ def cmd_evaluate(a: argparse.Namespace) -> int:
 
 def cmd_bench(a: argparse.Namespace) -> int:
     import shaped_es  # noqa: F401
-    from shaped_es.benchmarks.env_speed import bench_env
+    from shaped_es.speed.env_speed import bench_env
     from shaped_es.rollout import make_env
 
     make_env(a.env_id, {}).close()  # one clear error for unknown ids before spawning workers
@@ -165,7 +165,7 @@ def cmd_bench(a: argparse.Namespace) -> int:
 
 
 def cmd_bench_executors(a: argparse.Namespace) -> int:
-    from shaped_es.benchmarks.executor_overhead import bench_executors
+    from shaped_es.speed.executor_overhead import bench_executors
 
     names = [n.strip() for n in a.executors.split(",") if n.strip()]
     res = bench_executors(tuple(names), env_id=a.env, pairs=a.pairs, workers=a.workers,
@@ -175,7 +175,7 @@ def cmd_bench_executors(a: argparse.Namespace) -> int:
 
 
 def cmd_bench_shaping(a: argparse.Namespace) -> int:
-    from shaped_es.benchmarks.shaping_cost import bench_shaping, format_table
+    from shaped_es.speed.shaping_cost import bench_shaping, format_table
     from shaped_es.config import parse_set
 
     envs = tuple(e.strip() for e in a.envs.split(",") if e.strip())
@@ -299,7 +299,7 @@ def build_parser() -> argparse.ArgumentParser:
     bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
     bx.add_argument("--json", action="store_true", help="one line of JSON")
     bx.set_defaults(fn=cmd_bench_executors)
-    from shaped_es.benchmarks import strategy_speed
+    from shaped_es.speed import strategy_speed
 
     bst = bsub.add_parser("strategies", help="ES master per generation (ask + tell + guide) vs policy size")
     strategy_speed.add_arguments(bst)  # --sizes 2.4k,100k,1M --strategies --generations --json ...

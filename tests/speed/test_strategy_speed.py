@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from shaped_es.benchmarks.strategy_speed import cmaes_bytes, parse_size, parse_sizes
+from shaped_es.speed.strategy_speed import cmaes_bytes, parse_size, parse_sizes
 from shaped_es.cli import main
 
 PHASES = {"ask_ms", "tell_ms", "gen_ms"}

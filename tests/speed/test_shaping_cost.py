@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from shaped_es.benchmarks.shaping_cost import PHASES, bench_shaping, format_table
+from shaped_es.speed.shaping_cost import PHASES, bench_shaping, format_table
 from shaped_es.cli import main
 
 

@@ -14,7 +14,7 @@ Strategies: ``vanilla`` (antithetic ES), ``guided`` (Guided ES, ``k`` = 64 surro
 estimate exceeds ``max_cmaes_gb`` (4 GB) is skipped and reported under ``skipped``.
 
 ``shaped-es bench strategies [--sizes 2.4k,100k,1M] [--json]``, or
-``python -m shaped_es.benchmarks.strategy_speed``.
+``python -m shaped_es.speed.strategy_speed``.
 """
 
 from __future__ import annotations
@@ -192,7 +192,7 @@ def run_cli(a: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m shaped_es.benchmarks.strategy_speed",
+    p = argparse.ArgumentParser(prog="python -m shaped_es.speed.strategy_speed",
                                 description=__doc__.splitlines()[0])
     add_arguments(p)
     return run_cli(p.parse_args(argv))

@@ -8,7 +8,7 @@ JIT, env construction). Two views of the cost beyond the rollouts themselves, pe
   i.e. what placing tasks and moving parameters and results costs;
 - ``noop_map_s``: wall time of a map over tasks of the same size whose function returns at once.
 
-Figures are medians over ``generations``. ``python -m shaped_es.benchmarks.executor_overhead`` prints
+Figures are medians over ``generations``. ``python -m shaped_es.speed.executor_overhead`` prints
 the JSON. MPI as root needs Open MPI's ``*_ALLOW_RUN_AS_ROOT*`` variables (see ``executors/mpi_executor``).
 """
 
@@ -117,8 +117,8 @@ def bench_executors(executors=("process", "ray", "mpi"), env_id: str | None = No
 
 
 def main() -> None:
-    # Import by name so task functions pickle as ``shaped_es.benchmarks...``, not ``__main__``.
-    from shaped_es.benchmarks.executor_overhead import bench_executors as bench
+    # Import by name so task functions pickle as ``shaped_es.speed...``, not ``__main__``.
+    from shaped_es.speed.executor_overhead import bench_executors as bench
 
     print(json.dumps(bench(), indent=2))
 

@@ -1,0 +1,1 @@
+"""Speed benchmarks (``shaped-es speed``, alias ``bench``): commands that print figures (JSON), never timed tests."""
