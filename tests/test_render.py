@@ -11,7 +11,7 @@ from helpers import train
 from PIL import Image
 
 from shaped_es.baselines.ppo_settings import PPOSettings
-from shaped_es.benchmark.cli_commands import add_render_parser
+from shaped_es.cli import add_render_parser
 from shaped_es.config import build_config
 from shaped_es.rollout import EnvSpecError
 from shaped_es.store import StoreError

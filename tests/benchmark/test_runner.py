@@ -9,8 +9,9 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from shaped_es.benchmark.cli_commands import add_benchmark_parser, add_report_parser
+from shaped_es.benchmark.cli_commands import add_benchmark_parser
 from shaped_es.benchmark.runner import BenchmarkSpec, run_configs
+from shaped_es.cli import add_report_parser
 from shaped_es.config import ConfigError
 from shaped_es.store import StoreError
 

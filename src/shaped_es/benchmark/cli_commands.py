@@ -1,6 +1,7 @@
-"""``shaped-es benchmark``, ``report`` and ``render``: parsers and handlers for ``cli.py`` to wire in.
+"""``shaped-es benchmark``: its parser and handler for ``cli.py`` to wire in, and the ``--threshold``
+option it shares with ``shaped-es report`` (in ``cli.py``).
 
-Each ``cmd_*`` returns an exit code and prints one JSON line; bad input raises ``ConfigError`` /
+``cmd_benchmark`` returns an exit code and prints one JSON line; bad input raises ``ConfigError`` /
 ``StoreError`` / ``EnvSpecError``, which the CLI prints as one line with exit code 2.
 """
 
@@ -9,10 +10,8 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from pathlib import Path
 
 DEFAULT_METHODS = "shaped,vanilla,cmaes,ppo"
-FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
 
 # -- benchmark -------------------------------------------------------------------------------------------
@@ -41,19 +40,19 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
                    help="ablation: waypoint_spacing x 10 (paper: planner resolution / 10)")
     b.add_argument("--alpha", type=float, help="ablation: es.alpha, Guided-ES isotropic share (paper 0.6)")
     b.add_argument("--eta", type=float, help="ablation: shaping.eta, surrogate normalization (paper 0.01)")
-    _add_threshold(b)
+    add_threshold(b)
     b.add_argument("--quiet", action="store_true", help="no per-run progress display")
     b.set_defaults(fn=cmd_benchmark)
     return b
 
 
-def _add_threshold(p: argparse.ArgumentParser) -> None:
+def add_threshold(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threshold", type=float,
                    help="success threshold on the test reward (default: CarNav-v0 200, UR5Reach-v0 40, "
                         "other envs the best baseline's final mean)")
 
 
-def _check_threshold(threshold: float | None) -> None:
+def check_threshold(threshold: float | None) -> None:
     from shaped_es.config import ConfigError
 
     if threshold is not None and not math.isfinite(threshold):
@@ -74,7 +73,7 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     overrides.update(parse_set(a.set))
     generations = a.generations if a.generations is not None else base.get(
         "generations", RunConfig.model_fields["generations"].default)
-    _check_threshold(a.threshold)
+    check_threshold(a.threshold)
     variants = {}
     for text in a.variant:
         label, _, rest = text.partition("=")
@@ -88,75 +87,4 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     )
     res = run_benchmark(spec, a.out, progress=not a.quiet)
     print(json.dumps({k: res.get(k) for k in ("report", "summary", "fig4", "profile", "fig5")}))
-    return 0
-
-
-# -- report ----------------------------------------------------------------------------------------------
-def add_report_parser(sub) -> argparse.ArgumentParser:
-    r = sub.add_parser("report", help="Fig. 4/5 (mean + CI over seeds, grouped by method) for any runs")
-    r.add_argument("run_dirs", nargs="+", help="run directories, or benchmark directories (their runs/)")
-    r.add_argument("--out", default="report.png",
-                   help="a figure (.png/.pdf/.svg: Fig. 4 there, Fig. 5 beside it) or a .md report")
-    r.add_argument("--title", default="", help="figure / report title")
-    _add_threshold(r)
-    r.set_defaults(fn=cmd_report)
-    return r
-
-
-def expand_run_dirs(paths: list[str]) -> list[Path]:
-    """Run directories as given; a benchmark directory stands for every run under its ``runs/``."""
-    out: list[Path] = []
-    for p in map(Path, paths):
-        if not (p / "config.yaml").is_file() and (p / "runs").is_dir():
-            out += sorted(d for d in (p / "runs").iterdir() if (d / "config.yaml").is_file())
-        else:
-            out.append(p)
-    return out
-
-
-def cmd_report(a: argparse.Namespace) -> int:
-    from shaped_es.benchmark.markdown import draw_figures, write_report
-    from shaped_es.benchmark.summary import group_runs, load_runs, summarize
-    from shaped_es.config import ConfigError
-
-    _check_threshold(a.threshold)
-    groups, configs = group_runs(expand_run_dirs(a.run_dirs))
-    out = Path(a.out)
-    suffix = out.suffix.lower()
-    if suffix == ".md":
-        print(json.dumps(write_report(out, groups, configs, title=a.title, threshold=a.threshold)))
-        return 0
-    if suffix not in FIGURE_SUFFIXES:
-        raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
-    metrics = {k: load_runs(dirs) for k, dirs in groups.items()}
-    first = next(iter(configs.values()))
-    summary = summarize(metrics, threshold=a.threshold, config=first)
-    figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
-                                           "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
-                        first.env, a.title)
-    print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
-    return 0
-
-
-# -- render ----------------------------------------------------------------------------------------------
-def add_render_parser(sub) -> argparse.ArgumentParser:
-    r = sub.add_parser("render", help="write a rollout of a run's trained policy as a GIF")
-    r.add_argument("run_dir")
-    r.add_argument("--out", default="video.gif", help="output .gif")
-    r.add_argument("--policy", choices=("best", "mean"), default="best")
-    r.add_argument("--episodes", type=int, default=1)
-    r.add_argument("--seed", type=int, default=12345, help="seed of the rendered episodes")
-    r.add_argument("--max-steps", type=int, help="cap on steps per episode")
-    r.add_argument("--fps", type=float, default=30.0)
-    r.add_argument("--every", type=int, default=1, help="keep every N-th frame")
-    r.set_defaults(fn=cmd_render)
-    return r
-
-
-def cmd_render(a: argparse.Namespace) -> int:
-    from shaped_es.render import render_run
-
-    res = render_run(a.run_dir, a.out, episodes=a.episodes, which=a.policy, seed=a.seed,
-                     max_steps=a.max_steps, fps=a.fps, every=a.every)
-    print(json.dumps(res))
     return 0
