@@ -44,3 +44,21 @@ def test_bad_files(tmp_path):
     lst.write_text("- 1\n- 2\n")
     with pytest.raises(ConfigError, match="mapping"):
         load_config(lst)
+
+
+def test_settings_dataclasses_share_their_config_sections_defaults():
+    """One truth: the shaping dataclasses and PPOSettings have their config section's defaults (a section's
+    ``frame: auto`` resolves to the dataclass's world/motion in guides/shaped.py), PPOSettings its fields."""
+    from dataclasses import fields
+
+    from shaped_es.baselines.ppo_settings import PPOSettings
+    from shaped_es.config import CloningSettings, InverseDynamicsSettings, PPOConfig
+    from shaped_es.shaping.settings import CloningConfig, InverseDynamicsConfig
+
+    assert [f.name for f in fields(PPOSettings)] == list(PPOConfig.model_fields)
+    for cls, section, resolved in ((InverseDynamicsConfig, InverseDynamicsSettings, {"frame"}),
+                                   (CloningConfig, CloningSettings, set()), (PPOSettings, PPOConfig, set())):
+        shared = [f for f in fields(cls) if f.name in section.model_fields and f.name not in resolved]
+        assert len(shared) >= 5, cls
+        for f in shared:
+            assert f.default == section.model_fields[f.name].default, (cls.__name__, f.name)

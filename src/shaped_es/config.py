@@ -15,6 +15,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, Strict, Vali
 
 from shaped_es.executors import EXECUTORS
 from shaped_es.methods import METHODS
+from shaped_es.shaping.settings import CloningConfig, InverseDynamicsConfig
 
 
 class ConfigError(ValueError):
@@ -74,38 +75,48 @@ class RolloutConfig(_Strict):
     common_seeds: Bool = Field(True, description="all members of a generation share episode seeds")
 
 
+# The shaping sections take their defaults from the shaping layer's dataclasses (one truth); guides/shaped.py
+# builds those from these sections. tests/test_config.py fails if a shared field's default differs.
+_MPHI, _CLONE = InverseDynamicsConfig(), CloningConfig()
+
+
 class InverseDynamicsSettings(_Strict):
-    hidden: tuple[Int, ...] = Field((20, 20), description="ReLU widths; paper (20, 20) nav, 3 layers arm")
-    lr: Float = Field(1e-3, gt=0, description="Adam learning rate (paper)")
-    batch_size: Int = Field(64, gt=0, description="minibatch size (paper)")
-    steps_per_generation: Int = Field(500, ge=0, description="training iterations per generation")
-    min_return: Float = Field(5.0, description="episodes with a lower return are left out (paper: 5)")
-    max_dataset: Int = Field(100_000, gt=0, description="cap on aggregated transitions (FIFO)")
+    hidden: tuple[Int, ...] = Field(_MPHI.hidden, description="ReLU widths; paper (20, 20) nav, 3 layers arm")
+    lr: Float = Field(_MPHI.lr, gt=0, description="Adam learning rate (paper)")
+    batch_size: Int = Field(_MPHI.batch_size, gt=0, description="minibatch size (paper)")
+    steps_per_generation: Int = Field(_MPHI.steps_per_generation, ge=0,
+                                      description="training iterations per generation")
+    min_return: Float = Field(_MPHI.min_return,
+                              description="episodes with a lower return are left out (paper: 5)")
+    max_dataset: Int = Field(_MPHI.max_dataset, gt=0, description="cap on aggregated transitions (FIFO)")
     frame: Literal["auto", "world", "motion"] = Field(
         "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, or "
         "auto = motion for 2-D waypoint spaces (planar vehicles), world otherwise")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
     targets: Literal["one_step", "hindsight", "matched"] = Field(
-        "one_step", description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
+        _MPHI.targets, description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
         "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "
         "distance |w_t - p_t| (matched)")
-    horizon: Int = Field(8, ge=1, le=1000, description="hindsight/matched: at most this many steps ahead")
+    horizon: Int = Field(_MPHI.horizon, ge=1, le=1000,
+                         description="hindsight/matched: at most this many steps ahead")
     query_scale: Literal["raw", "own_step"] = Field(
-        "raw", description="label queries: w_t - p_t (paper), or its direction at the length of the step the "
-        "agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the heading)")
+        _MPHI.query_scale, description="label queries: w_t - p_t (paper), or its direction at the length of "
+        "the step the agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the "
+        "heading)")
     filter: Literal["total", "positive", "none"] = Field(
-        "positive", description="which return min_return tests: its positive (waypoint) part, as the "
+        _MPHI.filter, description="which return min_return tests: its positive (waypoint) part, as the "
         "paper words it ('a cumulative positive reward of 5'; measured best, docs/shaped-results.md), the "
         "whole return (before), or none (keep every transition)")
 
 
 class CloningSettings(_Strict):
-    steps: Int = Field(20, ge=0, description="behaviour-cloning gradient steps per member per generation")
-    lr: Float = Field(1e-3, gt=0, description="cloning step size")
-    batch_size: Int = Field(64, description="samples per member per step (<= 0: all)")
-    optimizer: Literal["adam", "sgd"] = Field("adam", description="cloning optimizer")
-    max_samples: Int = Field(4000, description="newest samples of D_i used (<= 0: all)")
+    steps: Int = Field(_CLONE.steps, ge=0,
+                       description="behaviour-cloning gradient steps per member per generation")
+    lr: Float = Field(_CLONE.lr, gt=0, description="cloning step size")
+    batch_size: Int = Field(_CLONE.batch_size, description="samples per member per step (<= 0: all)")
+    optimizer: Literal["adam", "sgd"] = Field(_CLONE.optimizer, description="cloning optimizer")
+    max_samples: Int = Field(_CLONE.max_samples, description="newest samples of D_i used (<= 0: all)")
 
 
 class ShapingConfig(_Strict):
@@ -178,7 +189,8 @@ class RunConfig(_Strict):
     ppo: PPOConfig = Field(default_factory=PPOConfig)
 
 
-def _first_error(exc: ValidationError) -> str:
+def first_error(exc: ValidationError) -> str:
+    """The first error of ``exc`` as one line naming its field (``es.sigma: ... (got 0)``)."""
     err = exc.errors()[0]
     where = ".".join(str(p) for p in err["loc"]) or "config"
     more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
@@ -195,7 +207,7 @@ def build_config(data: dict[str, Any]) -> RunConfig:
     try:
         return RunConfig.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError(f"invalid config: {_first_error(exc)}") from None
+        raise ConfigError(f"invalid config: {first_error(exc)}") from None
 
 
 def read_yaml(path: str | Path) -> dict[str, Any]:

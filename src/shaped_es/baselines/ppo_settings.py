@@ -9,46 +9,43 @@ followed by ``n_epochs`` of minibatch updates) nearest to that budget, at least 
 its usual rollout and minibatch sizes; ES episodes that end early use fewer steps, which is why every
 run also logs ``env_steps``, CPU and wall time. ``steps_per_generation`` sets the budget directly.
 
-The settings come from ``cfg.ppo`` when the run config has that section, else from the defaults below
-(Stable-Baselines3's PPO defaults with one env; the actor and critic take ``cfg.policy.hidden`` with tanh,
-the same architecture as the ES policy).
+The settings come from ``cfg.ppo`` (``config.PPOConfig``, Stable-Baselines3's PPO defaults with one env;
+the actor and critic take ``cfg.policy.hidden`` with tanh, the same architecture as the ES policy).
+:class:`PPOSettings` is that section as a frozen value: its defaults and rules are the section's.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import asdict, dataclass, fields
 
-from shaped_es.config import ConfigError, RunConfig
+from pydantic import ValidationError
+
+from shaped_es.config import ConfigError, PPOConfig, RunConfig, first_error
+
+_D = PPOConfig()  # the defaults (one truth: the config section)
 
 
 @dataclass(frozen=True)
 class PPOSettings:
-    steps_per_generation: int | None = None  # env-step budget per generation; None: ES's max per generation
-    n_steps: int = 2048  # env steps per env per PPO iteration (SB3 default)
-    n_envs: int = 1  # envs stepped in lock-step in this one process (the paper: single core)
-    batch_size: int = 64  # minibatch size (SB3 default)
-    n_epochs: int = 10  # passes over each rollout
-    learning_rate: float = 3e-4  # Adam step size (constant)
-    gamma: float = 0.99  # discount
-    gae_lambda: float = 0.95  # GAE lambda
-    clip_range: float = 0.2  # PPO ratio clip
-    ent_coef: float = 0.0  # entropy bonus
-    vf_coef: float = 0.5  # value loss weight
-    max_grad_norm: float = 0.5  # gradient clipping
-    target_kl: float | None = None  # early stop of an iteration's epochs (None: off)
+    steps_per_generation: int | None = _D.steps_per_generation  # env-step budget per generation; None: ES's max
+    n_steps: int = _D.n_steps  # env steps per env per PPO iteration (SB3 default)
+    n_envs: int = _D.n_envs  # envs stepped in lock-step in this one process (the paper: single core)
+    batch_size: int = _D.batch_size  # minibatch size (SB3 default)
+    n_epochs: int = _D.n_epochs  # passes over each rollout
+    learning_rate: float = _D.learning_rate  # Adam step size (constant)
+    gamma: float = _D.gamma  # discount
+    gae_lambda: float = _D.gae_lambda  # GAE lambda
+    clip_range: float = _D.clip_range  # PPO ratio clip
+    ent_coef: float = _D.ent_coef  # entropy bonus
+    vf_coef: float = _D.vf_coef  # value loss weight
+    max_grad_norm: float = _D.max_grad_norm  # gradient clipping
+    target_kl: float | None = _D.target_kl  # early stop of an iteration's epochs (None: off)
 
     def __post_init__(self):
-        positive = ("n_envs", "batch_size", "n_epochs", "learning_rate", "clip_range", "max_grad_norm")
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ConfigError(f"ppo.{name}: must be positive, got {getattr(self, name)}")
-        if self.n_steps < 2:
-            raise ConfigError(f"ppo.n_steps: must be at least 2, got {self.n_steps}")
-        if self.steps_per_generation is not None and self.steps_per_generation <= 0:
-            raise ConfigError(f"ppo.steps_per_generation: must be positive, got {self.steps_per_generation}")
-        for name in ("gamma", "gae_lambda"):
-            if not 0 <= getattr(self, name) <= 1:
-                raise ConfigError(f"ppo.{name}: must lie in [0, 1], got {getattr(self, name)}")
+        try:  # the section's rules
+            PPOConfig.model_validate(asdict(self))
+        except ValidationError as exc:
+            raise ConfigError(f"ppo.{first_error(exc)}") from None
 
 
 def ppo_settings(cfg: RunConfig) -> PPOSettings:

@@ -31,6 +31,7 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import sys
 import threading
@@ -104,6 +105,13 @@ class _Block:
     offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
 
 
+def from_section(cls, section, **resolved):
+    """The shaping dataclass ``cls`` from its config ``section``: every field both have, then ``resolved``
+    (the section's defaults are the dataclass's own, ``config.py``)."""
+    names = [f.name for f in dataclasses.fields(cls) if f.name in type(section).model_fields]
+    return cls(**{n: getattr(section, n) for n in names if n not in resolved}, **resolved)
+
+
 class ShapedGuide(NoGuide):
     record = True
 
@@ -114,16 +122,9 @@ class ShapedGuide(NoGuide):
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg)
         frame = mp.frame if mp.frame != "auto" else ("motion" if pos_dim == 2 else "world")
-        self.mphi_cfg = InverseDynamicsConfig(
-            hidden=tuple(mp.hidden), lr=mp.lr, batch_size=mp.batch_size,
-            steps_per_generation=mp.steps_per_generation, min_return=mp.min_return,
-            max_dataset=mp.max_dataset, frame=frame, targets=mp.targets, horizon=mp.horizon,
-            query_scale=mp.query_scale,
-            filter=mp.filter, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
-        )
-        c = self.sh.cloning
-        self.clone_cfg = CloningConfig(steps=c.steps, lr=c.lr, batch_size=c.batch_size,
-                                       optimizer=c.optimizer, max_samples=c.max_samples)
+        self.mphi_cfg = from_section(InverseDynamicsConfig, mp, frame=frame,
+                                     seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
+        self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mphi = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None

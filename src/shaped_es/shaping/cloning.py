@@ -24,7 +24,6 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 import torch
@@ -32,21 +31,7 @@ import torch
 from shaped_es.policies import MLPSpec, forward_torch
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.population_mlp import PopulationMLP, make_optimizer
-
-
-@dataclass(frozen=True)
-class CloningConfig:
-    steps: int = 20  # gradient steps per member per generation (0: theta* = theta)
-    lr: float = 1e-3  # optimizer step size
-    batch_size: int = 64  # samples per member per step, drawn with replacement; <= 0: full data every step
-    optimizer: Literal["adam", "sgd"] = "adam"  # Adam (fresh state per call) or plain SGD
-    max_samples: int = 4000  # only the most recent samples of each D_i are used; <= 0: all
-    seed: int = 0  # per-member seeds default to SeedSequence([seed, row]) when none are given
-
-    def __post_init__(self):
-        if self.steps < 0 or self.lr <= 0 or self.optimizer not in ("adam", "sgd"):
-            raise ValueError(f"bad cloning config: steps={self.steps} lr={self.lr} "
-                             f"optimizer={self.optimizer!r}")
+from shaped_es.shaping.settings import CloningConfig
 
 
 @dataclass

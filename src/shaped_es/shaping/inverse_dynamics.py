@@ -23,49 +23,17 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.shaping.frames import FRAMES, to_frame
+from shaped_es.shaping.frames import to_frame
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
+from shaped_es.shaping.settings import FILTERS, QUERY_SCALES, TARGETS, InverseDynamicsConfig
 
 
-@dataclass(frozen=True)
-class InverseDynamicsConfig:
-    hidden: tuple[int, ...] = (20, 20)  # ReLU hidden widths; paper: (20, 20) nav, (20, 20, 20) arm
-    lr: float = 1e-3  # Adam learning rate (paper)
-    batch_size: int = 64  # minibatch size (paper); rows drawn uniformly with replacement
-    steps_per_generation: int = 1000  # default number of train() iterations per generation
-    min_return: float = 5.0  # episodes whose cumulative reward is below this are not used (paper)
-    max_dataset: int = 200_000  # cap on aggregated transitions; the oldest are dropped first (FIFO)
-    clip_input: float = 10.0  # standardized inputs are clipped to [-clip, clip] (far waypoints)
-    frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
-    targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
-    horizon: int = 8  # hindsight/matched: at most this many steps ahead
-    filter: str = "positive"  # which return min_return tests: positive (paper) | total | none
-    query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
-    seed: int = 0  # seeds weight init and minibatch sampling
-
-    def __post_init__(self):
-        if not self.hidden or min(self.hidden) <= 0:
-            raise ValueError(f"hidden widths must be positive, got {self.hidden}")
-        if self.lr <= 0 or self.batch_size <= 0 or self.max_dataset <= 0 or self.clip_input <= 0:
-            raise ValueError("lr, batch_size, max_dataset and clip_input must be positive")
-        if self.frame not in FRAMES:
-            raise ValueError(f"frame must be one of {FRAMES}, got {self.frame!r}")
-        if self.query_scale not in QUERY_SCALES:
-            raise ValueError(f"query_scale must be one of {QUERY_SCALES}, got {self.query_scale!r}")
-        if self.targets not in TARGETS or self.filter not in FILTERS or self.horizon < 1:
-            raise ValueError(f"targets must be one of {TARGETS}, filter one of {FILTERS}, horizon >= 1; got "
-                             f"{self.targets!r}, {self.filter!r}, {self.horizon}")
-
-
-TARGETS = ("one_step", "hindsight", "matched")
 LABEL_CHUNK = 4096  # rows per forward pass when labelling
-FILTERS = ("total", "positive", "none")
-QUERY_SCALES = ("raw", "own_step")
 
 
 def episode_end(tr: Transitions) -> np.ndarray:

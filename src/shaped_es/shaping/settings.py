@@ -1,0 +1,65 @@
+"""The shaping layer's typed settings: ``M_phi``'s (:class:`InverseDynamicsConfig`) and cloning's
+(:class:`CloningConfig`).
+
+These dataclasses are the one source of their defaults: the run config's ``shaping.inverse_dynamics``
+and ``shaping.cloning`` sections (``config.py``) read their defaults from here, and
+``guides/shaped.py`` builds these from a run's sections (``frame: auto`` resolved there, the seed
+derived from the root seed). This module imports neither torch nor ``config`` (the layers: shaping
+lies below config).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from shaped_es.shaping.frames import FRAMES
+
+TARGETS = ("one_step", "hindsight", "matched")
+FILTERS = ("total", "positive", "none")
+QUERY_SCALES = ("raw", "own_step")
+
+
+@dataclass(frozen=True)
+class InverseDynamicsConfig:
+    hidden: tuple[int, ...] = (20, 20)  # ReLU hidden widths; paper: (20, 20) nav, (20, 20, 20) arm
+    lr: float = 1e-3  # Adam learning rate (paper)
+    batch_size: int = 64  # minibatch size (paper); rows drawn uniformly with replacement
+    steps_per_generation: int = 500  # default number of train() iterations per generation
+    min_return: float = 5.0  # episodes whose cumulative reward is below this are not used (paper)
+    max_dataset: int = 100_000  # cap on aggregated transitions; the oldest are dropped first (FIFO)
+    clip_input: float = 10.0  # standardized inputs are clipped to [-clip, clip] (far waypoints)
+    frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
+    targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
+    horizon: int = 8  # hindsight/matched: at most this many steps ahead
+    filter: str = "positive"  # which return min_return tests: positive (paper) | total | none
+    query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
+    seed: int = 0  # seeds weight init and minibatch sampling
+
+    def __post_init__(self):
+        if not self.hidden or min(self.hidden) <= 0:
+            raise ValueError(f"hidden widths must be positive, got {self.hidden}")
+        if self.lr <= 0 or self.batch_size <= 0 or self.max_dataset <= 0 or self.clip_input <= 0:
+            raise ValueError("lr, batch_size, max_dataset and clip_input must be positive")
+        if self.frame not in FRAMES:
+            raise ValueError(f"frame must be one of {FRAMES}, got {self.frame!r}")
+        if self.query_scale not in QUERY_SCALES:
+            raise ValueError(f"query_scale must be one of {QUERY_SCALES}, got {self.query_scale!r}")
+        if self.targets not in TARGETS or self.filter not in FILTERS or self.horizon < 1:
+            raise ValueError(f"targets must be one of {TARGETS}, filter one of {FILTERS}, horizon >= 1; got "
+                             f"{self.targets!r}, {self.filter!r}, {self.horizon}")
+
+
+@dataclass(frozen=True)
+class CloningConfig:
+    steps: int = 20  # gradient steps per member per generation (0: theta* = theta)
+    lr: float = 1e-3  # optimizer step size
+    batch_size: int = 64  # samples per member per step, drawn with replacement; <= 0: full data every step
+    optimizer: Literal["adam", "sgd"] = "adam"  # Adam (fresh state per call) or plain SGD
+    max_samples: int = 4000  # only the most recent samples of each D_i are used; <= 0: all
+    seed: int = 0  # per-member seeds default to SeedSequence([seed, row]) when none are given
+
+    def __post_init__(self):
+        if self.steps < 0 or self.lr <= 0 or self.optimizer not in ("adam", "sgd"):
+            raise ValueError(f"bad cloning config: steps={self.steps} lr={self.lr} "
+                             f"optimizer={self.optimizer!r}")
