@@ -17,23 +17,21 @@ from shaped_es.config import ConfigError, RunConfig
 def check_run(cfg: RunConfig) -> None:
     """Raise ``ConfigError`` / ``EnvSpecError`` / ``ExecutorError`` (one line) if ``cfg`` cannot start."""
     import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import probe_dims
+    from shaped_es.rollout import policy_spec, probe_env
 
-    obs_dim, act_dim = probe_dims(cfg.env, cfg.env_kwargs)
+    probe = probe_env(cfg.env, cfg.env_kwargs)  # one env made for the dims and the time limit
     _check_executor(cfg.executor)
     _check_workers(cfg)
     if cfg.method == "ppo":
-        from shaped_es.baselines.ppo import env_time_limit
         from shaped_es.baselines.ppo_settings import iterations_per_generation, ppo_settings
 
-        iterations_per_generation(cfg, ppo_settings(cfg), env_time_limit(cfg))  # e.g. no time limit
+        iterations_per_generation(cfg, ppo_settings(cfg), probe.time_limit)  # e.g. no time limit
         return
     import numpy as np
 
-    from shaped_es.policies import MLPSpec
     from shaped_es.trainer import build_strategy
 
-    spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+    spec = policy_spec(cfg, probe)
     _check_memory(cfg, spec.num_params)
     try:
         build_strategy(cfg, np.zeros(spec.num_params))

@@ -126,19 +126,40 @@ def _env_key(env_id: str, env_kwargs: dict) -> str:
     return env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
 
 
-def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
-    """(obs_dim, act_dim) of ``env_id`` (an env made, measured and closed)."""
+@dataclass(frozen=True)
+class EnvProbe:
+    """What a run needs of its env before the first rollout, from one env made, measured and closed."""
+
+    obs_dim: int
+    act_dim: int
+    # The env's own episode limit: the made env's ``spec.max_episode_steps`` (the built-in envs register a
+    # ``TimeLimit`` of their preset's horizon), else the ``max_steps`` of its batched core, else None.
+    time_limit: int | None
+
+
+def probe_env(env_id: str, env_kwargs: dict | None = None) -> EnvProbe:
+    """Make ``env_id`` once: its dims (after checking its spaces fit the contract) and its time limit."""
     env = make_env(env_id, env_kwargs)
     try:
-        return env_dims(env)
+        obs_dim, act_dim = env_dims(env)
+        limit = env.spec.max_episode_steps if env.spec is not None else None
+        core = get_batch_core(env)
+        return EnvProbe(obs_dim, act_dim, limit if limit else (int(core.max_steps) if core is not None else None))
     finally:
         env.close()
 
 
-def policy_spec(cfg) -> MLPSpec:
-    """The MLP of a run config ``cfg`` (a ``config.RunConfig``) on its env: dims probed, ``policy.hidden``."""
-    obs_dim, act_dim = probe_dims(cfg.env, cfg.env_kwargs)
-    return MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
+    """(obs_dim, act_dim) of ``env_id`` (an env made, measured and closed)."""
+    probe = probe_env(env_id, env_kwargs)
+    return probe.obs_dim, probe.act_dim
+
+
+def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
+    """The MLP of a run config ``cfg`` (a ``config.RunConfig``) on its env: dims probed (or taken from
+    ``probe``, the same env's), ``policy.hidden``."""
+    probe = probe or probe_env(cfg.env, cfg.env_kwargs)
+    return MLPSpec(probe.obs_dim, probe.act_dim, tuple(cfg.policy.hidden))
 
 
 def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:

@@ -43,10 +43,8 @@ from shaped_es.baselines.ppo_settings import PPOSettings, iterations_per_generat
 from shaped_es.baselines.ppo_state import (BEST, POLICY, RNG, DeterministicEpisodes, actor_vector, copy_state,
                                            from_arrays, optimizer_from_arrays, optimizer_to_arrays, to_arrays)
 from shaped_es.config import RunConfig
-from shaped_es.envs.core import get_batch_core
-from shaped_es.progress import ProgressDisplay
-from shaped_es.rollout import env_dims, make_env
-from shaped_es.run_meta import Counters, config_digest
+from shaped_es.rollout import make_env, probe_env
+from shaped_es.run_loop import RunLoop
 from shaped_es.store import RunStore, StoreError
 
 
@@ -58,17 +56,8 @@ def _train_env(cfg: RunConfig):
 
 
 def env_time_limit(cfg: RunConfig) -> int | None:
-    """The env's own episode limit (after checking its spaces fit the contract): the made env's
-    ``spec.max_episode_steps`` (the built-in envs register a ``TimeLimit`` of their preset's horizon),
-    else the ``max_steps`` of its batched core, else None."""
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        env_dims(env)
-        limit = env.spec.max_episode_steps if env.spec is not None else None
-        core = get_batch_core(env)
-        return limit if limit else (int(core.max_steps) if core is not None else None)
-    finally:
-        env.close()
+    """The env's own episode limit, after checking its spaces fit the contract (``rollout.EnvProbe``)."""
+    return probe_env(cfg.env, cfg.env_kwargs).time_limit
 
 
 def build_model(cfg: RunConfig, s: PPOSettings) -> PPO:
@@ -107,66 +96,47 @@ class _GenerationLog(BaseCallback):
         self.rollout_time_s += time.perf_counter() - self._t0
 
 
-class PPORun:
-    """The PPO generation loop over explicit counters, checkpointed like the ES trainer."""
+class PPORun(RunLoop):
+    """The PPO generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints,
+    as for the ES trainer); a generation is ``iterations`` PPO iterations."""
 
-    def __init__(self, cfg: RunConfig, store: RunStore, settings: PPOSettings):
-        self.cfg, self.store, self.s = cfg, store, settings
+    label = "ppo"
+
+    def __init__(self, cfg: RunConfig, store: RunStore, settings: PPOSettings, progress: bool = True):
+        super().__init__(cfg, store, "ppo", progress)
+        self.s = settings
         self.iterations = iterations_per_generation(cfg, settings, env_time_limit(cfg))
         self.steps_per_generation = self.iterations * settings.n_steps * settings.n_envs
         self.model = build_model(cfg, settings)
         self.model.env.seed(seeding.derive_seed(cfg.seed, seeding.TRAIN, 0))
-        self.c = Counters()
         self.best_state = copy_state(self.model.policy.state_dict())
         self.test = DeterministicEpisodes(cfg.env, cfg.env_kwargs, cfg.rollout.max_steps)
-        self._tb = None
 
     # -- checkpointing -----------------------------------------------------------------------------
-    def checkpoint(self) -> None:
+    def checkpoint_state(self) -> tuple[dict, dict]:
         policy = self.model.policy
         arrays = to_arrays(POLICY, policy.state_dict()) | to_arrays(BEST, self.best_state)
         opt_arrays, groups = optimizer_to_arrays(policy.optimizer)
         arrays |= opt_arrays
         arrays[RNG] = torch.get_rng_state().numpy().copy()
-        meta = {**self.c.__dict__, "config_digest": config_digest(self.cfg), "method": "ppo",
-                "optim_param_groups": groups, "steps_per_generation": self.steps_per_generation,
+        meta = {"optim_param_groups": groups, "steps_per_generation": self.steps_per_generation,
                 "iterations_per_generation": self.iterations, "ppo": asdict(self.s)}
-        if not math.isfinite(meta["best_test_reward"]):
-            meta["best_test_reward"] = None
-        self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
+        return arrays, meta
 
-    def restore(self) -> bool:
-        loaded = self.store.load_checkpoint()
-        if loaded is None:
-            return False
-        arrays, meta = loaded
-        if meta.get("method") != "ppo" or meta.get("config_digest") != config_digest(self.cfg):
-            raise StoreError(f"checkpoint in {self.store.ckpt_dir} was made with a different config")
+    def load_state(self, arrays: dict, meta: dict) -> None:
         policy = self.model.policy
-        try:
-            policy.load_state_dict(from_arrays(POLICY, arrays))
-            self.best_state = from_arrays(BEST, arrays)
-            optimizer_from_arrays(policy.optimizer, arrays, meta["optim_param_groups"])
-            torch.set_rng_state(torch.from_numpy(np.array(arrays[RNG])))
-        except (KeyError, ValueError, RuntimeError) as exc:
-            msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise StoreError(f"checkpoint in {self.store.ckpt_dir} does not fit this run: {msg}") from None
-        for k in Counters.__dataclass_fields__:
-            v = meta.get(k)
-            if k == "best_test_reward" and v is None:
-                v = -math.inf
-            counter = k in ("generation", "env_steps")
-            if isinstance(v, bool) or not isinstance(v, int if counter else (int, float)) or (
-                    k != "best_test_reward" and not math.isfinite(v)) or (counter and v < 0):
-                raise StoreError(f"checkpoint in {self.store.ckpt_dir} has a malformed '{k}': {v!r}")
-            setattr(self.c, k, int(v) if counter else float(v))
+        policy.load_state_dict(from_arrays(POLICY, arrays))
+        self.best_state = from_arrays(BEST, arrays)
+        optimizer_from_arrays(policy.optimizer, arrays, meta["optim_param_groups"])
+        torch.set_rng_state(torch.from_numpy(np.array(arrays[RNG])))
+
+    def resumed(self, arrays: dict, meta: dict) -> None:
+        """The training envs restart from the root seed and the generation (their state is not saved)."""
         self.model.num_timesteps = self.c.env_steps
         self.model.env.seed(seeding.derive_seed(self.cfg.seed, seeding.TRAIN, self.c.generation))
-        self.store.truncate_metrics(self.c.generation - 1)
-        return True
 
     # -- one generation = ``iterations`` PPO iterations ---------------------------------------------
-    def step(self, g: int) -> dict:
+    def step(self, g: int) -> list[dict]:
         cfg, policy = self.cfg, self.model.policy
         t0, cpu0 = time.perf_counter(), time.process_time()
         before = actor_vector(policy)  # (n_actor,)
@@ -200,42 +170,10 @@ class PPORun:
                    wall_time_s=self.c.wall_time_s, cpu_time_s=self.c.cpu_time_s, gen_time_s=gen_time,
                    rollout_time_s=log.rollout_time_s,
                    update_norm=float(np.linalg.norm(actor_vector(policy) - before)))
-        return row
-
-    def run(self, progress: bool = True) -> list[dict]:
-        """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
-        self.restore()
-        rows: list[dict] = []
-        bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=progress, label="ppo")
-        try:
-            for g in range(self.c.generation, self.cfg.generations):
-                row = self.step(g)
-                self.store.append_metrics(row)
-                self._log_tb(row)
-                rows.append(row)
-                if (g + 1) % self.cfg.checkpoint_every == 0 or g + 1 == self.cfg.generations:
-                    self.checkpoint()
-                bar.update(g, row)
-        finally:
-            bar.close()
-            self.close()
-        return rows
-
-    def _log_tb(self, row: dict) -> None:
-        """The row as grouped TensorBoard scalars at step ``row["env_steps"]``, as the ES trainer's
-        (:mod:`shaped_es.tblog`)."""
-        if not self.cfg.tensorboard:
-            return
-        from shaped_es import tblog
-
-        if self._tb is None:
-            self._tb = tblog.open_writer(self.store.root / "tb", row)
-        tblog.log_row(self._tb, row)
+        return [row]
 
     def close(self) -> None:
-        if self._tb is not None:
-            self._tb.close()
-            self._tb = None
+        super().close()
         self.test.close()
         self.model.env.close()
 
@@ -246,7 +184,7 @@ def train_ppo(cfg: RunConfig, store: RunStore, progress: bool = True,
     threads = torch.get_num_threads()
     torch.set_num_threads(1)  # the paper's PPO: single core
     try:
-        return PPORun(cfg, store, settings or ppo_settings(cfg)).run(progress)
+        return PPORun(cfg, store, settings or ppo_settings(cfg), progress).run()
     finally:
         torch.set_num_threads(threads)
 
