@@ -24,6 +24,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("config", "rollout"),
     ("store", "run_meta"),
+    ("run_loop",),  # the run loop every method shares (lock, restore, rows, checkpoints)
     ("baselines",),  # PPO: knows nothing of ES
     ("load",),  # a run's policy from Python (ES or PPO)
     ("guides",),  # per-method hooks of the generation loop (shaped: a reference run's policy via load)
@@ -39,6 +40,7 @@ LAYER = {unit: i for i, units in enumerate(LAYERS) for unit in units}
 KNOWS_NOTHING_OF = {
     "rollout": {"strategies"},
     "store": {"strategies", "shaping"},  # training logic
+    "run_loop": {"strategies", "shaping", "rollout", "executors"},  # any one method's work
     "baselines": {"strategies", "shaping"},  # ES
     "report": {"strategies", "shaping", "rollout", "executors", "baselines", "guides", "trainer"},  # training
 }

@@ -21,7 +21,6 @@ metrics rows written after it, and continues, giving the rows an uninterrupted r
 
 from __future__ import annotations
 
-import contextlib
 import math
 import time
 from concurrent.futures import Future
@@ -35,10 +34,9 @@ from shaped_es.config import RunConfig, dump_config
 from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec
-from shaped_es.progress import ProgressDisplay
 from shaped_es.rollout import policy_episode_tasks, policy_spec, population_tasks, run_task
-from shaped_es.run_meta import Counters, config_digest
-from shaped_es.store import RunStore, StoreError
+from shaped_es.run_loop import RunLoop
+from shaped_es.store import RunStore
 from shaped_es.strategies import Strategy
 
 class DivergedError(RuntimeError):
@@ -78,10 +76,12 @@ class _Row:
     futures: list[Future] = field(default_factory=list)
 
 
-class Trainer:
+class Trainer(RunLoop):
+    """The ES generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints)."""
+
     def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
                  progress: bool = True):
-        self.cfg, self.store, self.progress = cfg, store, progress
+        super().__init__(cfg, store, cfg.method, progress)
         self._own_executor = executor is None
         self.executor = executor or make_executor(
             cfg.executor, workers=cfg.workers, **_executor_options(cfg)
@@ -95,21 +95,16 @@ class Trainer:
         x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store)
-        self.c = Counters()
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
-        self._tb = None
 
     # -- checkpointing -----------------------------------------------------------------------------
-    def _checkpoint(self) -> None:
+    def checkpoint_state(self) -> tuple[dict, dict]:
         arrays = {f"strategy/{k}": v for k, v in self.strategy.state_dict().items()}
         arrays |= {f"guide/{k}": v for k, v in self.guide.state_dict().items()}
         arrays["policy/best"] = self.best_params
         arrays["policy/mean"] = np.asarray(self.strategy.mean, dtype=np.float32)
-        meta = {**self.c.__dict__, "config_digest": config_digest(self.cfg), "method": self.cfg.method,
-                "policy": {"obs_dim": self.spec.obs_dim, "act_dim": self.spec.act_dim,
+        meta = {"policy": {"obs_dim": self.spec.obs_dim, "act_dim": self.spec.act_dim,
                            "hidden": list(self.spec.hidden)}}
-        if not math.isfinite(meta["best_test_reward"]):
-            meta["best_test_reward"] = None
         # Rows whose test episodes are still running: resume submits them again (same seeds).
         meta["waiting_rows"] = [_jsonable(item.row) for item in self._waiting]
         for i, item in enumerate(self._waiting):
@@ -119,7 +114,10 @@ class Trainer:
                and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
         if bad:  # never save a state a resume could not continue from; the previous one stays
             raise DivergedError(self._diverged(self.c.generation - 1, f"the state to checkpoint ({bad[0]})"))
-        self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
+        return arrays, meta
+
+    def checkpoint(self) -> None:
+        super().checkpoint()
         after = getattr(self.guide, "after_checkpoint", None)
         if after is not None:  # the checkpoint is durable: what only older ones needed may go
             after(self.c.generation)
@@ -131,55 +129,27 @@ class Trainer:
         return (f"generation {g}: {what} became non-finite (inf/NaN); the run stopped, its last good "
                 f"checkpoint ({kept}) is kept; lower {knobs}")
 
-    def restore(self) -> bool:
-        """Load the newest complete checkpoint if any (whatever ``latest.json`` says), after checking it
-        belongs to this run; then ``RunStore.recover`` deletes what a killed run left and drops the
-        metrics rows past the checkpoint. Returns True if one was loaded. Nothing on disk changes when
-        the checkpoint does not fit."""
-        loaded = self.store.load_checkpoint()
-        if loaded is None:
-            self.store.recover(loaded=None)
-            return False
-        arrays, meta = loaded
-        where = f"checkpoint gen_{meta['generation']:06d} in {self.store.ckpt_dir}"
-        if meta.get("method", self.cfg.method) != self.cfg.method or \
-                meta.get("config_digest") != config_digest(self.cfg):
-            raise StoreError(f"{where} was made with a different config")
+    def load_state(self, arrays: dict, meta: dict) -> None:
         waiting = meta.get("waiting_rows", [])
-        try:
-            if not isinstance(waiting, list) or not all(
-                    isinstance(r, dict) and type(r.get("generation")) is int for r in waiting):
-                raise ValueError("malformed waiting_rows")
-            counters = {k: meta[k] for k in Counters.__dataclass_fields__}
-            for k, v in counters.items():
-                if not (v is None and k == "best_test_reward") and (
-                        isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)):
-                    raise ValueError(f"counter {k}={v!r}")
-            if counters["generation"] != meta["generation"]:
-                raise ValueError("counter generation differs from the checkpoint's")
-            self.strategy.load_state_dict(_sub(arrays, "strategy/"))
-            self.guide.load_state_dict(_sub(arrays, "guide/"))
-            self.best_params = arrays["policy/best"]
-            if np.shape(self.best_params) != (self.spec.num_params,):
-                raise ValueError(f"policy/best has shape {np.shape(self.best_params)}")
-        except (KeyError, ValueError, TypeError, IndexError) as exc:
-            msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            msg = f"it lacks {msg}" if isinstance(exc, KeyError) else msg
-            raise StoreError(f"{where} does not fit this run: {msg}") from None
-        self.store.recover(loaded=loaded)
-        for k, v in counters.items():
-            setattr(self.c, k, v if v is not None else -math.inf)
+        if not isinstance(waiting, list) or not all(
+                isinstance(r, dict) and type(r.get("generation")) is int for r in waiting):
+            raise ValueError("malformed waiting_rows")
+        self.strategy.load_state_dict(_sub(arrays, "strategy/"))
+        self.guide.load_state_dict(_sub(arrays, "guide/"))
+        self.best_params = arrays["policy/best"]
+        if np.shape(self.best_params) != (self.spec.num_params,):
+            raise ValueError(f"policy/best has shape {np.shape(self.best_params)}")
+
+    def resumed(self, arrays: dict, meta: dict) -> None:
+        """Submit the test episodes of the rows still waiting at the checkpoint again (``recover`` kept
+        the metrics rows before the first of them)."""
         self._waiting = []
-        for i, row in enumerate(waiting):
+        for i, row in enumerate(meta.get("waiting_rows", [])):
             item = _Row(dict(row))
             if f"waiting/{i}" in arrays:
                 self._submit_eval(item, np.asarray(arrays[f"waiting/{i}"], dtype=np.float32),
                                   int(row["generation"]))
             self._waiting.append(item)
-        # Rows after the checkpoint's last written one are dropped; waiting rows are written again.
-        written = [int(i.row["generation"]) for i in self._waiting] or [self.c.generation]
-        self.store.truncate_metrics(min(written) - 1)
-        return True
 
     # -- one generation ----------------------------------------------------------------------------
     def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record: bool):
@@ -224,39 +194,54 @@ class Trainer:
         """Run generation ``g``; returns the metrics rows completed meanwhile (in order; with
         ``eval_overlap`` the row of ``g`` itself usually arrives with the next generation's)."""
         t0, cpu0 = time.perf_counter(), time.process_time()
-        cfg = self.cfg
         X = np.asarray(self.strategy.ask(), dtype=np.float32)  # (P, n)
-        P = X.shape[0]
-        members = np.arange(P)
-        seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, members, cfg.rollout.episodes,
-                                      cfg.rollout.common_seeds)  # (P, E)
         self.guide.begin_generation(g)
+        results, rollout_time = self._roll_out(X, g)
+        done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
+        fitness = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P,) mean of (P, E) returns
+        item = self._start_row(g, X, fitness)  # the best member's test episodes start now
+        old_mean = np.array(self.strategy.mean, copy=True)
+        self.strategy.tell(fitness)  # maximize
+        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
+        if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
+            raise DivergedError(self._diverged(g, "the search mean"))
+        return done + self._end_row(g, item, results, old_mean, extra, rollout_time, t0, cpu0)
+
+    def _roll_out(self, X: np.ndarray, g: int) -> tuple[list, float]:
+        """Every member of ``X`` ``(P, n)`` on generation ``g``'s training episode seeds; the results in
+        member order (their returns ``(P, E)``) and the time the rollouts took."""
+        cfg = self.cfg
+        seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(X.shape[0]), cfg.rollout.episodes,
+                                      cfg.rollout.common_seeds)  # (P, E)
         fn = self.guide.rollout_fn() or run_task
         t_roll = time.perf_counter()
         results = self.executor.map(fn, self._tasks(X, seeds, g, self.guide.record))
-        rollout_time = time.perf_counter() - t_roll
-        done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
-        returns = np.concatenate([r.returns for r in results])  # (P, E) in member order
-        fitness = returns.mean(axis=1)  # (P,) mean over the member's episodes (paper: 2 seeds)
-        steps = int(sum(r.lengths.sum() for r in results))
-        worker_cpu = sum(r.cpu_time_s for r in results)
+        return results, time.perf_counter() - t_roll
+
+    def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray) -> _Row:
+        """Generation ``g``'s metrics row (train rewards of ``fitness`` ``(P,)``); the test episodes of
+        its best member start when they are due."""
         item = _Row({"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
                      "train_reward_mean": float(fitness.mean()), "train_reward_max": float(fitness.max()),
                      "train_reward_min": float(fitness.min()), "test_reward_mean": None,
                      "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
+        cfg = self.cfg
         if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
             self._submit_eval(item, X[int(np.argmax(fitness))].copy(), g)  # the generation's best member
-        old_mean = np.array(self.strategy.mean, copy=True)
-        self.strategy.tell(fitness)
-        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
-        if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
-            raise DivergedError(self._diverged(g, "the search mean"))
-        worker_cpu += float(extra.get("clone_cpu_time_s") or 0.0)  # shaped: cloning ran on the workers
+        return item
+
+    def _end_row(self, g: int, item: _Row, results: list, old_mean: np.ndarray, extra: dict,
+                 rollout_time: float, t0: float, cpu0: float) -> list[dict]:
+        """Count generation ``g``'s env steps and CPU, fill in its row (``extra``: the guide's columns);
+        returns the rows completed now (this one unless it waits for its test episodes)."""
         master_cpu = time.process_time() - cpu0
+        steps = int(sum(r.lengths.sum() for r in results))
+        worker_cpu = sum(r.cpu_time_s for r in results)
+        worker_cpu += float(extra.get("clone_cpu_time_s") or 0.0)  # shaped: cloning ran on the workers
         self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps
         self.c.cpu_time_s += master_cpu + (0.0 if _in_process(self.executor) else worker_cpu)
-        row = item.row
-        if not cfg.eval_overlap:
+        done, row = [], item.row
+        if not self.cfg.eval_overlap:
             self._waiting.append(item)
             done += self._drain()
         row.update(env_steps=self.c.env_steps, gen_env_steps=steps, cpu_time_s=self.c.cpu_time_s,
@@ -265,63 +250,25 @@ class Trainer:
         row.update(extra)
         self.c.wall_time_s += time.perf_counter() - t0
         row.update(wall_time_s=self.c.wall_time_s, gen_time_s=time.perf_counter() - t0)
-        if cfg.eval_overlap:
+        if self.cfg.eval_overlap:
             self._waiting.append(item)
             if not item.tasks:  # nothing to wait for: written now, after the rows before it
                 done += self._drain()
         return done
 
+    def finish(self) -> list[dict]:
+        return self._drain()
+
     def run(self) -> list[dict]:
         """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
         # The master's linear algebra is small (QR of (n, k), M_phi minibatches): one thread avoids
         # oversubscribing the cores the workers use (multi-threaded BLAS was 100x slower here).
-        with contextlib.ExitStack() as stack:
-            try:  # one writer per run directory (StoreError naming the holder otherwise)
-                stack.enter_context(self.store.lock())
-            except BaseException:
-                self.close()
-                raise
-            with threadpool_limits(limits=1):
-                return self._run()
-
-    def _run(self) -> list[dict]:
-        _limit_torch_threads()
-        self.restore()
-        rows: list[dict] = []
-        bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress)
-        try:
-            for g in range(self.c.generation, self.cfg.generations):
-                done = self.step(g)
-                last = g + 1 == self.cfg.generations
-                if last:
-                    done += self._drain()
-                for row in done:
-                    self.store.append_metrics(row)
-                    self._log_tb(row)
-                    rows.append(row)
-                    bar.update(int(row["generation"]), row)
-                if (g + 1) % self.cfg.checkpoint_every == 0 or last:
-                    self._checkpoint()
-        finally:
-            bar.close()
-            self.close()
-        return rows
-
-    def _log_tb(self, row: dict) -> None:
-        """The row as TensorBoard scalars ``train/``, ``test/``, ``shaping/``, ``time/``, ``misc/`` at
-        step ``row["env_steps"]`` (:mod:`shaped_es.tblog`)."""
-        if not self.cfg.tensorboard:
-            return
-        from shaped_es import tblog
-
-        if self._tb is None:
-            self._tb = tblog.open_writer(self.store.root / "tb", row)
-        tblog.log_row(self._tb, row)
+        with threadpool_limits(limits=1):
+            _limit_torch_threads()
+            return super().run()
 
     def close(self) -> None:
-        if self._tb is not None:
-            self._tb.close()
-            self._tb = None
+        super().close()
         self.guide.close()
         if self._own_executor:
             if self.eval_executor is not self.executor:

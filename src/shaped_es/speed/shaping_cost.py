@@ -60,7 +60,7 @@ class _Stepper:
         for row in done:
             self.store.append_metrics(row)
         t1 = time.perf_counter()
-        self.trainer._checkpoint()
+        self.trainer.checkpoint()
         t2 = time.perf_counter()
         if timed:
             self.wall.append(t2 - t0)
