@@ -11,9 +11,12 @@ internally) and shares one interface::
 
 ``make_strategy(name, x0, **hyper)`` builds one by name: ``"vanilla"``, ``"guided"``, ``"cmaes"``.
 ``pairs=P`` and ``popsize=2 * P`` build the same strategy (the same samples); an odd ``popsize`` or
-one that disagrees with ``pairs`` is a ``ValueError``. CMA-ES ``weight_decay`` defaults to 0.0 here:
-estool's fitness penalty moves the optimum (see ``cmaes``); the paper's 0.05 is the run config's
-``es.cmaes_weight_decay`` default, which the trainer passes explicitly.
+one that disagrees with ``pairs`` is a ``ValueError``. In this package ``P`` is the number of antithetic
+pairs, as in the papers' ``1 / (2 sigma^2 P) * sum_{i=1..P}`` (Eq. (4)): directions are ``(P, n)``, a
+population ``(2P, n)``; elsewhere (the trainer, ``shaping/``, ``guides/``) ``P`` is the population size.
+CMA-ES ``weight_decay`` defaults to 0.0 here: estool's fitness penalty moves the optimum (see
+``cmaes``); the paper's 0.05 is the run config's ``es.cmaes_weight_decay`` default, which the trainer
+passes explicitly.
 
 Large policies: above ``float32_above`` parameters (default 20,000) Vanilla and Guided ES draw float32
 noise, ``ask`` returns a float32 population and Guided ES keeps its subspace as float32 rows and a small
