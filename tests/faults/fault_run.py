@@ -1,5 +1,6 @@
 """Shared helpers for the fault-injection tests: the command line as a subprocess (so that it can be
-SIGKILLed for real), tiny run configs, and snapshots of a run directory."""
+SIGKILLed for real), tiny run configs, and snapshots of a run directory. (A module of its own name, not
+conftest.py: ``from conftest import`` found whichever conftest pytest had loaded last.)"""
 
 from __future__ import annotations
 
@@ -9,7 +10,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
 import yaml
 
 HERE = Path(__file__).resolve().parent
@@ -87,11 +87,3 @@ def one_error_line(stderr: str) -> str:
     lines = [l for l in stderr.splitlines() if l.strip() and not l.startswith("shaped-es: warning:")]
     assert len(lines) == 1 and lines[0].startswith("shaped-es: error: "), stderr[-3000:]
     return lines[0]
-
-
-@pytest.fixture
-def faults_path(monkeypatch):
-    """Worker processes (and in-process runs) import fault_envs."""
-    monkeypatch.setenv("PYTHONPATH", env()["PYTHONPATH"])
-    monkeypatch.syspath_prepend(str(HERE))
-    return HERE

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import leftovers, snapshot
+from fault_run import leftovers, snapshot
 
 from shaped_es.cli import main
 

@@ -9,7 +9,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import config, popen_cli, write_config
+from fault_run import config, popen_cli, write_config
 from helpers import strip_time, train
 
 from shaped_es import seeding

@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import HERE, config, leftovers, run_cli, write_config
+from fault_run import HERE, config, leftovers, run_cli, write_config
 from helpers import strip_time
 from killer import POINTS
 

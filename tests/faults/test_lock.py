@@ -9,7 +9,7 @@ import sys
 import time
 
 import pytest
-from conftest import config, env, one_error_line, popen_cli, run_cli, write_config
+from fault_run import config, env, one_error_line, popen_cli, run_cli, write_config
 
 from shaped_es.cli import main
 from shaped_es.store import RunStore, StoreError

@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import HERE, config, env, one_error_line, write_config
+from fault_run import HERE, config, env, one_error_line, write_config
 
 pytest.importorskip("mpi4py", reason="mpi4py is not installed (pip install 'shaped-es[mpi]')")
 
