@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
 from shaped_es.policies import MLPSpec, forward
 from shaped_es.shaping.cloning import CloningConfig, clone_population, clone_sampled, pad_population
 from shaped_es.shaping.member_rows import MemberRows
+from shaped_es.shaping.shared_rows import SharedRows
 
 SPEC = MLPSpec(obs_dim=5, act_dim=2, hidden=(8, 8))
 
@@ -196,7 +199,8 @@ def test_member_rows_in_blocks_equal_the_concatenated_lists():
         np.testing.assert_array_equal(qa, qb)
 
 
-def test_fitting_in_chunks_elsewhere_gives_the_same_theta_star():
+@pytest.mark.parametrize("through_shared_memory", [False, True])
+def test_fitting_in_chunks_elsewhere_gives_the_same_theta_star(through_shared_memory):
     theta, states, labels = _population()
     queries = [np.zeros((len(s), 2), np.float32) for s in states]
     data = MemberRows.from_lists(states, queries)
@@ -206,10 +210,16 @@ def test_fitting_in_chunks_elsewhere_gives_the_same_theta_star():
 
     def fake_map(fn, tasks):
         calls.append(len(tasks))
+        tasks = [pickle.loads(pickle.dumps(t)) for t in tasks]  # as a worker receives them
+        assert all((t.S is None) == through_shared_memory for t in tasks)
         return [fn(t) for t in tasks]
 
+    shared = SharedRows() if through_shared_memory else None
     one = clone_sampled(SPEC, theta, data, label, cfg, np.arange(4))
-    many = clone_sampled(SPEC, theta, data, label, cfg, np.arange(4), map_fit=fake_map, map_chunks=3)
+    many = clone_sampled(SPEC, theta, data, label, cfg, np.arange(4), map_fit=fake_map, map_chunks=3,
+                         shared=shared)
+    if shared is not None:
+        shared.close()
     assert calls == [3]
     np.testing.assert_allclose(many.theta_star, one.theta_star, rtol=1e-6, atol=1e-7)
     np.testing.assert_allclose(many.loss_after, one.loss_after, rtol=1e-6)

@@ -52,6 +52,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, population_tasks, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
+from shaped_es.shaping.shared_rows import SharedRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
 from shaped_es.shaping.trajectories import TrajectoryStoreError, delete_generations, list_generations
@@ -142,10 +143,10 @@ class ShapedGuide(NoGuide):
         self._saved: tuple[int, int] | None = None  # (generation, oldest data part) of the last state_dict
         # master placement on local processes: labels here, the gradient steps in the idle workers
         self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
-        self._workers_warm = False
+        self._shared = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
         self.reference = _reference_fn(self.sh.reference_run, spec) if self.sh.reference_run else None
         self._warned = False
-        if self.placement == "master":
+        if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
     def rollout_fn(self):
@@ -264,9 +265,6 @@ class ShapedGuide(NoGuide):
 
     # -- cloning and the surrogate subspace ----------------------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
-        if self.fit_on_workers and not self._workers_warm:  # torch's first optimizer: before it counts
-            map_tasks(warm_up_task, list(range(max(1, len(results)))))
-            self._workers_warm = True
         self._write_time += float(sum(getattr(r, "store_time_s", 0.0) for r in results))  # on the workers
         if self.placement == "master":  # keep the generation in memory
             trs = sorted((tr for r in results for tr in r.transitions), key=lambda t: t.member)
@@ -360,7 +358,7 @@ class ShapedGuide(NoGuide):
             # machine but 3x slower beside any other busy process (OpenMP spin-waits)
             fit = {"map_fit": map_tasks, "map_chunks": n_tasks} if self.fit_on_workers and n_tasks > 1 else {}
             res = clone_sampled(self.spec, params, data, labeller(self.mphi, max_disp), self.clone_cfg, seeds,
-                                reference_fn=self.reference, **fit)
+                                reference_fn=self.reference, shared=self._shared, **fit)
             return res.theta_star, res, res.fit_cpu_time_s
         snap = self.mphi.state_dict(with_training=False)
         tasks = [CloneTask(self.spec, params[idx], idx, seeds[idx], gens, self.traj_root, snap,
@@ -412,10 +410,8 @@ class ShapedGuide(NoGuide):
             self._join_writes()
         finally:
             self._writer.shutdown(wait=True)
-
-
-def warm_up_task(_: int) -> None:
-    warm_up_cloning()
+            if self._shared is not None:
+                self._shared.close()
 
 
 def _reference_fn(run_dir: str, spec: MLPSpec):

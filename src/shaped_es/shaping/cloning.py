@@ -21,7 +21,6 @@ rows, not on all of ``D_i`` (a full-data MSE cost as much as the cloning itself)
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -30,7 +29,8 @@ import torch
 
 from shaped_es.policies import MLPSpec, forward_torch
 from shaped_es.shaping.member_rows import MemberRows
-from shaped_es.shaping.population_mlp import PopulationMLP, make_optimizer
+from shaped_es.shaping.population_fit import FitTask, fit_rows
+from shaped_es.shaping.shared_rows import SharedRows
 from shaped_es.shaping.settings import CloningConfig
 
 
@@ -196,6 +196,7 @@ def clone_sampled(
     reference_fn: Callable[[np.ndarray], np.ndarray] | None = None,
     map_fit: Callable | None = None,
     map_chunks: int = 2,
+    shared: SharedRows | None = None,
 ) -> CloneResult:
     """Clone every member towards ``label_fn`` on its own data: ``theta`` ``(P, n)`` -> ``theta*``.
 
@@ -211,7 +212,9 @@ def clone_sampled(
     the reference than the member's own action (``label_beats_own``).
 
     ``map_fit(fn, tasks) -> results`` (an executor's map): the gradient steps of ``map_chunks`` chunks of
-    members run there (:func:`fit_rows` on :class:`FitTask`), after the labels are taken here.
+    members run there (:func:`fit_rows` on :class:`FitTask`), after the labels are taken here. With
+    ``shared`` (workers on this machine) the rows are gathered into its shared memory and the tasks carry
+    only a handle to it.
     """
     cfg = config
     th = np.atleast_2d(np.asarray(theta, dtype=np.float32))  # (P, n)
@@ -240,22 +243,32 @@ def clone_sampled(
     for i in np.flatnonzero(n_i):
         pos[:, i] = np.random.default_rng(int(seeds[i])).integers(0, n_i[i], size=(draws, B))
     has = n_i > 0  # (P,) members without data get no gradient and nan losses
+    fit_elsewhere = map_fit is not None and P >= 2
+    ref = None
+    if shared is not None and fit_elsewhere:  # gathered and labelled straight into shared memory
+        buf, ref = shared.arrays({"S": (draws, P, B, spec.obs_dim), "A": (draws, P, B, spec.act_dim)})
+        S, A = buf["S"], buf["A"]
+    else:
+        S = np.zeros((draws, P, B, spec.obs_dim), np.float32)  # (draws, P, B, obs)
+        A = np.zeros((draws, P, B, spec.act_dim), np.float32)  # (draws, P, B, act)
     if has.any():
-        S, Q = data.gather(pos)  # (draws, P, B, obs), (draws, P, B, d)
-        A = label_fn(S, Q).astype(np.float32, copy=False)  # (draws, P, B, act) labels a_hat
+        Q = data.gather(pos, out_states=S)  # S (draws, P, B, obs) filled; queries (draws, P, B, d)
+        A[...] = label_fn(S, Q)  # (draws, P, B, act) labels a_hat
         if not has.all():
             S[:, ~has], A[:, ~has] = 0.0, 0.0
     else:
-        S = np.zeros((draws, P, B, spec.obs_dim), np.float32)
-        A = np.zeros((draws, P, B, spec.act_dim), np.float32)
+        S[...], A[...] = 0.0, 0.0
     fit_cpu = 0.0  # CPU seconds of gradient steps run elsewhere (here: counted by the caller's process)
-    if map_fit is None or P < 2:
+    if not fit_elsewhere:
         theta_star, before, after, own_before, own_after, _ = fit_rows(
             FitTask(spec, th, S, A, has, cfg.steps, cfg.optimizer, cfg.lr, k_eval))
     else:  # chunks of members elsewhere (each member's steps are independent: the same theta*)
         chunks = [c for c in np.array_split(np.arange(P), map_chunks) if c.size]
-        outs = map_fit(fit_rows, [FitTask(spec, th[c], S[:, c], A[:, c], has[c], cfg.steps, cfg.optimizer,
-                                          cfg.lr, k_eval) for c in chunks])
+        outs = map_fit(fit_rows, [
+            FitTask(spec, th[c], None, None, has[c], cfg.steps, cfg.optimizer, cfg.lr, k_eval, ref,
+                    (int(c[0]), int(c[-1]) + 1)) if ref is not None else
+            FitTask(spec, th[c], S[:, c], A[:, c], has[c], cfg.steps, cfg.optimizer, cfg.lr, k_eval)
+            for c in chunks])
         theta_star = np.concatenate([o[0] for o in outs])
         before, after, own_before, own_after = (np.concatenate([o[j] for o in outs]) for j in range(1, 5))
         fit_cpu = float(sum(o[5] for o in outs))
@@ -278,47 +291,3 @@ def clone_sampled(
 def _label_std(labels: Sequence[np.ndarray]) -> float:
     lab = [x for x in labels if len(x)]
     return float(np.concatenate(lab).std(axis=0).mean()) if lab else 0.0
-
-
-@dataclass
-class FitTask:
-    """Gradient steps of a chunk of members on rows already drawn and labelled (picklable)."""
-
-    spec: MLPSpec
-    theta: np.ndarray  # (P, n) float32
-    S: np.ndarray  # (draws, P, B, obs) float32: minibatch k is S[k]
-    A: np.ndarray  # (draws, P, B, act) float32 labels
-    has: np.ndarray  # (P,) bool: members with data
-    steps: int
-    optimizer: str
-    lr: float
-    k_eval: int  # the first k_eval minibatches are the eval rows
-
-
-def fit_rows(task: FitTask):
-    """``(theta_star (P, n), mse_before (P,), mse_after (P,), own actions before / after (P, kB, act),
-    CPU seconds)`` of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one NumPy
-    computation for all (:class:`PopulationMLP`; the same steps as torch's, to float tolerance)."""
-    cpu0 = time.process_time()
-    has, k_eval = np.asarray(task.has), task.k_eval
-    net = PopulationMLP(task.spec, task.theta)
-    P, B = net.flat.shape[0], task.S.shape[2]
-    weight = has.astype(np.float32)  # (P,) members without data get no gradient
-    s_eval = task.S[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
-    a_eval = task.A[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, act)
-    acts: list[np.ndarray] = []  # the members' own actions on the eval rows, before and after
-
-    def eval_mse() -> np.ndarray:
-        pred = net.forward(s_eval)  # (P, kB, act)
-        acts.append(pred)
-        mse = ((pred - a_eval) ** 2).mean((1, 2), dtype=np.float64)  # (P,)
-        return np.where(has, mse, np.nan)
-
-    before = eval_mse()
-    if task.steps > 0 and has.any():
-        opt = make_optimizer(task.optimizer, net.flat.shape, task.lr)
-        for k in range(task.steps):
-            net.mse_backward(task.S[k], task.A[k], weight)  # sum_i L_i(theta_i), Eq. L(theta) per member
-            opt.step(net.flat, net.grad)
-    after = eval_mse()
-    return net.flat, before, after, acts[0], acts[1], time.process_time() - cpu0

@@ -49,9 +49,10 @@ class MemberRows:
         spans[..., 0] = spans[..., 1] - keep
         return MemberRows(self.states, self.queries, spans)
 
-    def gather(self, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def gather(self, pos: np.ndarray, out_states: np.ndarray | None = None):
         """Rows at per-member positions ``pos`` ``(draws, P, B)`` (into ``D_i``, oldest first) ->
-        states ``(draws, P, B, obs)``, queries ``(draws, P, B, d)``."""
+        states ``(draws, P, B, obs)``, queries ``(draws, P, B, d)``. With ``out_states`` (float32, that
+        shape) the states are written there and only the queries are returned."""
         P = self.spans.shape[0]
         lens = self.spans[..., 1] - self.spans[..., 0]  # (P, nb)
         ends = np.cumsum(lens, axis=1)  # (P, nb)
@@ -64,7 +65,13 @@ class MemberRows:
             local[:, i] = self.spans[i, b, 0] + pos[:, i] - (ends[i, b] - lens[i, b])
         obs, d = self.states[0].shape[1], self.queries[0].shape[1]
         flat_b, flat_l = block.reshape(-1), local.reshape(-1)  # (draws*P*B,)
-        S = np.zeros((flat_b.size, obs), np.float32)  # (draws * P * B, obs); no data: zeros
+        if out_states is None:
+            S = np.zeros((flat_b.size, obs), np.float32)  # (draws * P * B, obs); no data: zeros
+        else:
+            if out_states.shape != (*pos.shape, obs) or not out_states.flags.c_contiguous:
+                raise ValueError(f"out_states must be C-contiguous {(*pos.shape, obs)}, got {out_states.shape}")
+            S = out_states.reshape(flat_b.size, obs)  # a view: (draws, P, B, obs) -> (draws*P*B, obs)
+            S[flat_b < 0] = 0.0
         Q = np.zeros((flat_b.size, d), np.float32)  # (draws * P * B, d)
         # per block: one np.take of its drawn rows, scattered into place (no concatenation of the
         # blocks, which copied every generation's whole data set for each gather)
@@ -73,4 +80,6 @@ class MemberRows:
             if sel.size:
                 S[sel] = np.take(self.states[b], flat_l[sel], axis=0)
                 Q[sel] = np.take(self.queries[b], flat_l[sel], axis=0)
+        if out_states is not None:
+            return Q.reshape(*pos.shape, d)
         return S.reshape(*pos.shape, obs), Q.reshape(*pos.shape, d)
