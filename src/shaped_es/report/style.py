@@ -11,7 +11,10 @@ METHOD_COLORS = {  # the same method is the same colour in every figure
     "cmaes": "#2ca02c",  # green
     "ppo": "#ff7f0e",  # orange
 }
-OTHER_COLORS = ("#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")  # methods outside the table
+# methods outside the table (variants): tab10's rest, then tab20's light shades, so that up to 15 variants
+# beside the five methods never share a colour in one figure
+OTHER_COLORS = ("#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#aec7e8", "#ffbb78", "#98df8a",
+                "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#c7c7c7", "#dbdb8d", "#9edae5")
 
 
 def method_color(method: str, order: int = 0) -> str:
