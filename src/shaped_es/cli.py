@@ -77,10 +77,10 @@ def cmd_train(a: argparse.Namespace) -> int:
     store = RunStore(a.out)
     if store.exists() or (store.root.exists() and not store.root.is_dir()):
         store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
-    check_run(cfg)  # everything is validated before anything is written
+    probe = check_run(cfg)  # everything is validated before anything is written (its env probe reused)
     with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
         store.create(cfg)  # checks again, under the lock, that no other train got there first
-        return _run(cfg, store, a)
+        return _run(cfg, store, a, probe)
 
 
 def cmd_resume(a: argparse.Namespace) -> int:
@@ -123,12 +123,10 @@ def _fitting_checkpoint(cfg, store):
     return loaded
 
 
-def _run(cfg, store, a) -> int:
+def _run(cfg, store, a, probe=None) -> int:
     from shaped_es.methods import METHODS, resolve
 
-    if cfg.method == "ppo":
-        store.recover(loaded=_fitting_checkpoint(cfg, store))  # the ES trainer does this in restore
-    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet)
+    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe)
     from shaped_es.report import plot_runs
 
     fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)

@@ -27,14 +27,18 @@ def _no_args(*_) -> dict[str, Any]:
 class Method:
     """How one method is built; see the module docstring."""
 
-    # "module:attr" of ``train(cfg, store, progress=True) -> metrics rows``: trains or resumes a run.
+    # "module:attr" of ``train(cfg, store, progress=True, probe=None) -> metrics rows``: trains or resumes a
+    # run (``probe``: the run's ``rollout.EnvProbe`` if the caller made one, else it probes its env).
     train: str = "shaped_es.trainer:train"
     # ES methods: "module:attr" of the strategy class, built as ``cls(x0, **strategy_args(cfg, seed))``.
     strategy: str | None = None
     strategy_args: Callable[[Any, int], dict[str, Any]] = _no_args
-    # ES methods: "module:attr" of the guide class, built as ``cls(**guide_args(cfg, spec, store))``.
+    # ES methods: "module:attr" of the guide class, built as ``cls(**guide_args(cfg, spec, store, probe))``
+    # (``probe``: the run's ``rollout.EnvProbe``).
     guide: str = "shaped_es.guides:NoGuide"
-    guide_args: Callable[[Any, Any, Any], dict[str, Any]] = _no_args
+    guide_args: Callable[[Any, Any, Any, Any], dict[str, Any]] = _no_args
+    # The guide reads the env's reset info: the run's one env probe also resets it (``EnvProbe.reset_info``).
+    probe_reset: bool = False
     # The fields of the method-specific sections (``es``, ``shaping``, ``ppo``) it reads: "es.sigma" is a
     # field, "shaping" a whole section. The benchmark compares and reports runs by them.
     reads: tuple[str, ...] = ()
@@ -65,14 +69,15 @@ ES_READS = ("es.pairs", "es.sigma", "es.lr", "es.optimizer", "es.momentum", "es.
 METHODS: dict[str, Method] = {
     "vanilla": Method(strategy=VANILLA_ES, strategy_args=_es_args, reads=ES_READS),
     "guided": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides:PastUpdateGuide",
-                     guide_args=lambda cfg, spec, store: {"k": cfg.es.guided_k},
+                     guide_args=lambda cfg, spec, store, probe: {"k": cfg.es.guided_k},
                      reads=ES_READS + ("es.alpha", "es.guided_k")),
     "cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
                     reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
                            "es.cmaes_diagonal_above")),
     "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
-                     guide_args=lambda cfg, spec, store: {"cfg": cfg, "spec": spec, "store": store},
-                     reads=ES_READS + ("es.alpha", "shaping")),
+                     guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
+                                                                 "probe": probe},
+                     probe_reset=True, reads=ES_READS + ("es.alpha", "shaping")),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget
     "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo")),
 }

@@ -10,23 +10,30 @@ directory that would block the retry.
 from __future__ import annotations
 
 import os
+from typing import TYPE_CHECKING
 
 from shaped_es.config import ConfigError, RunConfig
 
+if TYPE_CHECKING:
+    from shaped_es.rollout import EnvProbe
 
-def check_run(cfg: RunConfig) -> None:
-    """Raise ``ConfigError`` / ``EnvSpecError`` / ``ExecutorError`` (one line) if ``cfg`` cannot start."""
+
+def check_run(cfg: RunConfig) -> EnvProbe:
+    """Raise ``ConfigError`` / ``EnvSpecError`` / ``ExecutorError`` (one line) if ``cfg`` cannot start;
+    else the env probe the checks read (a train may take it: its env is not made again)."""
     import shaped_es  # noqa: F401 - registers the built-in envs
+    from shaped_es.methods import METHODS
     from shaped_es.rollout import policy_spec, probe_env
 
-    probe = probe_env(cfg.env, cfg.env_kwargs)  # one env made for the dims and the time limit
+    # one env made for the dims, the time limit and (shaped) the reset info
+    probe = probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
     _check_executor(cfg.executor)
     _check_workers(cfg)
     if cfg.method == "ppo":
         from shaped_es.baselines.ppo_settings import iterations_per_generation, ppo_settings
 
         iterations_per_generation(cfg, ppo_settings(cfg), probe.time_limit)  # e.g. no time limit
-        return
+        return probe
     import numpy as np
 
     from shaped_es.trainer import build_strategy
@@ -42,7 +49,8 @@ def check_run(cfg: RunConfig) -> None:
     if cfg.method == "shaped":
         from shaped_es.guides.shaped import waypoint_dim
 
-        waypoint_dim(cfg)  # the env contract: info['position'] and info['waypoint']
+        waypoint_dim(cfg, probe)  # the env contract: info['position'] and info['waypoint']
+    return probe
 
 
 def _physical_memory() -> int | None:

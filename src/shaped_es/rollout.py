@@ -135,16 +135,29 @@ class EnvProbe:
     # The env's own episode limit: the made env's ``spec.max_episode_steps`` (the built-in envs register a
     # ``TimeLimit`` of their preset's horizon), else the ``max_steps`` of its batched core, else None.
     time_limit: int | None
+    # Only when asked (``probe_env(..., reset=True)``: a method reading the env's info, ``methods.Method``):
+    # the info of the same env's ``reset(seed=0)``, or the exception that reset raised, kept for the
+    # caller to raise when its check comes (both None: not asked).
+    reset_info: dict | None = field(default=None, compare=False, repr=False)
+    reset_error: Exception | None = field(default=None, compare=False, repr=False)
 
 
-def probe_env(env_id: str, env_kwargs: dict | None = None) -> EnvProbe:
-    """Make ``env_id`` once: its dims (after checking its spaces fit the contract) and its time limit."""
+def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
+    """Make ``env_id`` once: its dims (after checking its spaces fit the contract) and its time limit;
+    with ``reset``, also its reset info (one ``reset(seed=0)``, only for the methods that read it)."""
     env = make_env(env_id, env_kwargs)
     try:
         obs_dim, act_dim = env_dims(env)
         limit = env.spec.max_episode_steps if env.spec is not None else None
         core = get_batch_core(env)
-        return EnvProbe(obs_dim, act_dim, limit if limit else (int(core.max_steps) if core is not None else None))
+        limit = limit if limit else (int(core.max_steps) if core is not None else None)
+        info, error = None, None
+        if reset:
+            try:
+                _, info = env.reset(seed=0)
+            except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info
+                error = exc
+        return EnvProbe(obs_dim, act_dim, limit, reset_info=info, reset_error=error)
     finally:
         env.close()
 

@@ -34,7 +34,8 @@ from shaped_es.config import RunConfig, dump_config
 from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import policy_episode_tasks, policy_spec, population_tasks, run_task
+from shaped_es.rollout import (EnvProbe, policy_episode_tasks, policy_spec, population_tasks, probe_env,
+                               run_task)
 from shaped_es.run_loop import RunLoop
 from shaped_es.store import RunStore
 from shaped_es.strategies import Strategy
@@ -55,15 +56,15 @@ def build_strategy(cfg: RunConfig, x0: np.ndarray) -> Strategy:
     return resolve(method.strategy)(x0, **method.strategy_args(cfg, seed))
 
 
-def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore):
-    """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`)."""
+def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe | None = None):
+    """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`); ``probe``: the run's env probe."""
     method = METHODS[cfg.method]
-    return resolve(method.guide)(**method.guide_args(cfg, spec, store))
+    return resolve(method.guide)(**method.guide_args(cfg, spec, store, probe))
 
 
-def train(cfg: RunConfig, store: RunStore, progress: bool = True) -> list[dict]:
+def train(cfg: RunConfig, store: RunStore, progress: bool = True, probe: EnvProbe | None = None) -> list[dict]:
     """Train (or resume) an ES run into ``store``; returns the metrics rows written (``Trainer.run``)."""
-    return Trainer(cfg, store, progress=progress).run()
+    return Trainer(cfg, store, progress=progress, probe=probe).run()
 
 
 @dataclass
@@ -80,7 +81,7 @@ class Trainer(RunLoop):
     """The ES generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints)."""
 
     def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
-                 progress: bool = True):
+                 progress: bool = True, probe: EnvProbe | None = None):
         super().__init__(cfg, store, cfg.method, progress)
         self._own_executor = executor is None
         self.executor = executor or make_executor(
@@ -91,10 +92,12 @@ class Trainer(RunLoop):
             self.eval_executor = make_executor("process", workers=cfg.eval_workers,
                                                **_executor_options(cfg))
         self._waiting: list[_Row] = []  # rows of finished generations, in order, awaiting test results
-        self.spec = policy_spec(cfg)
+        # the env made once before the first rollout (dims; the reset info if the guide reads it)
+        probe = probe or probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
+        self.spec = policy_spec(cfg, probe)
         x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
         self.strategy = build_strategy(cfg, x0)
-        self.guide = build_guide(cfg, self.spec, store)
+        self.guide = build_guide(cfg, self.spec, store, probe)
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
 
     # -- checkpointing -----------------------------------------------------------------------------

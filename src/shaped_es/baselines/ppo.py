@@ -43,7 +43,7 @@ from shaped_es.baselines.ppo_settings import PPOSettings, iterations_per_generat
 from shaped_es.baselines.ppo_state import (BEST, POLICY, RNG, DeterministicEpisodes, actor_vector, copy_state,
                                            from_arrays, optimizer_from_arrays, optimizer_to_arrays, to_arrays)
 from shaped_es.config import RunConfig
-from shaped_es.rollout import make_env, probe_env
+from shaped_es.rollout import EnvProbe, make_env, probe_env
 from shaped_es.run_loop import RunLoop
 from shaped_es.store import RunStore, StoreError
 
@@ -102,10 +102,12 @@ class PPORun(RunLoop):
 
     label = "ppo"
 
-    def __init__(self, cfg: RunConfig, store: RunStore, settings: PPOSettings, progress: bool = True):
+    def __init__(self, cfg: RunConfig, store: RunStore, settings: PPOSettings, progress: bool = True,
+                 probe: EnvProbe | None = None):
         super().__init__(cfg, store, "ppo", progress)
         self.s = settings
-        self.iterations = iterations_per_generation(cfg, settings, env_time_limit(cfg))
+        probe = probe or probe_env(cfg.env, cfg.env_kwargs)  # the env's time limit (``env_time_limit``)
+        self.iterations = iterations_per_generation(cfg, settings, probe.time_limit)
         self.steps_per_generation = self.iterations * settings.n_steps * settings.n_envs
         self.model = build_model(cfg, settings)
         self.model.env.seed(seeding.derive_seed(cfg.seed, seeding.TRAIN, 0))
@@ -179,12 +181,12 @@ class PPORun(RunLoop):
 
 
 def train_ppo(cfg: RunConfig, store: RunStore, progress: bool = True,
-              settings: PPOSettings | None = None) -> list[dict]:
+              settings: PPOSettings | None = None, probe: EnvProbe | None = None) -> list[dict]:
     """Train (or resume) PPO into ``store`` on one torch thread; returns the metrics rows written."""
     threads = torch.get_num_threads()
     torch.set_num_threads(1)  # the paper's PPO: single core
     try:
-        return PPORun(cfg, store, settings or ppo_settings(cfg), progress).run()
+        return PPORun(cfg, store, settings or ppo_settings(cfg), progress, probe).run()
     finally:
         torch.set_num_threads(threads)
 

@@ -49,7 +49,7 @@ from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone, labeller, rollout_and_store
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import make_env, population_tasks, run_task
+from shaped_es.rollout import EnvProbe, population_tasks, probe_env, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
@@ -62,13 +62,14 @@ from shaped_es.guides.mphi_parts import DataParts
 MASTER_MAX_PARAMS = 20_000_000  # P x n above which ``auto`` clones on the workers
 
 
-def waypoint_dim(cfg: RunConfig) -> int:
-    """Dimension of the env's waypoint space; one clear error if it lacks the contract."""
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        _, info = env.reset(seed=0)
-    finally:
-        env.close()
+def waypoint_dim(cfg: RunConfig, probe: EnvProbe | None = None) -> int:
+    """Dimension of the env's waypoint space, from the reset info of ``probe`` (``probe_env(...,
+    reset=True)``; probed here if None or not reset); one clear error if it lacks the contract."""
+    if probe is None or (probe.reset_info is None and probe.reset_error is None):
+        probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
+    if probe.reset_error is not None:
+        raise probe.reset_error
+    info = probe.reset_info
     if POSITION_KEY not in info or WAYPOINT_KEY not in info:
         raise ConfigError(f"--method shaped needs info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] "
                           f"from {cfg.env} (see the README's environment contract)")
@@ -116,12 +117,12 @@ def from_section(cls, section, **resolved):
 class ShapedGuide(NoGuide):
     record = True
 
-    def __init__(self, cfg: RunConfig, spec: MLPSpec, store):
+    def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None):
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
         self.traj_root = self.sh.trajectory_root or str(store.trajectories_dir)
         self.placement = placement(cfg, spec)
         mp = self.sh.inverse_dynamics
-        pos_dim = waypoint_dim(cfg)
+        pos_dim = waypoint_dim(cfg, probe)
         frame = mp.frame if mp.frame != "auto" else ("motion" if pos_dim == 2 else "world")
         self.mphi_cfg = from_section(InverseDynamicsConfig, mp, frame=frame,
                                      seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
