@@ -33,7 +33,6 @@ def test_store_rejects_bad_checkpoints(tmp_path):
     # an object array would need pickle to load: refused
     np.save(tmp_path / "x.npy", np.array([{"a": 1}], dtype=object), allow_pickle=True)
     obj = store.ckpt_dir / "gen_000001.npz"
-    import io
     import zipfile
 
     with zipfile.ZipFile(obj, "w") as z:

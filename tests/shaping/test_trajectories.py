@@ -18,7 +18,6 @@ from shaped_es.shaping.trajectories import (
     read_member_history,
     read_members,
     read_shard,
-    shard_path,
     write_shard,
 )
 

@@ -30,7 +30,7 @@ import numpy as np
 from shaped_es.data import Transitions
 from shaped_es.shaping.frames import to_frame
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
-from shaped_es.shaping.settings import FILTERS, QUERY_SCALES, TARGETS, InverseDynamicsConfig
+from shaped_es.shaping.settings import QUERY_SCALES, TARGETS, InverseDynamicsConfig
 
 
 LABEL_CHUNK = 4096  # rows per forward pass when labelling

@@ -77,18 +77,3 @@ def cosine(a: np.ndarray, b: np.ndarray) -> float:
     if na == 0 or nb == 0:
         return 0.0
     return float(a @ b / (na * nb))
-
-
-def subspace_alignment(U: np.ndarray, v: np.ndarray) -> float:
-    """``||U^T v|| / ||v||`` in ``[0, 1]``: how much of the direction ``v`` lies in ``span(U)``.
-
-    ``U`` ``(n, k)`` must be orthonormal (as from :func:`orthonormal_basis`); 1 means ``v`` lies in the
-    subspace, 0 orthogonal to it (also for an empty basis or a zero ``v``). With ``v`` the ES update of
-    the mean this measures how well the surrogate directions anticipated it.
-    """
-    U = np.asarray(U, dtype=np.float64)
-    v = np.asarray(v, dtype=np.float64).reshape(-1)
-    nv = np.linalg.norm(v)
-    if U.size == 0 or nv == 0:
-        return 0.0
-    return float(min(1.0, np.linalg.norm(U.T @ v) / nv))  # (k,) projection coefficients
