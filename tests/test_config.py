@@ -62,3 +62,12 @@ def test_settings_dataclasses_share_their_config_sections_defaults():
         assert len(shared) >= 5, cls
         for f in shared:
             assert f.default == section.model_fields[f.name].default, (cls.__name__, f.name)
+
+
+def test_a_misspelt_key_is_named_with_what_it_may_mean():
+    with pytest.raises(ConfigError) as e:
+        build_config({"shaping": {"inverse_dynamics": {"query_scal": "raw"}}})
+    assert str(e.value) == ("invalid config: shaping.inverse_dynamics.query_scal: unknown field "
+                            "(did you mean query_scale or query_clip?)")
+    with pytest.raises(ConfigError, match=r"^invalid config: zzz: unknown field$"):
+        build_config({"zzz": 1})

@@ -195,12 +195,28 @@ def first_error(exc: ValidationError) -> str:
     where = ".".join(str(p) for p in err["loc"]) or "config"
     more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
     msg = " ".join(str(err["msg"]).removeprefix("Value error, ").split())
+    if err.get("type") == "extra_forbidden":  # a misspelt key: name the section's fields it may mean
+        msg = "unknown field" + _did_you_mean(err["loc"])
     value = err.get("input")
     got = ""
     if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:
         shown = str(value).lower() if isinstance(value, bool) else repr(value)
         got = f" (got {shown[:40]})"
     return f"{where}: {msg}{got}{more}"
+
+
+def _did_you_mean(loc: tuple) -> str:
+    """' (did you mean ...?)' from the fields of the section at ``loc[:-1]`` closest to ``loc[-1]``."""
+    import difflib
+
+    model: Any = RunConfig
+    for part in loc[:-1]:
+        field = getattr(model, "model_fields", {}).get(part)
+        model = getattr(field, "annotation", None) if field is not None else None
+        if not isinstance(model, type) or not issubclass(model, BaseModel):
+            return ""
+    close = difflib.get_close_matches(str(loc[-1]), list(model.model_fields), n=2, cutoff=0.6)
+    return f" (did you mean {' or '.join(close)}?)" if close else ""
 
 
 def build_config(data: dict[str, Any]) -> RunConfig:
