@@ -117,6 +117,15 @@ def test_report_command_groups_runs_by_method(bench, tmp_path, capsys):
         _cli("report", bench, "--out", tmp_path / "fig.txt")
 
 
+def test_report_page_never_overwrites_another_reports_files(bench, tmp_path):
+    assert _cli("report", bench / "runs" / "vanilla_s0", "--out", tmp_path / "a.md") == 0
+    before = (tmp_path / "summary.json").read_bytes()
+    with pytest.raises(ConfigError, match=r"would overwrite .*summary.json.*no report b.md wrote"):
+        _cli("report", bench / "runs" / "ppo_s1", "--out", tmp_path / "b.md")
+    assert (tmp_path / "summary.json").read_bytes() == before and not (tmp_path / "b.md").exists()
+    assert _cli("report", bench / "runs" / "vanilla_s0", "--out", tmp_path / "a.md") == 0  # redraw: fine
+
+
 def test_unfinished_runs_resume_and_changed_configs_are_refused(tmp_path):
     out = tmp_path / "b"
     assert _cli("benchmark", *tiny(seeds=1, generations=1), "--methods", "vanilla,ppo", "--out", out) == 0
