@@ -45,7 +45,8 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
 
 
 def _summary(run_dir, which: str, meta: dict, returns: np.ndarray) -> dict:
-    return {"run_dir": str(run_dir), "policy": which, "generation": meta["generation"],
+    # the generations the checkpoint covers (the best policy may come from an earlier one)
+    return {"run_dir": str(run_dir), "policy": which, "checkpoint_generations": meta["generation"],
             "episodes": int(len(returns)), "reward_mean": float(returns.mean()),
             "reward_std": float(returns.std()), "reward_min": float(returns.min()),
             "reward_max": float(returns.max())}
