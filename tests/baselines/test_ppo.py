@@ -117,7 +117,7 @@ def test_evaluate_a_ppo_run(tmp_path):
     _, store = _run(tmp_path, "ppo", "ppo")
     a = evaluate_run(store.root, episodes=3)
     b = evaluate_run(store.root, episodes=3, which="mean")
-    assert a["episodes"] == 3 and np.isfinite(a["reward_mean"]) and a["generation"] == 2
+    assert a["episodes"] == 3 and np.isfinite(a["reward_mean"]) and a["checkpoint_generations"] == 2
     assert a == evaluate_run(store.root, episodes=3)  # deterministic policy, fixed seeds
     assert np.isfinite(b["reward_mean"])
 
