@@ -22,6 +22,7 @@ import json
 import os
 import platform
 import statistics
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -131,9 +132,22 @@ def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str
 
 def bench_shaping(envs=ENVS, generations: int = 10, warmup: int = 3, executor: str = "process",
                   workers: int | None = None, overrides: dict | None = None) -> dict:
-    return {"machine": {"cpus": os.cpu_count(), "python": platform.python_version()},
-            "executor": executor, "workers": workers or os.cpu_count(),
-            "envs": [bench_env(e, generations, warmup, executor, workers, overrides) for e in envs]}
+    load0 = _load()
+    if load0 is not None and load0 > 0.5 * (os.cpu_count() or 1):
+        print(f"shaped-es: warning: the machine is busy (load average {load0:.1f} on {os.cpu_count()} cores): "
+              f"the ratio is side by side, but the absolute times will be inflated", file=sys.stderr)
+    res = [bench_env(e, generations, warmup, executor, workers, overrides) for e in envs]
+    return {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
+                        "load_average_1min": {"before": load0, "after": _load()}},
+            "executor": executor, "workers": workers or os.cpu_count(), "envs": res}
+
+
+def _load() -> float | None:
+    """The 1-minute load average (None where the OS has none)."""
+    try:
+        return round(os.getloadavg()[0], 2)
+    except (AttributeError, OSError):
+        return None
 
 
 def format_table(res: dict) -> str:
