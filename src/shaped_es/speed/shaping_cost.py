@@ -132,6 +132,8 @@ def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str
 
 def bench_shaping(envs=ENVS, generations: int = 10, warmup: int = 3, executor: str = "process",
                   workers: int | None = None, overrides: dict | None = None) -> dict:
+    for e in envs:  # a bad --set fails here, in one line, before anything runs
+        build_config(merge({"env": e, "method": "shaped"}, overrides or {}))
     load0 = _load()
     if load0 is not None and load0 > 0.5 * (os.cpu_count() or 1):
         print(f"shaped-es: warning: the machine is busy (load average {load0:.1f} on {os.cpu_count()} cores): "
