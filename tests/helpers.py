@@ -24,6 +24,17 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 # --- runs ------------------------------------------------------------------------------------------------
 
 
+CARTPOLE_TINY = {  # a CartPole-v1 ES run that learns in a few seconds (the end-to-end tests' base)
+    "env": "CartPole-v1",
+    "generations": 6,
+    "seed": 3,
+    "es": {"pairs": 8, "sigma": 0.1, "lr": 0.05},
+    "policy": {"hidden": [8]},
+    "rollout": {"episodes": 2, "test_episodes": 3},
+    "tensorboard": False,
+}
+
+
 def new_run(root, cfg: dict | RunConfig) -> tuple[RunConfig, RunStore]:
     """A run directory at ``root`` holding ``cfg`` (a dict is built first); nothing trained yet."""
     cfg = build_config(cfg) if isinstance(cfg, dict) else cfg

@@ -2,19 +2,11 @@
 
 import pytest
 
-from helpers import kill_after_rows, new_run, popen_cli, run_until_crash, strip_time, train
+from helpers import CARTPOLE_TINY, kill_after_rows, new_run, popen_cli, run_until_crash, strip_time, train
 from shaped_es.store import RunStore
 from shaped_es.trainer import Trainer
 
-TINY = {
-    "env": "CartPole-v1",
-    "generations": 6,
-    "seed": 3,
-    "es": {"pairs": 8, "sigma": 0.1, "lr": 0.05},
-    "policy": {"hidden": [8]},
-    "rollout": {"episodes": 2, "test_episodes": 3},
-    "tensorboard": False,
-}
+TINY = CARTPOLE_TINY
 
 
 def _train(tmp_path, name, **over):

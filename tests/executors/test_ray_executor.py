@@ -16,7 +16,7 @@ from executor_faults import (  # noqa: E402
     square,
     square_on_node,
 )
-from helpers import strip_time, train  # noqa: E402
+from helpers import CARTPOLE_TINY, strip_time, train  # noqa: E402
 from loopback_check import listening_addresses, non_loopback  # noqa: E402
 from ray.cluster_utils import Cluster  # noqa: E402
 
@@ -25,15 +25,7 @@ from shaped_es.executors.ray_executor import LOOPBACK, RayExecutor  # noqa: E402
 
 TASKS = list(range(6))
 EXPECTED = [x * x for x in TASKS]
-TINY = {
-    "env": "CartPole-v1",
-    "generations": 4,
-    "seed": 3,
-    "es": {"pairs": 8, "sigma": 0.1, "lr": 0.05},
-    "policy": {"hidden": [8]},
-    "rollout": {"episodes": 2, "test_episodes": 3},
-    "tensorboard": False,
-}
+TINY = {**CARTPOLE_TINY, "generations": 4}
 
 
 @pytest.fixture(scope="module")
