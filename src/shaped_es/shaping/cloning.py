@@ -5,8 +5,8 @@ Worker ``i`` fits its policy, starting from its own ``theta_i``, to the inverse-
 
     L(theta) = 1/M sum_t (pi_theta(s_t) - M_phi(s_t, w_t))^2                (Eq. L(theta); MSE)
 
-Here all ``P`` members are cloned in one batched torch computation: the flat parameter matrix ``(P, n)``
-is the leaf tensor, :func:`shaped_es.policies.forward_torch` evaluates every member on its own minibatch,
+All ``P`` members are cloned in one batched computation. :func:`clone_population` (the full-data
+reference, torch): the flat parameter matrix ``(P, n)`` is the leaf tensor, :func:`shaped_es.policies.forward_torch` evaluates every member on its own minibatch,
 and the summed loss ``sum_i L_i(theta_i)`` has gradient ``dL_i/dtheta_i`` in row ``i``. Adam and SGD act
 elementwise, so row ``i`` follows exactly the trajectory it would follow if cloned alone, given the same
 minibatch indices -- which come from a per-member NumPy generator seeded by ``seeds[i]``.
@@ -15,8 +15,10 @@ The MSE is the mean over samples and action dimensions (the ``1/M`` of the paper
 
 :func:`clone_sampled` is the fast form the method uses: it draws every member's minibatch rows first and
 labels only those rows (labels are per row, so they are the labels a full labelling would give there),
-then clones; its ``loss_before``/``loss_after`` are measured on the first ``eval_batches`` minibatches'
-rows, not on all of ``D_i`` (a full-data MSE cost as much as the cloning itself).
+then clones with the NumPy population kernel (``population_mlp``, the same steps as torch's to float
+tolerance; in chunks on local workers through shared memory when given them); its
+``loss_before``/``loss_after`` are measured on the first ``eval_batches`` minibatches' rows, not on all of
+``D_i`` (a full-data MSE cost as much as the cloning itself).
 """
 
 from __future__ import annotations
