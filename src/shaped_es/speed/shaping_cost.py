@@ -12,7 +12,7 @@ thread, the background shard writes, the checkpoint); and the **batched lower bo
 work: M_phi's steps and the labels + cloning of the whole population, timed alone on the master on the
 run's last generation of data with nothing else running.
 
-``shaped-es bench shaping --json`` prints one JSON line; ``--set shaping.cloning.steps=5`` (and any
+``shaped-es speed shaping --json`` prints one JSON line; ``--set shaping.cloning.steps=5`` (and any
 other ``--set``) changes the shaped run only, to price other budgets.
 """
 
