@@ -166,7 +166,8 @@ class RunConfig(_Strict):
     env_kwargs: dict[str, Any] = Field(default_factory=dict, description="keyword args for gym.make")
     method: Literal[tuple(METHODS)] = Field("vanilla", description="a name in methods.METHODS")
     generations: Int = Field(50, gt=0, description="generations to run (ES); PPO maps it to env steps")
-    seed: Int = Field(0, ge=0, lt=SEED_LIMIT, description="root seed (below 2**32); every member/episode seed derives from it")
+    seed: Int = Field(0, ge=0, lt=SEED_LIMIT,
+                      description="root seed (below 2**32); every member/episode seed derives from it")
     executor: Literal[tuple(EXECUTORS)] = Field("process", description="a name in executors.EXECUTORS")
     workers: Int | None = Field(None, gt=0, description="worker count (None: all cores)")
     address: str | None = Field(None, description="ray: 'auto' or HOST:PORT; None starts a local Ray")

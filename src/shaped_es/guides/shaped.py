@@ -18,8 +18,9 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 - ``master``: the rollouts send their transitions back with the returns (~2 MB a generation for
   CarNav-v0); the master keeps the last ``history`` generations in memory, labels the rows the cloning
   draws in one batch, straight into shared memory, runs the gradient steps in chunks on the (then idle)
-  process workers, which read those rows from there (or itself, inline), and writes one trajectory shard per generation in a background thread (joined before each
-  checkpoint: the durable copy is what resume reads). Shards and M_phi's data parts are pruned once the
+  process workers, which read those rows from there (or itself, inline), and writes one trajectory shard
+  per generation in a background thread (joined before each checkpoint: the durable copy is what resume
+  reads). Shards and M_phi's data parts are pruned once the
   next checkpoint is on disk.
 - ``workers``: the paper's cluster picture. Each worker writes its chunk's shard to the trajectory
   store (any pyarrow URI) and, for cloning, reads its members' ``D_i`` from its own in-memory cache or

@@ -6,10 +6,11 @@ Worker ``i`` fits its policy, starting from its own ``theta_i``, to the inverse-
     L(theta) = 1/M sum_t (pi_theta(s_t) - M_phi(s_t, w_t))^2                (Eq. L(theta); MSE)
 
 All ``P`` members are cloned in one batched computation. :func:`clone_population` (the full-data
-reference, torch): the flat parameter matrix ``(P, n)`` is the leaf tensor, :func:`shaped_es.policies.forward_torch` evaluates every member on its own minibatch,
-and the summed loss ``sum_i L_i(theta_i)`` has gradient ``dL_i/dtheta_i`` in row ``i``. Adam and SGD act
-elementwise, so row ``i`` follows exactly the trajectory it would follow if cloned alone, given the same
-minibatch indices -- which come from a per-member NumPy generator seeded by ``seeds[i]``.
+reference, torch): the flat parameter matrix ``(P, n)`` is the leaf tensor,
+:func:`shaped_es.policies.forward_torch` evaluates every member on its own minibatch, and the summed
+loss ``sum_i L_i(theta_i)`` has gradient ``dL_i/dtheta_i`` in row ``i``. Adam and SGD act elementwise, so
+row ``i`` follows exactly the trajectory it would follow if cloned alone, given the same minibatch indices
+-- which come from a per-member NumPy generator seeded by ``seeds[i]``.
 
 The MSE is the mean over samples and action dimensions (the ``1/M`` of the paper, also over actions).
 
@@ -266,11 +267,13 @@ def clone_sampled(
             FitTask(spec, th, S, A, has, cfg.steps, cfg.optimizer, cfg.lr, k_eval))
     else:  # chunks of members elsewhere (each member's steps are independent: the same theta*)
         chunks = [c for c in np.array_split(np.arange(P), map_chunks) if c.size]
-        outs = map_fit(fit_rows, [
-            FitTask(spec, th[c], None, None, has[c], cfg.steps, cfg.optimizer, cfg.lr, k_eval, ref,
-                    (int(c[0]), int(c[-1]) + 1)) if ref is not None else
-            FitTask(spec, th[c], S[:, c], A[:, c], has[c], cfg.steps, cfg.optimizer, cfg.lr, k_eval)
-            for c in chunks])
+        def rows(c: np.ndarray) -> dict:  # a chunk's rows: a handle to shared memory, or a copy
+            if ref is not None:
+                return dict(S=None, A=None, rows=ref, members=(int(c[0]), int(c[-1]) + 1))
+            return dict(S=S[:, c], A=A[:, c])
+
+        outs = map_fit(fit_rows, [FitTask(spec, th[c], has=has[c], steps=cfg.steps, optimizer=cfg.optimizer,
+                                          lr=cfg.lr, k_eval=k_eval, **rows(c)) for c in chunks])
         theta_star = np.concatenate([o[0] for o in outs])
         before, after, own_before, own_after = (np.concatenate([o[j] for o in outs]) for j in range(1, 5))
         fit_cpu = float(sum(o[5] for o in outs))

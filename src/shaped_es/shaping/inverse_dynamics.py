@@ -115,7 +115,7 @@ def query_displacement(tr: Transitions, frame: str = "world", scale: str = "raw"
         raise ValueError(f"query scale must be one of {QUERY_SCALES}, got {scale!r}")
     end, idx = episode_end(tr), np.arange(len(tr))
     nxt = np.minimum(idx + 1, end)  # (T,) the successor in the episode (itself on the last step)
-    first = np.append(True, ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1)))
+    first = np.append(True, end[:-1] == idx[:-1])  # (T,) a row that follows an episode's last step
     step = np.linalg.norm(tr.position[nxt] - tr.position, axis=1)  # (T,) |p_{t+1} - p_t|
     last = (nxt == idx) & ~first  # an episode's last step: the step into it
     step[last] = step[idx[last] - 1]

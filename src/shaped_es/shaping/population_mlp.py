@@ -35,12 +35,16 @@ class PopulationMLP:
 
     def forward(self, x: np.ndarray) -> np.ndarray:
         """``(P, B, in)`` -> ``(P, B, out)`` in ``[-1, 1]`` (each member on its own rows)."""
-        h = x
+        return self._activations(x)[-1]
+
+    def _activations(self, x: np.ndarray) -> list[np.ndarray]:
+        """Every layer's input, then the output: ``[x, h_1, ..., h_L]``, each ``(P, B, width)``."""
+        hs = [x]
         for W, b in zip(self.W, self.b):
-            a = np.matmul(h, W)  # (P, B, out_l)
+            a = np.matmul(hs[-1], W)  # (P, B, out_l)
             a += b
-            h = np.tanh(a, out=a)
-        return h
+            hs.append(np.tanh(a, out=a))
+        return hs
 
     def mse_backward(self, x: np.ndarray, y: np.ndarray, weight: np.ndarray) -> None:
         """Fill :attr:`grad` with d/dtheta of ``sum_i weight_i * mean_{b, a} (f_i(x_ib) - y_ib)^2``.
@@ -48,11 +52,7 @@ class PopulationMLP:
         ``x`` ``(P, B, in)``, ``y`` ``(P, B, act)``, ``weight`` ``(P,)`` (0: that member gets no gradient).
         Row ``i`` of the gradient is ``weight_i * dL_i/dtheta_i`` (Eq. L(theta) per member).
         """
-        hs = [x]  # layer inputs, then the output
-        for W, b in zip(self.W, self.b):
-            a = np.matmul(hs[-1], W)  # (P, B, out_l)
-            a += b
-            hs.append(np.tanh(a, out=a))
+        hs = self._activations(x)
         out = hs[-1]
         B, act = out.shape[1], out.shape[2]
         scale = (2.0 / (B * act)) * np.asarray(weight, np.float32)[:, None, None]  # (P, 1, 1)

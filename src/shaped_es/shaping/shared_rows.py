@@ -37,7 +37,12 @@ class RowsRef:
                 old.close()
             _OPEN.clear()
             shm = _OPEN[self.name] = shared_memory.SharedMemory(name=self.name)
-        return {k: np.ndarray(shape, np.float32, buffer=shm.buf, offset=off) for k, off, shape in self.layout}
+        return _views(shm, self.layout)
+
+
+def _views(shm: shared_memory.SharedMemory, layout) -> dict[str, np.ndarray]:
+    """The float32 arrays of ``layout`` (``(key, byte offset, shape)``) as views of ``shm``."""
+    return {k: np.ndarray(shape, np.float32, buffer=shm.buf, offset=off) for k, off, shape in layout}
 
 
 _OPEN: dict[str, shared_memory.SharedMemory] = {}  # this process's mapping of the master's segment
@@ -57,9 +62,7 @@ class SharedRows:
         if self._shm is None or self._shm.size < off:
             self.close()
             self._shm = shared_memory.SharedMemory(create=True, size=max(off + off // 4, _ALIGN))  # +25%
-        ref = RowsRef(self._shm.name, tuple(layout))
-        views = {k: np.ndarray(s, np.float32, buffer=self._shm.buf, offset=o) for k, o, s in layout}
-        return views, ref
+        return _views(self._shm, layout), RowsRef(self._shm.name, tuple(layout))
 
     def close(self) -> None:
         if self._shm is not None:
