@@ -32,6 +32,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("preflight",),
     ("evaluate", "render", "report"),
     ("benchmark", "speed"),
+    ("cli_errors",),  # how a command ends: one error line, exit codes, MPI supervision
     ("cli",),
     ("__main__",),
 ]

@@ -6,44 +6,21 @@ values (its exception's type and message in the line), a search that went non-fi
 run stays resumable), a run directory another process is writing, a dead MPI worker. The full traceback
 goes to ``RUN/error.log`` (when the run directory exists) and, with ``--debug``, to the terminal. An
 unexpected internal error is reported the same way with exit code 1. Warnings are one line each,
-``shaped-es: warning: ...``.
+``shaped-es: warning: ...`` (all of this in ``cli_errors.py``).
 """
 
 from __future__ import annotations
 
 import argparse
 import copy
-import errno
 import json
 import os
-import signal
-import subprocess
 import sys
-import traceback
 import warnings
 from pathlib import Path
 
-USAGE_ERROR = 2
-INTERNAL_ERROR = 1
-_SUPERVISED = "SHAPED_ES_SUPERVISED"  # set in the child process of an MPI-supervised command
+from shaped_es.cli_errors import continue_hint, error_line, mpi_spawn_command, show_warning, supervise
 
-
-def _user_errors() -> tuple[type[BaseException], ...]:
-    from shaped_es.config import ConfigError
-    from shaped_es.executors import ExecutorError
-    from shaped_es.rollout import EnvSpecError
-    from shaped_es.store import StoreError
-
-    from shaped_es.trainer import DivergedError
-
-    errs: list[type[BaseException]] = [ConfigError, StoreError, EnvSpecError, ExecutorError, DivergedError]
-    try:
-        from shaped_es.shaping.trajectories import TrajectoryStoreError
-
-        errs.append(TrajectoryStoreError)
-    except ImportError:
-        pass
-    return tuple(errs)
 
 
 def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
@@ -411,145 +388,6 @@ def _import_from_cwd() -> None:
         os.environ["PYTHONPATH"] = os.pathsep.join([cwd, *paths])
 
 
-def _run_dir(a: argparse.Namespace) -> str | None:
-    return getattr(a, "out", None) or getattr(a, "run_dir", None)
-
-
-def _continue_hint(a: argparse.Namespace) -> str:
-    run = _run_dir(a)
-    if a.command == "benchmark":
-        return "rerun the same command to continue (finished runs are skipped)"
-    return f"continue with: shaped-es resume {run}" if run and a.command in ("train", "resume") else ""
-
-
-def _log_detail(a: argparse.Namespace, text: str) -> str:
-    """Append a traceback to RUN/error.log (only if the run directory exists); returns a pointer."""
-    from shaped_es.store import RunStore
-
-    run = _run_dir(a)
-    if not run or not text.strip():
-        return ""
-    try:
-        path = RunStore(run).log_error(text)
-    except Exception:  # noqa: BLE001 - logging must never hide the error itself
-        path = None
-    return f" (traceback in {path})" if path else ""
-
-
-def _error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[str, int]:
-    """(the one line, exit code) for an exception that reached the command line."""
-    from shaped_es.rollout import EnvError
-
-    detail = "".join(traceback.format_exception(exc))
-    if isinstance(exc, EnvError) and exc.detail:
-        detail = exc.detail + "\n" + detail
-    if debug:
-        print(detail, file=sys.stderr, end="")
-    if isinstance(exc, _user_errors()):
-        msg, code = str(exc), USAGE_ERROR
-        where = _log_detail(a, detail) if isinstance(exc, EnvError) and exc.detail else ""
-    elif isinstance(exc, MemoryError):
-        msg = (f"out of memory ({_first(exc) or 'MemoryError'}); a smaller policy.hidden, es.pairs or "
-               f"rollout.episodes needs less")
-        code, where = USAGE_ERROR, _log_detail(a, detail)
-    elif isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
-        hint = _continue_hint(a)
-        msg = (f"no space left on device{_os_where(exc)}; what was saved stays consistent (the last "
-               f"checkpoint is in force){': free space, then ' + hint if hint else ''}")
-        code, where = USAGE_ERROR, ""
-    elif isinstance(exc, OSError):
-        msg, code, where = f"{exc.strerror or _first(exc)}{_os_where(exc)}", USAGE_ERROR, _log_detail(a, detail)
-    else:
-        msg = f"internal error {type(exc).__name__}: {_first(exc)}"
-        code, where = INTERNAL_ERROR, _log_detail(a, detail)
-        where = where or " (run with --debug for the traceback)"
-    msg = " ".join(msg.split())  # one line, whatever the message held
-    return f"shaped-es: error: {msg}{where}", code
-
-
-def _first(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
-    return text[0] if text else ""
-
-
-def _os_where(exc: OSError) -> str:
-    return f": {exc.filename}" if exc.filename else ""
-
-
-def _show_warning(message, category, filename, lineno, file=None, line=None, _orig=warnings.showwarning):
-    from shaped_es.executors import ExecutorWarning
-
-    if issubclass(category, ExecutorWarning):
-        print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
-    else:
-        _orig(message, category, filename, lineno, file, line)
-
-
-def _mpi_spawn_command(a: argparse.Namespace) -> bool:
-    """True for train/resume/benchmark runs that would spawn MPI workers from this process."""
-    if os.environ.get(_SUPERVISED) or a.command not in ("train", "resume", "benchmark"):
-        return False
-    executor = getattr(a, "executor", None)
-    if executor is None and a.command == "resume":
-        from shaped_es.store import RunStore
-
-        executor = RunStore(a.run_dir).read_config().executor
-    if executor is None and a.command == "train" and getattr(a, "config", None):
-        from shaped_es.config import read_yaml
-
-        executor = read_yaml(a.config).get("executor")
-    if executor != "mpi":
-        return False
-    from shaped_es.executors.mpi_executor import under_mpiexec
-
-    return not under_mpiexec()
-
-
-_RELAYED = ("shaped-es:", "[train] ", "[ppo] ", "[benchmark] ")  # the command's own lines, progress included
-
-
-def _supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
-    """Run the command in a child process and report, in one line, how it ended when MPI ended it.
-
-    With spawned MPI workers, a worker that dies makes Open MPI end the trainer's process itself (exit
-    14, after a few lines of MPI's own output). The child's stderr is relayed: its ``shaped-es:`` and
-    progress lines as they come, the rest when it ends on its own, or into RUN/error.log when MPI ended
-    it; the child dies with this process."""
-    env = {**os.environ, _SUPERVISED: "1"}
-
-    def die_with_parent() -> None:  # pragma: no cover - runs in the child
-        if sys.platform.startswith("linux"):
-            import ctypes
-
-            ctypes.CDLL(None).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
-
-    child = subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *argv], env=env,
-                             stderr=subprocess.PIPE, text=True, errors="replace", preexec_fn=die_with_parent)
-    old_int = signal.signal(signal.SIGINT, signal.SIG_IGN)  # the child gets the terminal's Ctrl-C
-    old_term = signal.signal(signal.SIGTERM, lambda *_: child.terminate())
-    other: list[str] = []
-    try:
-        for line in child.stderr:
-            if debug or line.startswith(_RELAYED):
-                sys.stderr.write(line)
-                sys.stderr.flush()
-            else:
-                other.append(line)
-        rc = child.wait()
-    finally:
-        signal.signal(signal.SIGINT, old_int)
-        signal.signal(signal.SIGTERM, old_term)
-    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):  # the child ended on its own: its other output too
-        sys.stderr.writelines(other)
-        return rc
-    where = _log_detail(a, "".join(other)) if other else ""
-    how = f"signal {-rc}" if rc < 0 else f"exit {rc}"
-    hint = _continue_hint(a)
-    print(f"shaped-es: error: the MPI job ended abruptly ({how}): a worker died or was killed, and MPI "
-          f"cannot replace a lost rank{'; ' + hint if hint else ''}{where}", file=sys.stderr)
-    return USAGE_ERROR
-
-
 def main(argv: list[str] | None = None) -> int:
     _import_from_cwd()
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -557,17 +395,17 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     a = parser.parse_args([x for x in argv if x != "--debug"])
     old_show = warnings.showwarning
-    warnings.showwarning = _show_warning
+    warnings.showwarning = show_warning
     try:
-        if _mpi_spawn_command(a):
-            return _supervise(a, argv, debug)
+        if mpi_spawn_command(a):
+            return supervise(a, argv, debug)
         return int(a.fn(a) or 0)
     except KeyboardInterrupt:
-        hint = _continue_hint(a)
+        hint = continue_hint(a)
         print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
-        line, code = _error_line(exc, a, debug)
+        line, code = error_line(exc, a, debug)
         print(line, file=sys.stderr)
         return code
     finally:
