@@ -28,15 +28,12 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import errno
 import io
 import json
 import math
 import os
 import re
-import socket
 import sys
-import tempfile
 import time
 import zipfile
 from collections.abc import Iterator
@@ -46,134 +43,13 @@ from typing import Any
 import numpy as np
 
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
+from shaped_es.run_lock import HELD, LOCK_NAME, acquire, release
+from shaped_es.store_io import StoreError, atomic_write_bytes, atomic_write_text
 
-try:
-    import fcntl
-except ImportError:  # pragma: no cover - not POSIX
-    fcntl = None
-
-LOCK_NAME = ".lock"
 ERROR_LOG = "error.log"
 _CKPT_RE = re.compile(r"gen_(\d{6,})")
 _NON_FLOAT = ("", "True", "False")  # empty: no value (None or NaN); booleans as csv writes them
 _TMP_RE = re.compile(r"\..+\.tmp")  # atomic_write_bytes' (and the trajectory store's) temporaries
-
-
-class StoreError(RuntimeError):
-    """The run directory is missing, foreign, locked, or holds a malformed file (message: one line)."""
-
-
-def atomic_write_bytes(path: Path, data: bytes) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    atomic_write_bytes(path, text.encode())
-
-
-# -- the run lock ------------------------------------------------------------------------------------
-class _Lock:
-    def __init__(self, path: Path, fd: int | None):
-        self.path, self.fd, self.count = path, fd, 0
-
-
-_HELD: dict[str, _Lock] = {}  # lock path -> this process's lock (re-entrant within the process)
-
-
-def _pid_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
-
-
-def _read_owner(path: Path) -> dict:
-    try:
-        owner = json.loads(path.read_text())
-        return owner if isinstance(owner, dict) else {}
-    except (OSError, ValueError):
-        return {}
-
-
-def _owner_text(owner: dict) -> str:
-    pid, host = owner.get("pid", "?"), owner.get("host", "?")
-    cmd = f" ({owner['command']})" if owner.get("command") else ""
-    return f"process {pid} on {host}{cmd}"
-
-
-def _owner_record() -> bytes:
-    cmd = " ".join(Path(sys.argv[0]).name if i == 0 else a for i, a in enumerate(sys.argv))[:200]
-    return json.dumps({"pid": os.getpid(), "host": socket.gethostname(), "command": cmd,
-                       "since": time.strftime("%Y-%m-%dT%H:%M:%S")}).encode()
-
-
-def _acquire(root: Path) -> _Lock:
-    path = root / LOCK_NAME
-    for _ in range(10):  # only loops when another process unlinked the file between our open and flock
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            if fcntl is not None:
-                try:
-                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                except BlockingIOError:
-                    raise StoreError(_locked_message(root, _read_owner(path))) from None
-                except OSError as exc:  # a filesystem without flock: fall back to the pid check
-                    if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL):
-                        raise
-                    _check_pid_lock(root, path)
-            else:  # pragma: no cover
-                _check_pid_lock(root, path)
-            try:
-                same = os.stat(path).st_ino == os.fstat(fd).st_ino
-            except FileNotFoundError:
-                same = False
-            if not same:  # the previous holder released (unlinked) it meanwhile: lock the new file
-                os.close(fd)
-                continue
-            os.ftruncate(fd, 0)
-            os.write(fd, _owner_record())
-            os.fsync(fd)
-            return _Lock(path, fd)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.close(fd)
-            raise
-    raise StoreError(f"cannot lock {root}: the lock file keeps changing")
-
-
-def _check_pid_lock(root: Path, path: Path) -> None:
-    owner = _read_owner(path)
-    pid = owner.get("pid")
-    if (isinstance(pid, int) and pid != os.getpid() and owner.get("host") == socket.gethostname()
-            and _pid_alive(pid)):
-        raise StoreError(_locked_message(root, owner))
-
-
-def _locked_message(root: Path, owner: dict) -> str:
-    return (f"{root} is in use by {_owner_text(owner)}; wait for it to finish or stop it (a lock left by "
-            f"a process that died is taken over)")
-
-
-def _release(lock: _Lock) -> None:
-    with contextlib.suppress(OSError):
-        if lock.fd is not None and os.stat(lock.path).st_ino == os.fstat(lock.fd).st_ino:
-            lock.path.unlink()
-    if lock.fd is not None:
-        with contextlib.suppress(OSError):
-            os.close(lock.fd)
 
 
 class RunStore:
@@ -214,14 +90,14 @@ class RunStore:
         return os.path.realpath(self.lock_path)
 
     def holds_lock(self) -> bool:
-        return self._lock_key() in _HELD
+        return self._lock_key() in HELD
 
     @contextlib.contextmanager
     def lock(self) -> Iterator[None]:
         """Hold the run's exclusive lock (re-entrant within this process); ``StoreError`` (one line
         naming the holder) if another live process holds it. Creates the run directory if needed."""
         key = self._lock_key()
-        held = _HELD.get(key)
+        held = HELD.get(key)
         if held is None:
             if self.root.exists() and not self.root.is_dir():
                 raise StoreError(f"{self.root} exists and is not a directory")
@@ -229,15 +105,15 @@ class RunStore:
                 self.root.mkdir(parents=True, exist_ok=True)
             except OSError as exc:
                 raise StoreError(f"cannot create run directory {self.root}: {exc.strerror or exc}") from None
-            held = _HELD[key] = _acquire(self.root)
+            held = HELD[key] = acquire(self.root)
         held.count += 1
         try:
             yield
         finally:
             held.count -= 1
             if held.count == 0:
-                _HELD.pop(key, None)
-                _release(held)
+                HELD.pop(key, None)
+                release(held)
 
     def _check_writable(self) -> None:
         """A write outside :meth:`lock`: refused while another live process holds the lock."""
