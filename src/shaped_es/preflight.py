@@ -47,7 +47,7 @@ def check_run(cfg: RunConfig) -> EnvProbe:
             raise
         raise ConfigError(f"{cfg.method}: {str(exc).splitlines()[0]}") from None
     if cfg.method == "shaped":
-        from shaped_es.guides.shaped import waypoint_dim
+        from shaped_es.guides.shaped_setup import waypoint_dim
 
         waypoint_dim(cfg, probe)  # the env contract: info['position'] and info['waypoint']
     return probe

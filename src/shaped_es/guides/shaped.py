@@ -32,7 +32,6 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import sys
 import threading
@@ -44,13 +43,12 @@ from pathlib import Path
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.config import ConfigError, RunConfig
+from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
-from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone, labeller, rollout_and_store
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import EnvProbe, population_tasks, probe_env, run_task
+from shaped_es.rollout import EnvProbe, population_tasks, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
@@ -59,32 +57,8 @@ from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogat
 from shaped_es.shaping.trajectories import TrajectoryStoreError, delete_generations, list_generations
 from shaped_es.shaping.trajectories import read_generation, write_shard
 from shaped_es.guides.mphi_parts import DataParts
-
-MASTER_MAX_PARAMS = 20_000_000  # P x n above which ``auto`` clones on the workers
-
-
-def waypoint_dim(cfg: RunConfig, probe: EnvProbe | None = None) -> int:
-    """Dimension of the env's waypoint space, from the reset info of ``probe`` (``probe_env(...,
-    reset=True)``; probed here if None or not reset); one clear error if it lacks the contract."""
-    if probe is None or (probe.reset_info is None and probe.reset_error is None):
-        probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
-    if probe.reset_error is not None:
-        raise probe.reset_error
-    info = probe.reset_info
-    if POSITION_KEY not in info or WAYPOINT_KEY not in info:
-        raise ConfigError(f"--method shaped needs info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] "
-                          f"from {cfg.env} (see the README's environment contract)")
-    return int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
-
-
-def placement(cfg: RunConfig, spec: MLPSpec) -> str:
-    """Where labels and cloning run: ``master`` or ``workers`` (the size rule of the module docstring)."""
-    if cfg.shaping.placement != "auto":
-        return cfg.shaping.placement
-    population = 2 * cfg.es.pairs
-    one_machine = cfg.executor in ("inline", "process")
-    return "master" if one_machine and population * spec.num_params <= MASTER_MAX_PARAMS else "workers"
-
+from shaped_es.guides.reference import reference_actions
+from shaped_es.guides.shaped_setup import from_section, placement, waypoint_dim
 
 METRIC_KEYS = (
     "mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size", "mphi_kept_fraction",
@@ -106,13 +80,6 @@ class _Block:
     queries: np.ndarray | None  # (N, d) float32 raw M_phi queries w_t - p_t (frame applied)
     members: np.ndarray  # (k,) member index of each trs entry
     offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
-
-
-def from_section(cls, section, **resolved):
-    """The shaping dataclass ``cls`` from its config ``section``: every field both have, then ``resolved``
-    (the section's defaults are the dataclass's own, ``config.py``)."""
-    names = [f.name for f in dataclasses.fields(cls) if f.name in type(section).model_fields]
-    return cls(**{n: getattr(section, n) for n in names if n not in resolved}, **resolved)
 
 
 class ShapedGuide(NoGuide):
@@ -146,7 +113,7 @@ class ShapedGuide(NoGuide):
         # master placement on local processes: labels here, the gradient steps in the idle workers
         self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
         self._shared = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
-        self.reference = _reference_fn(self.sh.reference_run, spec) if self.sh.reference_run else None
+        self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
         self._warned = False
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
@@ -414,31 +381,6 @@ class ShapedGuide(NoGuide):
             self._writer.shutdown(wait=True)
             if self._shared is not None:
                 self._shared.close()
-
-
-def _reference_fn(run_dir: str, spec: MLPSpec):
-    """The reference policy's actions in ``[-1, 1]`` for states ``(..., obs)`` (the scale of M_phi's labels)."""
-    from shaped_es.load import load_policy
-    from shaped_es.policies import forward
-
-    pol = load_policy(run_dir)
-    if pol.obs_dim != spec.obs_dim:
-        raise ConfigError(f"shaping.reference_run {run_dir} has {pol.obs_dim} observations, this env "
-                          f"{spec.obs_dim}")
-    if pol.theta is not None:  # an ES run: its flat parameters
-        theta, rspec = pol.theta[None], pol.spec
-
-        def es(states: np.ndarray) -> np.ndarray:
-            lead = states.shape[:-1]
-            return forward(rspec, theta, states.reshape(1, -1, spec.obs_dim))[0].reshape(*lead, -1)
-        return es
-    low, high = pol.action_space.low, pol.action_space.high
-
-    def sb3(states: np.ndarray) -> np.ndarray:  # PPO: its env action mapped back to [-1, 1]
-        lead = states.shape[:-1]
-        a = np.asarray(pol.predict(states.reshape(-1, spec.obs_dim)), np.float32)
-        return (2.0 * (a - low) / (high - low) - 1.0).reshape(*lead, -1)
-    return sb3
 
 
 def _nanmean(x: np.ndarray) -> float | None:
