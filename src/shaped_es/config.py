@@ -14,8 +14,8 @@ import yaml
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, Strict, ValidationError, model_validator
 
 from shaped_es.executors import EXECUTORS
-from shaped_es.methods import METHODS
-from shaped_es.shaping.settings import CloningConfig, InverseDynamicsConfig
+from shaped_es.methods import MECHANISMS, METHODS
+from shaped_es.shaping.settings import ACCEPT_RULES, LABEL_SOURCES, CloningConfig, InverseDynamicsConfig, MeanCloneConfig
 
 
 class ConfigError(ValueError):
@@ -77,7 +77,7 @@ class RolloutConfig(_Strict):
 
 # The shaping sections take their defaults from the shaping layer's dataclasses (one truth); guides/shaped.py
 # builds those from these sections. tests/test_config.py fails if a shared field's default differs.
-_MPHI, _CLONE = InverseDynamicsConfig(), CloningConfig()
+_MPHI, _CLONE, _MEAN = InverseDynamicsConfig(), CloningConfig(), MeanCloneConfig()
 
 
 class InverseDynamicsSettings(_Strict):
@@ -89,8 +89,9 @@ class InverseDynamicsSettings(_Strict):
     min_return: Float = Field(_MPHI.min_return,
                               description="episodes with a lower return are left out (paper: 5)")
     max_dataset: Int = Field(_MPHI.max_dataset, gt=0, description="cap on aggregated transitions (FIFO)")
-    frame: Literal["auto", "world", "motion"] = Field(
-        "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, or "
+    frame: Literal["auto", "world", "motion", "waypoint"] = Field(
+        "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, the "
+        "waypoint's direction (x toward w_t - p_t; defined at rest), or "
         "auto = motion for 2-D waypoint spaces (planar vehicles), world otherwise")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
@@ -119,7 +120,37 @@ class CloningSettings(_Strict):
     max_samples: Int = Field(_CLONE.max_samples, description="newest samples of D_i used (<= 0: all)")
 
 
+class MeanCloneSettings(_Strict):
+    steps: Int = Field(_MEAN.steps, ge=0, description="Adam steps of the mean's clone per generation")
+    lr: Float = Field(_MEAN.lr, gt=0, description="its step size")
+    batch_size: Int = Field(_MEAN.batch_size, gt=0, description="rows per step, from the recent recorded steps")
+    max_samples: Int = Field(_MEAN.max_samples, description="newest rows of the last `history` generations "
+                             "used (<= 0: all)")
+    record_every: Int = Field(_MEAN.record_every, ge=1, description="the rollouts keep the steps of every k-th "
+                              "member (and of every candidate): the clone's states and M_phi's data")
+    scales: tuple[Float, ...] = Field(_MEAN.scales, min_length=1, description="candidate: mu + s (theta* - mu) "
+                                      "is evaluated for each s")
+    accept: Literal[tuple(ACCEPT_RULES)] = Field(
+        _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best) "
+        "or the mean's own on the same episodes (mean)")
+
+    @model_validator(mode="after")
+    def _positive(self):
+        if any(not s > 0 for s in self.scales):
+            raise ValueError("scales must be positive")
+        return self
+
+
 class ShapingConfig(_Strict):
+    labels: Literal[LABEL_SOURCES] = Field(
+        "mphi", description="where action labels come from: M_phi, the learned inverse-dynamics model (the "
+        "paper); reference, a finished run's policy (shaping.reference_run); controller, the env's scripted "
+        "waypoint controller (oracles: what labels can give at most)")
+    mechanism: Literal[tuple(MECHANISMS)] = Field(
+        "paper", description="how labels become search: paper (every member cloned, Delta = (theta* - "
+        "mu)/eta spans Guided ES's subspace), candidate (the mean's clone is evaluated beside the "
+        "population and becomes the mean when it beats every member), pair (the mean's clone as the "
+        "direction of one antithetic pair); guides/mechanisms/")
     eta: Float = Field(0.01, ge=1e-12, description="surrogate normalization eta (paper 0.01)")
     surrogate: Literal["paper", "clone_step", "clone_mean", "clone_orth"] = Field(
         "paper", description="Delta = (theta* - mu_{g+1})/eta (paper), theta* - theta (each clone step), "
@@ -136,12 +167,13 @@ class ShapingConfig(_Strict):
     reference_run: str | None = Field(
         None, description="a finished run of the same env whose best policy stands for the paper's "
         "'fully trained policy': logs the Fig. 5 test loss (labels vs its actions) and related label "
-        "metrics each generation (master placement); never changes the run")
+        "metrics each generation (master placement); the label source with labels=reference")
     diagnose_returns: Bool = Field(
         False, description="also roll out every theta* on the generation's episode seeds and log the "
         "return change cloning made (costs one more population rollout; diagnostics only)")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
     cloning: CloningSettings = Field(default_factory=CloningSettings)
+    mean_clone: MeanCloneSettings = Field(default_factory=MeanCloneSettings)
 
 
 class PPOConfig(_Strict):

@@ -2,7 +2,9 @@
 
 One :class:`Transitions` holds every step of one population member's episodes, row per step:
 ``(s_t, position_t, waypoint_t, a_t, r_t)``. ``position`` and ``waypoint`` come from the env contract
-(``envs/core.py``); envs without it leave them as zero-width arrays ``(T, 0)``.
+(``envs/core.py``); envs without it leave them as zero-width arrays ``(T, 0)``. ``expert`` (optional)
+holds the env's waypoint controller's action at ``s_t`` (the ``controller`` label source,
+``shaping/labels.py``), recorded only when a rollout asks for it.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ class Transitions:
     waypoint: np.ndarray  # (T, d) float32, next local waypoint at t
     action: np.ndarray  # (T, act_dim) float32, a_t in [-1, 1]
     reward: np.ndarray  # (T,) float32, r_t
+    expert: np.ndarray | None = None  # (T, act_dim) float32, the env controller's action at s_t (optional)
 
     def __len__(self) -> int:
         return int(self.step.shape[0])
@@ -62,4 +65,5 @@ def concat_members(trs: list[Transitions]) -> tuple[Transitions, np.ndarray]:
         state=cat([t.state for t in trs]), position=cat([t.position for t in trs]),
         waypoint=cat([t.waypoint for t in trs]), action=cat([t.action for t in trs]),
         reward=cat([t.reward for t in trs]),
+        expert=cat([t.expert for t in trs]) if all(t.expert is not None for t in trs) else None,
     ), offsets

@@ -83,6 +83,15 @@ METHODS: dict[str, Method] = {
 }
 
 
+# How the shaped method's labels become search (``shaping.mechanism``): name -> "module:Class" of a
+# ``guides.mechanisms.Mechanism`` (that package's docstring compares them); a new one is its file + one entry.
+MECHANISMS: dict[str, str] = {
+    "paper": "shaped_es.guides.mechanisms.paper:PaperSubspace",
+    "candidate": "shaped_es.guides.mechanisms.candidate:MeanCandidate",
+    "pair": "shaped_es.guides.mechanisms.pair:MeanPair",
+}
+
+
 def resolve(path: str) -> Any:
     """The object a ``"module:attr"`` path names (its module imported on first use)."""
     module, _, attr = path.partition(":")

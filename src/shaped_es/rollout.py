@@ -10,6 +10,12 @@ lock-step with one batched policy forward per step:
 
 Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds, Discrete spaces
 take the argmax. Results depend only on the task's parameters and seeds, never on the process running it.
+
+Recording (``RolloutTask.record``: every member, or a mask of them) keeps each recorded member's steps as
+:class:`~shaped_es.data.Transitions`; with ``RolloutTask.expert`` the env's scripted waypoint controller
+(``envs/core.py``) is asked at every recorded step too, and its action kept as ``Transitions.expert``,
+mapped to the policy's ``[-1, 1]`` scale (Box: the inverse of the rescaling above; Discrete: +1 for
+the chosen action, -1 elsewhere).
 """
 
 from __future__ import annotations
@@ -23,7 +29,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
+from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
 from shaped_es.policies import MLPSpec, forward
 
 
@@ -60,8 +66,20 @@ class RolloutTask:
     members: np.ndarray  # (m,) int, population index of each row
     seeds: np.ndarray  # (m, E) int64, episode seeds
     generation: int = 0
-    record: bool = False  # keep per-step transitions (for the inverse-dynamics model)
+    # keep per-step transitions (for the inverse-dynamics model): every member, or a mask (m,) of them
+    record: bool | np.ndarray = False
     max_steps: int | None = None  # cap on episode length (None: the env's own limit)
+    expert: bool = False  # also record the env's waypoint controller's action (envs/core.py hook)
+
+    def recorded(self) -> np.ndarray:
+        """Mask ``(m,)`` of the members whose transitions are kept."""
+        m = self.params.shape[0]
+        if isinstance(self.record, (bool, np.bool_)):
+            return np.full(m, bool(self.record))
+        mask = np.asarray(self.record, dtype=bool).reshape(-1)
+        if mask.shape != (m,):
+            raise ValueError(f"record mask has {mask.shape[0]} entries for {m} members")
+        return mask
 
 
 @dataclass
@@ -74,13 +92,15 @@ class RolloutResult:
 
 
 def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray,
-                     workers: int, generation: int = 0, record: bool = False,
-                     max_steps: int | None = None) -> list[RolloutTask]:
+                     workers: int, generation: int = 0, record: bool | np.ndarray = False,
+                     max_steps: int | None = None, expert: bool = False) -> list[RolloutTask]:
     """A population ``params`` ``(P, n)`` on its episode seeds ``(P, E)``, as at most ``workers`` tasks of
-    consecutive members (training rollouts)."""
+    consecutive members (training rollouts); ``record``: every member, or a mask ``(P,)``."""
     members = np.arange(params.shape[0])
+    rec = record if isinstance(record, (bool, np.bool_)) else np.asarray(record, dtype=bool).reshape(-1)
     return [RolloutTask(env_id, env_kwargs, spec, params[idx], members[idx], seeds[idx], generation=generation,
-                        record=record, max_steps=max_steps)
+                        record=rec if isinstance(rec, (bool, np.bool_)) else rec[idx], max_steps=max_steps,
+                        expert=expert)
             for idx in np.array_split(members, max(1, min(len(members), workers)))]
 
 
@@ -140,6 +160,8 @@ class EnvProbe:
     # caller to raise when its check comes (both None: not asked).
     reset_info: dict | None = field(default=None, compare=False, repr=False)
     reset_error: Exception | None = field(default=None, compare=False, repr=False)
+    # Whether the env offers the optional scripted waypoint controller (envs/core.py hook)
+    controller: bool | None = field(default=None, compare=False)
 
 
 def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
@@ -157,7 +179,8 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
                 _, info = env.reset(seed=0)
             except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info
                 error = exc
-        return EnvProbe(obs_dim, act_dim, limit, reset_info=info, reset_error=error)
+        return EnvProbe(obs_dim, act_dim, limit, reset_info=info, reset_error=error,
+                        controller=has_controller(env))
     finally:
         env.close()
 
@@ -229,16 +252,23 @@ def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> None:
 
 
 class _Recorder:
-    """Per-step rows written into preallocated float32 buffers ``(T, B, ...)`` (grown by doubling when
-    the horizon is unknown), cut into per-member :class:`Transitions` at the end. Episodes run in
-    lock-step and stay dead once done, so episode ``b`` is rows ``0 .. len_b - 1`` of column ``b``."""
+    """Per-step rows of the recorded members written into preallocated float32 buffers ``(T, B_r, ...)``
+    (grown by doubling when the horizon is unknown), cut into per-member :class:`Transitions` at the end.
+    Episodes run in lock-step and stay dead once done, so episode ``b`` is rows ``0 .. len_b - 1`` of its
+    column. ``B_r``: the recorded members' episodes (``RolloutTask.recorded``)."""
 
     def __init__(self, task: RolloutTask, capacity: int = 256):
         self.task, self.t, self.capacity = task, 0, max(1, int(capacity))
-        self.buf: list[np.ndarray] | None = None  # obs, pos, wp, act, rew, alive: (cap, B, ...)
+        E = task.seeds.shape[1]
+        mask = task.recorded()  # (m,)
+        self.rows = np.flatnonzero(mask)  # (m_r,) task rows of the recorded members
+        self.cols = None if mask.all() else (self.rows[:, None] * E + np.arange(E)).reshape(-1)  # (m_r*E,)
+        self.buf: list[np.ndarray] | None = None  # obs, pos, wp, act, rew, alive[, expert]: (cap, B_r, ...)
 
-    def add(self, obs, pos, wp, act, rew, alive):
-        rows = (obs, pos, wp, act, rew, alive)
+    def add(self, obs, pos, wp, act, rew, alive, expert=None):
+        rows = (obs, pos, wp, act, rew, alive) + (() if expert is None else (expert,))
+        if self.cols is not None:
+            rows = tuple(np.asarray(x)[self.cols] for x in rows)  # (B, ...) -> (B_r, ...)
         if self.buf is None:
             self.buf = [np.zeros((self.capacity, *np.shape(x)), bool if i == 5 else np.float32)
                         for i, x in enumerate(rows)]
@@ -249,14 +279,14 @@ class _Recorder:
         self.t += 1
 
     def build(self) -> list[Transitions]:
-        m, E = self.task.seeds.shape
-        if self.buf is None or self.t == 0:
+        E = self.task.seeds.shape[1]
+        if self.buf is None or self.t == 0 or self.rows.size == 0:
             return []
-        obs, pos, wp, act, rew, alive = (b[: self.t] for b in self.buf)  # (T, B, ...)
-        lens = alive.sum(axis=0)  # (B,) steps each episode took
+        obs, pos, wp, act, rew, alive, *ex = (b[: self.t] for b in self.buf)  # (T, B_r, ...)
+        lens = alive.sum(axis=0)  # (B_r,) steps each recorded episode took
         out = []
-        for r in range(m):
-            bs = range(r * E, r * E + E)
+        for j, r in enumerate(self.rows):
+            bs = range(j * E, j * E + E)
             cat = lambda x: np.concatenate([x[: lens[b], b] for b in bs])  # noqa: E731 - (T_r, ...)
             out.append(
                 Transitions(
@@ -265,9 +295,32 @@ class _Recorder:
                     episode=np.concatenate([np.full(lens[b], e, np.int32) for e, b in enumerate(bs)]),
                     step=np.concatenate([np.arange(lens[b], dtype=np.int32) for b in bs]),
                     state=cat(obs), position=cat(pos), waypoint=cat(wp), action=cat(act), reward=cat(rew),
+                    expert=cat(ex[0]) if ex else None,
                 )
             )
         return out
+
+
+def _controller(task: RolloutTask, owner):
+    """The env's waypoint controller (``envs/core.py`` hook) of ``owner`` (a core or an env), or one
+    clear error if the task asks for it and the env has none."""
+    hook = getattr(owner, CONTROLLER_HOOK, None)
+    if not callable(hook):
+        raise EnvSpecError(f"env {task.env_id!r} offers no {CONTROLLER_HOOK}(...) (shaping.labels=controller "
+                           f"needs one; see the README's environment contract)")
+    return hook
+
+
+def _from_env_action(space: gym.Space, a) -> np.ndarray:
+    """An action of ``space`` on the policy's ``[-1, 1]`` scale (the inverse of :func:`_to_env_action`;
+    Discrete: +1 for the chosen action, -1 elsewhere)."""
+    if isinstance(space, gym.spaces.Discrete):
+        out = -np.ones(int(space.n), np.float32)
+        out[int(a) - int(space.start)] = 1.0
+        return out
+    low, high = space.low.astype(np.float64), space.high.astype(np.float64)
+    x = 2.0 * (np.asarray(a, np.float64).reshape(low.shape) - low) / (high - low) - 1.0
+    return np.clip(x, -1.0, 1.0).astype(np.float32)
 
 
 def _finish(task, returns, lengths, rec) -> RolloutResult:
@@ -289,14 +342,16 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
-    rec = _Recorder(task, limit) if task.record else None
+    rec = _Recorder(task, limit) if task.recorded().any() else None
+    expert = _controller(task, core) if rec is not None and task.expert else None
     for _ in range(limit):
         act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
         pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
+        ex = None if expert is None else expert(state, obs, info)  # (B, a) before the step, as act
         state, nobs, rew, term, trunc, info = core.step(state, act)
         rew = np.where(alive, rew, 0.0)
         if rec is not None:
-            rec.add(obs, pos, wp, act, rew, alive)
+            rec.add(obs, pos, wp, act, rew, alive, ex)
         returns += rew
         lengths += alive
         alive &= ~(term | trunc)
@@ -328,6 +383,7 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     envs = _envs(task.env_id, task.env_kwargs, B)
     seeds = task.seeds.reshape(B)  # (m, E) -> (B,)
     first = [env.reset(seed=int(s)) for env, s in zip(envs, seeds)]
+    infos = [i for _, i in first]  # the latest info of each env (the waypoint controller reads it)
     shape = tuple(envs[0].observation_space.shape)
     for b, (o, _) in enumerate(first):
         _check_obs(task, np.asarray(o, dtype=np.float32), shape, seeds[b], 0)
@@ -337,10 +393,16 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
-    rec = _Recorder(task) if task.record else None
+    rec = _Recorder(task) if task.recorded().any() else None
+    hooks = [_controller(task, env.unwrapped) for env in envs] if rec is not None and task.expert else None
     t = 0
     while alive.any() and (task.max_steps is None or t < task.max_steps):
         act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
+        ex = None
+        if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
+            ex = np.zeros_like(act)
+            for b in np.flatnonzero(alive):
+                ex[b] = _from_env_action(envs[b].action_space, hooks[b](obs[b], infos[b]))
         rew = np.zeros(B, dtype=np.float64)
         nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
         stepped = alive.copy()
@@ -349,7 +411,7 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
             o = np.asarray(o, dtype=np.float32)
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
-            nobs[b], rew[b] = o, r
+            nobs[b], rew[b], infos[b] = o, r, info
             if npos.shape[1]:
                 npos[b], nwp[b] = _info_vec(info, POSITION_KEY), _info_vec(info, WAYPOINT_KEY)
             alive[b] = not (term or trunc)
@@ -359,7 +421,7 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
                 raise _bad_output(task, f"a non-finite reward ({rew[b]})", seeds[b], t + 1)
             _check_obs(task, nobs[b], shape, seeds[b], t + 1)
         if rec is not None:
-            rec.add(obs, pos, wp, act, rew, stepped)
+            rec.add(obs, pos, wp, act, rew, stepped, ex)
         returns += rew
         lengths += stepped
         obs, pos, wp = nobs, npos, nwp

@@ -155,9 +155,10 @@ class Trainer(RunLoop):
             self._waiting.append(item)
 
     # -- one generation ----------------------------------------------------------------------------
-    def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record: bool):
+    def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record):
         return population_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, params, seeds,
-                                self.executor.workers, g, record, self.cfg.rollout.max_steps)
+                                self.executor.workers, g, record, self.cfg.rollout.max_steps,
+                                expert=self.guide.expert)
 
     def _submit_eval(self, item: _Row, theta: np.ndarray, g: int) -> None:
         """Start generation ``g``'s test episodes of ``theta`` ``(n,)`` for ``item``'s row."""
@@ -199,12 +200,15 @@ class Trainer(RunLoop):
         t0, cpu0 = time.perf_counter(), time.process_time()
         X = np.asarray(self.strategy.ask(), dtype=np.float32)  # (P, n)
         self.guide.begin_generation(g)
-        results, rollout_time = self._roll_out(X, g)
+        extra = self.guide.extra_members(g)  # (k, n) evaluated beside the population, or None
+        X_all = X if extra is None else np.concatenate([X, np.asarray(extra, np.float32)])  # (P + k, n)
+        results, rollout_time = self._roll_out(X_all, g)
         done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
-        fitness = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P,) mean of (P, E) returns
-        item = self._start_row(g, X, fitness)  # the best member's test episodes start now
+        fitness = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P + k,) mean of (., E) returns
+        P = X.shape[0]
+        item = self._start_row(g, X_all, fitness, P)  # the best member's test episodes start now
         old_mean = np.array(self.strategy.mean, copy=True)
-        self.strategy.tell(fitness)  # maximize
+        self.strategy.tell(fitness[:P])  # maximize
         extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
         if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
             raise DivergedError(self._diverged(g, "the search mean"))
@@ -218,15 +222,19 @@ class Trainer(RunLoop):
                                       cfg.rollout.common_seeds)  # (P, E)
         fn = self.guide.rollout_fn() or run_task
         t_roll = time.perf_counter()
-        results = self.executor.map(fn, self._tasks(X, seeds, g, self.guide.record))
+        P = 2 * self.cfg.es.pairs
+        record = self.guide.record_mask(min(P, X.shape[0]), max(0, X.shape[0] - P))  # (P + k,)
+        results = self.executor.map(fn, self._tasks(X, seeds, g, record))
         return results, time.perf_counter() - t_roll
 
-    def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray) -> _Row:
-        """Generation ``g``'s metrics row (train rewards of ``fitness`` ``(P,)``); the test episodes of
-        its best member start when they are due."""
+    def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray, P: int) -> _Row:
+        """Generation ``g``'s metrics row (train rewards of the population's ``fitness[:P]``); the test
+        episodes of its best member (over the population and the guide's extra members, ``X`` ``(P + k,
+        n)``) start when they are due."""
+        pop = fitness[:P]
         item = _Row({"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
-                     "train_reward_mean": float(fitness.mean()), "train_reward_max": float(fitness.max()),
-                     "train_reward_min": float(fitness.min()), "test_reward_mean": None,
+                     "train_reward_mean": float(pop.mean()), "train_reward_max": float(pop.max()),
+                     "train_reward_min": float(pop.min()), "test_reward_mean": None,
                      "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
         cfg = self.cfg
         if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):

@@ -86,6 +86,16 @@ class BatchCoreEnv(gym.Env):
         self._state, obs, rew, term, trunc, info = self.batch_core.step(self._state, act)
         return obs[0], float(rew[0]), bool(term[0]), bool(trunc[0]), single_info(info)
 
+    def waypoint_controller(self, obs, info: dict) -> np.ndarray:
+        """The core's scripted waypoint controller (``envs/core.py`` hook) for this env's single copy:
+        the action ``(act_dim,)`` it takes after ``obs`` and ``info`` (the last ones this env returned)."""
+        hook = getattr(self.batch_core, "waypoint_controller", None)
+        if hook is None or self._state is None:
+            raise RuntimeError(f"{self.env_id}: no waypoint controller" if hook is None
+                               else f"{self.env_id}: call reset() before waypoint_controller()")
+        batched = {k: np.asarray(v)[None] for k, v in info.items()}  # (...) -> (1, ...)
+        return hook(self._state, np.asarray(obs, np.float32)[None], batched)[0]
+
     def render(self):
         if self.render_mode != "rgb_array" or self._state is None:
             return None

@@ -25,6 +25,17 @@ uses it when present, so a whole chunk of the population runs in one vectorized 
 ``"reward_<term>"`` ``(B,)`` per named reward term, the terms summing to ``reward``. All randomness of an
 episode comes from its seed at ``reset``; ``step`` is deterministic. Stepping an env that has already
 ended is allowed (its outputs are ignored by the caller).
+
+Optional hook, a scripted **waypoint controller** (the ``controller`` label source of ``--method shaped``,
+``shaping.labels=controller``: the oracle that measures what labels can give a search at most):
+
+- a Gymnasium env: ``env.unwrapped.waypoint_controller(obs, info) -> action``, an action of the env's own
+  action space for the observation and ``info`` it just returned (``info`` carries the contract's keys);
+- a batched core: ``core.waypoint_controller(state, obs, info) -> (B, act_dim)`` float32 in ``[-1, 1]``.
+
+CarNav-v0 offers pure pursuit of ``info["waypoint"]`` (``carnav/controller.py``), UR5Reach-v0 resolved-rate
+control toward it (``ur5/controller.py``). A controller may read the env's full state: it is used only to
+label training states, never at test time.
 """
 
 from __future__ import annotations
@@ -59,6 +70,18 @@ def get_batch_core(env: Any) -> BatchCore | None:
     """The env's batched core if it offers one (``env.unwrapped.batch_core``), else ``None``."""
     core = getattr(getattr(env, "unwrapped", env), "batch_core", None)
     return core if isinstance(core, BatchCore) else None
+
+
+CONTROLLER_HOOK = "waypoint_controller"
+
+
+def has_controller(env: Any) -> bool:
+    """True if the env offers the optional scripted waypoint controller (module docstring): through its
+    batched core when it has one, else ``env.unwrapped.waypoint_controller``."""
+    core = get_batch_core(env)
+    if core is not None:
+        return callable(getattr(core, CONTROLLER_HOOK, None))
+    return callable(getattr(getattr(env, "unwrapped", env), CONTROLLER_HOOK, None))
 
 
 def has_waypoint_contract(info: dict[str, Any]) -> bool:

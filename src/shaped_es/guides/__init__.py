@@ -22,9 +22,19 @@ class NoGuide:
     """Plain ES: rollouts keep no transitions, the strategy gets no surrogate."""
 
     record = False
+    expert = False  # rollouts also record the env's waypoint controller's actions
 
     def begin_generation(self, generation: int) -> None:
         """Called before the rollouts start (background work may start here)."""
+
+    def record_mask(self, population: int, extra: int) -> np.ndarray:
+        """Which members' steps the rollouts keep, ``(population + extra,)`` bool (``record``: all or none)."""
+        return np.full(population + extra, bool(self.record))
+
+    def extra_members(self, generation: int) -> np.ndarray | None:
+        """Policies ``(k, n)`` to evaluate beside the population on its episodes (None: none); their
+        results follow the population's in ``after_tell``'s ``results`` (members ``P .. P + k - 1``)."""
+        return None
 
     def rollout_fn(self):
         """Worker-side function for training rollouts (None: the plain ``rollout.run_task``)."""

@@ -1,17 +1,20 @@
-"""Master side of the paper's Algorithm 1 (``--method shaped``), as a guide of the generation loop.
+"""The shaped method (``--method shaped``) as a guide of the generation loop: its data, ``M_phi`` and
+labels; *how* the labels become search is its mechanism (``shaping.mechanism``, ``guides/mechanisms/``:
+the paper's subspace, the mean's clone as a candidate, or as a pair).
 
 Per generation ``g`` (timeline; ``||`` = concurrently)::
 
-    begin_generation(g):  M_phi.add(trajectories of g-1)  ->  train M_phi in a thread  ||  workers roll
-                          out Theta_g (recording transitions)
+    begin_generation(g):  M_phi.add(recorded steps of g-1)  ->  train M_phi in a thread  ||  workers roll
+                          out Theta_g and the mechanism's extra members (recording the mechanism's mask)
     strategy.tell(R_g)    -> mu_{g+1}
-    after_tell(g):        join M_phi; label every member's D_i with M_phi and clone theta_i -> theta*_i;
-                          Delta = (Theta* - mu_{g+1}) / eta  (paper Eq. for Delta_g);  strategy.guide(Delta)
+    after_tell(g):        join M_phi; mechanism.after_tell: e.g. (paper) label every member's D_i and
+                          clone theta_i -> theta*_i; Delta = (Theta* - mu_{g+1}) / eta; strategy.guide(Delta)
                           -> the next ask samples from Sigma = alpha/n I + (1 - alpha)/k U U^T (scaled by n)
 
-M_phi lags one generation behind the rollouts (it trains on g-1 while g runs), as the paper overlaps
-its training with the workers. Labels are taken only after the training thread has joined, so results
-do not depend on timing.
+Labels come from ``shaping.labels`` (``shaping/labels.py``): M_phi's (the paper; M_phi is trained only
+then), a reference run's policy, or the env's scripted controller (oracles). M_phi lags one generation
+behind the rollouts (it trains on g-1 while g runs), as the paper overlaps its training with the
+workers. Labels are taken only after the training thread has joined, so results do not depend on timing.
 
 Where the shaping work runs (``shaping.placement``; both give the same numbers, tested):
 
@@ -46,27 +49,26 @@ from shaped_es import seeding
 from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
 from shaped_es.guides import NoGuide
-from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone, labeller, rollout_and_store
+from shaped_es.guides.shaped_tasks import rollout_and_store
+from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import EnvProbe, population_tasks, run_task
-from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled, warm_up_cloning
+from shaped_es.rollout import EnvProbe
+from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
-from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig
+from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.shaping.trajectories import TrajectoryStoreError, delete_generations, list_generations
 from shaped_es.shaping.trajectories import read_generation, write_shard
 from shaped_es.guides.mphi_parts import DataParts
+from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.shaped_setup import from_section, placement, waypoint_dim
+from shaped_es.guides.shaped_setup import from_section, label_source, placement, waypoint_dim
 
-METRIC_KEYS = (
-    "mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size", "mphi_kept_fraction",
-    "clone_loss_before", "clone_loss_after", "label_std", "surrogate_rank", "surrogate_update_alignment",
-    "clone_step_update_cosine", "time_mphi_s", "time_mphi_wait_s", "time_cloning_s", "time_update_s",
-    "time_store_write_s", "shaping_active", "mphi_fig5_test_loss", "own_ref_error", "clone_ref_error",
-    "label_beats_own", "clone_return_gain", "clone_improved_fraction",
-)
+MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size",
+             "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
+COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active")
+DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
 FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
@@ -77,7 +79,7 @@ class _Block:
 
     trs: list[Transitions]  # per member (those with steps)
     big: Transitions | None  # trs concatenated (data.concat_members); its state is (N, obs)
-    queries: np.ndarray | None  # (N, d) float32 raw M_phi queries w_t - p_t (frame applied)
+    queries: np.ndarray | None  # (N, k) float32 the label source's inputs (M_phi: raw queries w_t - p_t)
     members: np.ndarray  # (k,) member index of each trs entry
     offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
 
@@ -95,7 +97,13 @@ class ShapedGuide(NoGuide):
         self.mphi_cfg = from_section(InverseDynamicsConfig, mp, frame=frame,
                                      seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
-        self.mphi = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
+        self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
+        # M_phi exists (and trains) only when it is the label source
+        self.mphi = (InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
+                     if self.sh.labels == "mphi" else None)
+        self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
+        self.labels = label_source(cfg, self.mphi, self.mphi_cfg, self.reference, self.placement, probe)
+        self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
         self._pending: dict = {}
@@ -112,11 +120,34 @@ class ShapedGuide(NoGuide):
         self._saved: tuple[int, int] | None = None  # (generation, oldest data part) of the last state_dict
         # master placement on local processes: labels here, the gradient steps in the idle workers
         self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
-        self._shared = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
-        self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
+        self.shared_rows = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
+        self.population = 2 * cfg.es.pairs
         self._warned = False
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
+
+    @property
+    def expert(self) -> bool:
+        """The rollouts record the env controller's actions (``shaping.labels = controller``)."""
+        return self.labels.records_expert
+
+    def metric_keys(self) -> tuple[str, ...]:
+        """The metrics columns this run's guide fills (M_phi's only with M_phi labels; the reference
+        label metrics only with ``shaping.reference_run``)."""
+        keys = (MPHI_KEYS if self.mphi is not None else ()) + COMMON_KEYS + self.mechanism.metric_keys
+        if self.reference is not None:
+            keys += REFERENCE_METRICS
+        if not self.sh.diagnose_returns:
+            keys = tuple(k for k in keys if k not in DIAGNOSE_KEYS)
+        return tuple(dict.fromkeys(keys))
+
+    def record_mask(self, population: int, extra: int) -> np.ndarray:
+        """Which members' steps the rollouts keep (the mechanism's choice), ``(population + extra,)``."""
+        return self.mechanism.record_mask(population, extra)
+
+    def extra_members(self, generation: int) -> np.ndarray | None:
+        """Policies ``(k, n)`` the mechanism has evaluated beside the population (None: none)."""
+        return self.mechanism.extra_members(generation)
 
     def rollout_fn(self):
         if self.placement == "workers":  # each worker writes its chunk's shard before it returns
@@ -133,7 +164,7 @@ class ShapedGuide(NoGuide):
             self._cache[generation] = _Block([], None, None, np.zeros(0, np.int64), np.zeros(1, np.int64))
             return
         big, offsets = concat_members(trs)  # per-step work once per generation, not per member
-        q = query_displacement(big, self.mphi_cfg.frame, self.mphi_cfg.query_scale)  # (N, d) M_phi's queries
+        q = self.labels.inputs(big)  # (N, k) what the label source reads besides the state
         members = np.array([t.member for t in trs], np.int64)
         self._cache[generation] = _Block(trs, big, q, members, offsets)
 
@@ -150,8 +181,15 @@ class ShapedGuide(NoGuide):
             self._remember(generation, trs)
         return self._cache[generation].trs
 
-    def _member_rows(self, gens: list[int], P: int) -> MemberRows:
-        """``D_i`` of every member over ``gens`` as spans of the cached blocks (no copies)."""
+    def history_generations(self, generation: int) -> list[int]:
+        """The generations whose data the clones of generation ``generation`` read (``shaping.history``)."""
+        return list(range(max(0, generation - self.sh.history + 1), generation + 1))
+
+    def member_rows(self, gens: list[int], P: int) -> MemberRows:
+        """``D_i`` of every member ``i < P`` over ``gens`` as spans of the cached blocks (no copies; after
+        a restart, what memory lacks is read from the store first)."""
+        for g in gens:
+            self._generation(g)
         blocks = [self._cache[g] for g in gens if self._cache[g].trs]
         spans = np.zeros((P, max(1, len(blocks)), 2), np.int64)  # (P, nb, 2)
         for b, blk in enumerate(blocks):
@@ -159,9 +197,34 @@ class ShapedGuide(NoGuide):
             spans[blk.members[ok], b, 0] = blk.offsets[:-1][ok]
             spans[blk.members[ok], b, 1] = blk.offsets[1:][ok]
         if not blocks:
-            return MemberRows([np.zeros((0, self.spec.obs_dim), np.float32)],
-                              [np.zeros((0, self.mphi.pos_dim), np.float32)], spans)
+            return MemberRows([np.zeros((0, self.spec.obs_dim), np.float32)], [np.zeros((0, 0), np.float32)],
+                              spans)
         return MemberRows([blk.big.state for blk in blocks], [blk.queries for blk in blocks], spans)
+
+    def dagger_rows(self, generation: int) -> MemberRows:
+        """Every recorded step of the last ``history`` generations up to ``generation`` as the rows of one
+        data set (``MemberRows`` with one member, oldest block first): the mean's DAgger set."""
+        gens = self.history_generations(generation)
+        if self.placement == "workers":  # nothing in memory: read the generations' shards
+            trs = [t for g in gens for t in self._generation(g) if len(t)]
+            if not trs:
+                return MemberRows.from_lists([np.zeros((0, self.spec.obs_dim), np.float32)],
+                                             [np.zeros((0, 0), np.float32)])
+            big, _ = concat_members(trs)
+            return MemberRows.from_lists([big.state], [self.labels.inputs(big)])
+        for g in gens:
+            self._generation(g)
+        blocks = [self._cache[g] for g in gens if self._cache[g].trs]
+        if not blocks:
+            return MemberRows.from_lists([np.zeros((0, self.spec.obs_dim), np.float32)],
+                                         [np.zeros((0, 0), np.float32)])
+        spans = np.array([[[0, blk.offsets[-1]] for blk in blocks]], np.int64)  # (1, nb, 2): whole blocks
+        return MemberRows([blk.big.state for blk in blocks], [blk.queries for blk in blocks], spans)
+
+    def labels_max_displacement(self) -> float | None:
+        """M_phi's query clip (``inverse_dynamics.query_clip`` times the mean training displacement)."""
+        qc = self.sh.inverse_dynamics.query_clip
+        return None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
 
     def _write(self, trs: list[Transitions], stacked: Transitions | None = None) -> float:
         t0 = time.perf_counter()
@@ -192,13 +255,15 @@ class ShapedGuide(NoGuide):
 
     # -- M_phi, concurrently with the rollouts -----------------------------------------------------
     def begin_generation(self, generation: int) -> None:
-        self._pending = dict.fromkeys(METRIC_KEYS)
+        self._pending = dict.fromkeys(self.metric_keys())
         self._join_writes()
         self._after_checkpoint()  # the previous generation's checkpoint is durable by now
-        self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
-                             mphi_dataset_size=self.mphi.dataset_size)
         # shards a killed run left for this generation (maybe laid out by another placement) go first
         delete_generations(self.traj_root, [generation])
+        if self.mphi is None:  # oracle labels: no model to train
+            return
+        self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
+                             mphi_dataset_size=self.mphi.dataset_size)
         if generation == 0:
             return
         data = [t for t in self._generation(generation - 1) if len(t)]
@@ -218,6 +283,7 @@ class ShapedGuide(NoGuide):
             cnt = self.step_norm[0] + norms.size
             self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
                                                                   self.step_norm[1]) / cnt])
+            self.labels.max_displacement = self.labels_max_displacement()
             self._writes.append(self._writer.submit(self.parts.write, generation, x, y))
             self.parts.add(generation, rows)
         self._pending.update(mphi_dataset_size=stats["dataset_size"],
@@ -232,7 +298,7 @@ class ShapedGuide(NoGuide):
         self._pending["mphi_iterations"] = self.mphi.iterations
         self._pending["time_mphi_s"] = time.perf_counter() - t0
 
-    # -- cloning and the surrogate subspace ----------------------------------------------------------
+    # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
         self._write_time += float(sum(getattr(r, "store_time_s", 0.0) for r in results))  # on the workers
         if self.placement == "master":  # keep the generation in memory
@@ -247,47 +313,23 @@ class ShapedGuide(NoGuide):
         if self._thread is not None:
             self._thread.join()
             self._thread = None
-        out = dict(self._pending, time_mphi_wait_s=time.perf_counter() - t_wait, time_cloning_s=0.0,
-                   clone_cpu_time_s=0.0, time_update_s=0.0, surrogate_rank=0, shaping_active=0,
+        out = dict(self._pending, time_cloning_s=0.0, clone_cpu_time_s=0.0, shaping_active=0,
                    time_store_write_s=self._write_time)  # this generation's shards (+ M_phi data parts)
+        if self.mphi is not None:
+            out["time_mphi_wait_s"] = time.perf_counter() - t_wait
         self._write_time = 0.0
         self._last_generation = generation
-        if self.mphi.iterations == 0:  # no data kept yet: this generation stays Vanilla-ES
+        if not self.labels.ready:  # M_phi has no data kept yet: this generation stays Vanilla-ES
             self._warn_untrained(generation)
             self._trim_cache(generation)
             return out
         out["shaping_active"] = 1
+        P = params.shape[0]
+        fit_all = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P + k,) members, then extras
         t0 = time.perf_counter()
-        theta_star, res, worker_cpu = self._clone(generation, params, map_tasks, n_tasks=len(results))
+        out.update(self.mechanism.after_tell(generation, params, fit_all[:P], fit_all[P:], results, old_mean,
+                                             strategy, map_tasks))
         out["time_cloning_s"] = time.perf_counter() - t0
-        out["clone_cpu_time_s"] = worker_cpu  # on the workers (0 when the master does all of it)
-        t1 = time.perf_counter()
-        mean = np.asarray(strategy.mean, dtype=np.float64)
-        if self.sh.surrogate == "paper":
-            G = surrogate_gradients(theta_star, mean, self.sh.eta)  # (k, n): (Theta* - mu_{g+1}) / eta
-        elif self.sh.surrogate == "clone_step":
-            G = theta_star.astype(np.float64) - params  # (k, n): the cloning steps alone
-        elif self.sh.surrogate == "clone_orth":
-            G = clone_steps_orthogonal(theta_star, params, old_mean)  # (k, n): steps outside span(eps)
-        else:
-            G = (theta_star.astype(np.float64) - params).mean(axis=0, keepdims=True)  # (1, n)
-        strategy.guide(G)
-        update = mean - np.asarray(old_mean, dtype=np.float64)  # (n,) this generation's ES step
-        # share of the ES update inside the next ask's subspace: ||U^T v|| / ||v|| without forming U
-        nu = float(np.linalg.norm(update))
-        align = float(np.linalg.norm(strategy.subspace_coordinates(update)) / nu) if nu > 0 else None
-        out.update(
-            time_update_s=time.perf_counter() - t1, surrogate_rank=int(strategy.subspace_dim),
-            surrogate_update_alignment=None if align is None else min(1.0, align),
-            clone_step_update_cosine=cosine((theta_star - params).mean(axis=0), update),
-            clone_loss_before=_nanmean(res.loss_before), clone_loss_after=_nanmean(res.loss_after),
-            label_std=res.label_std,
-        )
-        if res.reference:
-            out.update(mphi_fig5_test_loss=res.reference["label_ref_error"],
-                       **{k: v for k, v in res.reference.items() if k != "label_ref_error"})
-        if self.sh.diagnose_returns:
-            out.update(self._return_gain(generation, theta_star, results, map_tasks))
         self._trim_cache(generation)
         return out
 
@@ -301,50 +343,6 @@ class ShapedGuide(NoGuide):
               f"until one does (column shaping_active = 0); --set shaping.inverse_dynamics.filter=none "
               f"keeps every transition", file=sys.stderr)
 
-    def _return_gain(self, generation, theta_star, results, map_tasks) -> dict:
-        """Diagnostics: returns of theta* on the generation's own episode seeds, against theta's."""
-        c = self.cfg
-        seeds = seeding.episode_seeds(c.seed, seeding.TRAIN, generation, np.arange(theta_star.shape[0]),
-                                      c.rollout.episodes, c.rollout.common_seeds)  # (P, E): the generation's
-        tasks = population_tasks(c.env, c.env_kwargs, self.spec, theta_star, seeds, len(results), generation,
-                                 max_steps=c.rollout.max_steps)
-        after = np.concatenate([r.returns for r in map_tasks(run_task, tasks)]).mean(axis=1)  # (P,)
-        before = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P,)
-        return {"clone_return_gain": float((after - before).mean()),
-                "clone_improved_fraction": float((after > before).mean())}
-
-    def _clone(self, generation, params, map_tasks, n_tasks) -> tuple[np.ndarray, CloneResult, float]:
-        P = params.shape[0]
-        gens = list(range(max(0, generation - self.sh.history + 1), generation + 1))
-        qc = self.sh.inverse_dynamics.query_clip
-        max_disp = None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
-        seeds = np.array([seeding.derive_seed(self.cfg.seed, seeding.SHAPING, generation, m) for m in range(P)])
-        if self.placement == "master":
-            for g in gens:
-                self._generation(g)  # after a restart: read what memory lacks from the store
-            data = self._member_rows(gens, P)
-            # one torch thread, as everywhere in the master: two threads were 1.7x faster on an idle
-            # machine but 3x slower beside any other busy process (OpenMP spin-waits)
-            fit = {"map_fit": map_tasks, "map_chunks": n_tasks} if self.fit_on_workers and n_tasks > 1 else {}
-            res = clone_sampled(self.spec, params, data, labeller(self.mphi, max_disp), self.clone_cfg, seeds,
-                                reference_fn=self.reference, shared=self._shared, **fit)
-            return res.theta_star, res, res.fit_cpu_time_s
-        snap = self.mphi.state_dict(with_training=False)
-        tasks = [CloneTask(self.spec, params[idx], idx, seeds[idx], gens, self.traj_root, snap,
-                           self.mphi_cfg, self.clone_cfg, max_disp)
-                 for idx in np.array_split(np.arange(P), max(1, min(P, n_tasks)))]
-        outs = map_tasks(label_and_clone, tasks)
-        theta_star = np.empty_like(params, dtype=np.float32)  # (P, n)
-        before, after, samples = np.empty(P), np.empty(P), np.empty(P, np.int64)
-        for o in outs:
-            theta_star[o.members], before[o.members], after[o.members] = (
-                o.result.theta_star, o.result.loss_before, o.result.loss_after)
-            samples[o.members] = o.result.samples
-        weights = np.array([max(o.result.samples.sum(), 1) for o in outs], float)
-        label_std = float(np.average([o.result.label_std for o in outs], weights=weights))
-        res = CloneResult(theta_star, before, after, samples, label_std)
-        return theta_star, res, float(sum(o.cpu_time_s for o in outs))
-
     def _trim_cache(self, generation: int) -> None:
         """Memory keeps what the next generation reads: ``g`` (M_phi) and ``g-history+2 .. g`` (D_i)."""
         keep_from = generation + 2 - max(self.sh.history, 2)
@@ -354,14 +352,22 @@ class ShapedGuide(NoGuide):
     # -- checkpoint ---------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         self._join_writes()  # the checkpoint may only name shards and data parts that are durable
+        st = {f"mechanism/{k}": v for k, v in self.mechanism.state_dict().items()}
+        if self.mphi is None:
+            self._saved = (self._last_generation, self._last_generation + 1)
+            return st
         self.parts.trim(self.mphi.dataset_size)
         self._saved = (self._last_generation, self.parts.oldest(default=self._last_generation + 1))
-        st = {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
+        st |= {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
         st["step_norm"] = self.step_norm
         st["mphi_parts"] = np.array(self.parts.kept, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
         return st
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        self.mechanism.load_state_dict({k[10:]: v for k, v in state.items() if k.startswith("mechanism/")})
+        self._cache.clear()
+        if self.mphi is None:
+            return
         mphi = {k[5:]: v for k, v in state.items() if k.startswith("mphi/")}
         self.mphi.load_state_dict(mphi)
         if "data/x" not in mphi and "data/size" in mphi:  # the data set lives in RUN/mphi_data
@@ -369,7 +375,7 @@ class ShapedGuide(NoGuide):
             self.mphi.set_data(*self.parts.read(parts, int(mphi["data/size"][0]), self.mphi.in_dim,
                                                  self.mphi.act_dim))
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
-        self._cache.clear()
+        self.labels.max_displacement = self.labels_max_displacement()
 
     def close(self) -> None:
         if self._thread is not None:
@@ -379,11 +385,5 @@ class ShapedGuide(NoGuide):
             self._join_writes()
         finally:
             self._writer.shutdown(wait=True)
-            if self._shared is not None:
-                self._shared.close()
-
-
-def _nanmean(x: np.ndarray) -> float | None:
-    x = np.asarray(x, dtype=np.float64)
-    x = x[np.isfinite(x)]
-    return float(x.mean()) if x.size else None
+            if self.shared_rows is not None:
+                self.shared_rows.close()

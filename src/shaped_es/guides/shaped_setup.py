@@ -44,3 +44,29 @@ def from_section(cls, section, **resolved):
     (the section's defaults are the dataclass's own, ``config.py``)."""
     names = [f.name for f in dataclasses.fields(cls) if f.name in type(section).model_fields]
     return cls(**{n: getattr(section, n) for n in names if n not in resolved}, **resolved)
+
+
+def label_source(cfg: RunConfig, mphi, mphi_cfg, reference, where: str, probe: EnvProbe | None = None):
+    """The run's label source (``shaping.labels``, ``shaping/labels.py``); one clear error when it cannot
+    serve: ``reference`` without ``shaping.reference_run``, ``controller`` on an env without the hook
+    (``where``: the resolved placement)."""
+    from shaped_es.shaping.labels import ControllerLabels, MphiLabels, ReferenceLabels
+
+    sh = cfg.shaping
+    if sh.labels == "mphi":
+        return MphiLabels(mphi, mphi_cfg.frame, mphi_cfg.query_scale)
+    if sh.labels == "reference":
+        if reference is None:
+            raise ConfigError("shaping.labels=reference needs shaping.reference_run (a finished run of this "
+                              "env whose best policy gives the labels)")
+        if where == "workers" and sh.mechanism == "paper":
+            raise ConfigError("shaping.labels=reference with mechanism 'paper' runs on the master "
+                              "(shaping.placement=master)")
+        return ReferenceLabels(reference)
+    if probe is None or probe.controller is None:
+        probe = probe_env(cfg.env, cfg.env_kwargs)
+    if not probe.controller:
+        raise ConfigError(f"shaping.labels=controller needs a scripted waypoint controller from {cfg.env} "
+                          f"(env.unwrapped.waypoint_controller(obs, info); see the README's environment "
+                          f"contract)")
+    return ControllerLabels()

@@ -21,6 +21,7 @@ from shaped_es.rollout import RolloutResult, RolloutTask, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
+from shaped_es.shaping.labels import clip_norm
 from shaped_es.shaping.trajectories import TrajectoryStoreError, read_members, write_shard
 
 # (traj_root, generation, member) -> transitions; per worker process, bounded by _CACHE_GENERATIONS
@@ -37,8 +38,8 @@ def _remember(root: str, trs: list[Transitions]) -> None:
 
 
 def rollout_and_store(task: RolloutTask, traj_root: str) -> RolloutResult:
-    """Evaluate the chunk and write its transitions as one shard (Alg. 1, l. 4-6); returns only."""
-    task.record = True
+    """Evaluate the chunk and write its recorded transitions as one shard (Alg. 1, l. 4-6); returns
+    only (``task.record``: the members the guide records)."""
     res = run_task(task)
     if res.transitions:
         t1 = time.perf_counter()
@@ -65,14 +66,6 @@ def member_data(traj_root: str, members, generations) -> dict[int, list[Transiti
     return {m: [found[(g, m)] for g in gens] for m in members}
 
 
-def clip_norm(d: np.ndarray, max_norm: float | None) -> np.ndarray:
-    """Scale rows of ``d`` ``(T, k)`` down to at most ``max_norm`` in Euclidean norm."""
-    if max_norm is None:
-        return d
-    n = np.linalg.norm(d, axis=-1, keepdims=True)  # (T, 1)
-    return d * np.minimum(1.0, max_norm / np.maximum(n, 1e-12))
-
-
 def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_dim: int,
                        scale: str = "raw") -> tuple[np.ndarray, np.ndarray]:
     """One member's ``D_i`` as states ``(T, obs)`` and M_phi's queries ``(T, d)`` (before any clip)."""
@@ -81,6 +74,16 @@ def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_di
     s = np.concatenate([h.state for h in hist])
     q = np.concatenate([query_displacement(h, frame, scale) for h in hist])
     return s, q.astype(np.float32)
+
+
+def states_and_expert(hist: list[Transitions], obs_dim: int, act_dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """One member's ``D_i`` as states ``(T, obs)`` and the env controller's actions ``(T, act)``."""
+    if not hist:
+        return np.zeros((0, obs_dim), np.float32), np.zeros((0, act_dim), np.float32)
+    if any(h.expert is None for h in hist):
+        raise TrajectoryStoreError("trajectory shards lack the controller's actions (column 'expert'): "
+                                   "they were written by a run without shaping.labels=controller")
+    return np.concatenate([h.state for h in hist]), np.concatenate([h.expert for h in hist])
 
 
 def labeller(mphi: InverseDynamics, max_displacement: float | None):
@@ -98,10 +101,11 @@ class CloneTask:
     seeds: np.ndarray  # (m,) per-member minibatch seeds (chunking-independent)
     generations: list[int]  # generations whose data form D_i (DAgger-style aggregation)
     traj_root: str
-    mphi_state: dict[str, np.ndarray]  # M_phi network + normalizer (no training state)
+    mphi_state: dict[str, np.ndarray] | None  # M_phi network + normalizer (no training state); mphi labels
     mphi_config: InverseDynamicsConfig
     cloning: CloningConfig
     max_displacement: float | None = None  # clip |w_t - p_t| (None: raw, as the paper)
+    labels: str = "mphi"  # the label source: mphi (M_phi's labels) or controller (recorded in the shards)
 
 
 @dataclass
@@ -112,14 +116,19 @@ class CloneOutput:
 
 
 def label_and_clone(task: CloneTask) -> CloneOutput:
-    """Label each member's aggregated data D_i with M_phi and clone from theta_i (Alg. 1, l. 7-10)."""
+    """Label each member's aggregated data D_i (with M_phi, or the controller's recorded actions) and
+    clone from theta_i (Alg. 1, l. 7-10)."""
     t_cpu = time.process_time()
-    mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
     data = member_data(task.traj_root, task.members, task.generations)
-    sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
-                             task.mphi_config.query_scale)
-          for m in task.members]
+    if task.labels == "controller":
+        sq = [states_and_expert(data[int(m)], task.spec.obs_dim, task.spec.act_dim) for m in task.members]
+        label = lambda states, expert: expert  # noqa: E731 - the recorded actions are the labels
+    else:
+        mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
+        sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
+                                 task.mphi_config.query_scale)
+              for m in task.members]
+        label = labeller(mphi, task.max_displacement)
     rows = MemberRows.from_lists([s for s, _ in sq], [q for _, q in sq])
-    res = clone_sampled(task.spec, task.theta, rows, labeller(mphi, task.max_displacement), task.cloning,
-                        task.seeds)
+    res = clone_sampled(task.spec, task.theta, rows, label, task.cloning, task.seeds)
     return CloneOutput(members=np.asarray(task.members), result=res, cpu_time_s=time.process_time() - t_cpu)

@@ -2,10 +2,19 @@
 
 For a planar vehicle whose observation carries no absolute heading (CarNav-v0: heading *error*, body
 velocities, lidar), a world-frame displacement ``position_{t+1} - position_t`` is ambiguous: the same
-state and action move the car east or north depending on a yaw M_phi cannot see. Expressing every
-displacement in the frame of the agent's last motion ``position_t - position_{t-1}`` (its heading, for a
-car without much slip) removes that ambiguity without any new key in the env contract. This is our
-addition, not the paper's (which used CARLA's odometry); ``frame="world"`` is the paper's behaviour.
+state and action move the car east or north depending on a yaw M_phi cannot see. Two frames remove that
+ambiguity without any new key in the env contract (our additions, not the paper's, which used CARLA's
+odometry; ``frame="world"`` is the paper's behaviour):
+
+- ``motion``: the frame of the agent's last motion ``position_t - position_{t-1}`` (its heading, for a car
+  without much slip). Undefined for an agent at rest (the angle of a zero step), which is where an ES
+  population starts.
+- ``waypoint``: the frame of the waypoint's direction ``waypoint_t - position_t``: x towards the
+  waypoint, y to its left. Always defined (the waypoint is never where the agent is), and a query
+  ``waypoint_t - position_t`` is ``(|w - p|, 0)`` in it: "straight to the waypoint"; what the agent's
+  heading is relative to that direction, the model reads from the state (CarNav-v0: the heading error).
+
+Both rotate the first two coordinates (planar); further coordinates stay as they are.
 """
 
 from __future__ import annotations
@@ -14,7 +23,7 @@ import numpy as np
 
 from shaped_es.data import Transitions
 
-FRAMES = ("world", "motion")
+FRAMES = ("world", "motion", "waypoint")
 
 
 def motion_angle(tr: Transitions) -> np.ndarray:
@@ -28,15 +37,21 @@ def motion_angle(tr: Transitions) -> np.ndarray:
     return ang
 
 
+def waypoint_angle(tr: Transitions) -> np.ndarray:
+    """Angle ``(T,)`` of ``waypoint_t - position_t`` in the plane of the first two coordinates."""
+    d = (tr.waypoint[:, :2] - tr.position[:, :2]).astype(np.float64)  # (T, 2)
+    return np.arctan2(d[:, 1], d[:, 0])
+
+
 def to_frame(tr: Transitions, disp: np.ndarray, frame: str) -> np.ndarray:
     """Express displacements ``(T, d)`` of ``tr``'s steps in ``frame`` (planar: first two coordinates)."""
     if frame == "world":
         return disp
-    if frame != "motion":
+    if frame not in FRAMES:
         raise ValueError(f"frame must be one of {FRAMES}, got {frame!r}")
     if disp.shape[1] < 2:
-        raise ValueError("frame='motion' needs positions with at least two coordinates")
-    a = motion_angle(tr)
+        raise ValueError(f"frame={frame!r} needs positions with at least two coordinates")
+    a = motion_angle(tr) if frame == "motion" else waypoint_angle(tr)
     c, s = np.cos(a), np.sin(a)
     out = disp.astype(np.float64, copy=True)
     out[:, 0] = c * disp[:, 0] + s * disp[:, 1]  # rotate by -angle: x along the motion

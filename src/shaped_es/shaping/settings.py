@@ -16,6 +16,8 @@ from typing import Literal
 from shaped_es.shaping.frames import FRAMES
 
 TARGETS = ("one_step", "hindsight", "matched")
+LABEL_SOURCES = ("mphi", "reference", "controller")  # shaping/labels.py
+ACCEPT_RULES = ("best", "mean")
 FILTERS = ("total", "positive", "none")
 QUERY_SCALES = ("raw", "own_step")
 
@@ -63,3 +65,25 @@ class CloningConfig:
         if self.steps < 0 or self.lr <= 0 or self.optimizer not in ("adam", "sgd"):
             raise ValueError(f"bad cloning config: steps={self.steps} lr={self.lr} "
                              f"optimizer={self.optimizer!r}")
+
+
+@dataclass(frozen=True)
+class MeanCloneConfig:
+    """The ``candidate`` and ``pair`` mechanisms' clone of the mean (``guides/mechanisms/``)."""
+
+    steps: int = 200  # Adam steps of the mean's clone per generation (fresh optimizer state each time)
+    lr: float = 3e-3  # its step size
+    batch_size: int = 256  # rows per step, drawn with replacement from the recent recorded steps
+    max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
+    record_every: int = 8  # the rollouts keep the steps of every k-th member (and of every candidate)
+    scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
+    accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
+    #                       or the mean's own return on the same episodes ("mean")
+
+    def __post_init__(self):
+        if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1:
+            raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
+                             f"batch_size={self.batch_size} record_every={self.record_every}")
+        if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:
+            raise ValueError(f"mean-clone scales must be positive and accept one of {ACCEPT_RULES}, got "
+                             f"{self.scales!r}, {self.accept!r}")

@@ -17,6 +17,8 @@ column                                    type
 ``position``, ``waypoint``                fixed_size_list<float32>[d]
 ``action``                                fixed_size_list<float32>[act_dim]
 ``reward``                                float32
+``expert`` (optional)                     fixed_size_list<float32>[act_dim]: the env controller's
+                                          action at ``s_t`` (``shaping.labels = controller``)
 ========================================  ========================================================
 
 ``ROOT`` is a local path or any URI ``pyarrow.fs.FileSystem.from_uri`` understands (``file://``,
@@ -45,6 +47,7 @@ from shaped_es.data import COLUMNS, Transitions
 
 INT_COLUMNS = ("generation", "member", "episode", "step")
 VECTOR_COLUMNS = ("state", "position", "waypoint", "action")
+EXPERT = "expert"  # optional vector column (data.Transitions.expert)
 FORMAT_KEY, FORMAT_VERSION = b"shaped_es.trajectories", b"1"
 _SHARD_RE = re.compile(r"^members_(\d{4,})-(\d{4,})\.parquet$")
 _GEN_RE = re.compile(r"^gen_(\d{6,})$")
@@ -98,9 +101,14 @@ def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None) ->
         a = np.concatenate(parts)  # (T, w)
         cols[name] = pa.FixedSizeListArray.from_arrays(pa.array(a.reshape(-1)), a.shape[1])  # T lists of w
     cols["reward"] = pa.array(np.concatenate([np.asarray(t.reward, np.float32).reshape(len(t)) for t in trs]))
+    names = list(COLUMNS)
+    if all(t.expert is not None for t in trs):  # the optional column: every member has it, or none
+        a = np.concatenate([np.asarray(t.expert, np.float32).reshape(len(t), -1) for t in trs])  # (T, act)
+        cols[EXPERT] = pa.FixedSizeListArray.from_arrays(pa.array(a.reshape(-1)), a.shape[1])
+        names.append(EXPERT)
     members = ",".join(str(t.member) for t in trs)
     meta = {FORMAT_KEY: FORMAT_VERSION, b"generation": str(g).encode(), b"members": members.encode()}
-    return pa.table({c: cols[c] for c in COLUMNS}).replace_schema_metadata(meta)
+    return pa.table({c: cols[c] for c in names}).replace_schema_metadata(meta)
 
 
 def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Transitions],
@@ -178,11 +186,12 @@ def _from_table(table: pa.Table, where: str) -> list[Transitions]:
     if missing:
         raise bad(f"missing columns {missing}")
     out: dict[str, np.ndarray] = {}
-    for c in COLUMNS:
+    optional = [EXPERT] if EXPERT in table.column_names else []
+    for c in (*COLUMNS, *optional):
         col = table.column(c).combine_chunks()
         if col.null_count:
             raise bad(f"column '{c}' has nulls")
-        if c in VECTOR_COLUMNS:
+        if c in VECTOR_COLUMNS or c == EXPERT:
             t = col.type
             if not (pa.types.is_fixed_size_list(t) and t.value_type == pa.float32()):
                 raise bad(f"column '{c}' has type {t}, expected fixed_size_list<float32>")
@@ -205,9 +214,11 @@ def _from_table(table: pa.Table, where: str) -> list[Transitions]:
         raise bad("member column disagrees with the shard's metadata")
     lo = np.searchsorted(col_m, members, side="left")  # (k,) first row of each member
     hi = np.searchsorted(col_m, members, side="right")
+    if optional and out[EXPERT].shape[1] != out["action"].shape[1]:
+        raise bad("expert and action widths differ")
     return [Transitions(generation=generation, member=m,
                         **{f: out[f][a:b] for f in ("episode", "step", "state", "position", "waypoint",
-                                                   "action", "reward")})
+                                                   "action", "reward", *optional)})
             for m, a, b in zip(members, lo, hi)]
 
 

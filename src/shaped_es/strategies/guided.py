@@ -186,8 +186,7 @@ class GuidedES(VanillaES):
 
     def guide(self, G) -> None:
         """Set the surrogate subspace used by the next ``ask``: rows of ``G`` (k, n) or one (n,) vector."""
-        if self._z is not None:
-            raise RuntimeError("guide() called between ask() and tell(); it shapes the next generation")
+        self._between_generations("guide()")
         G = np.asarray(G)
         if G.dtype != np.float32:
             G = np.asarray(G, dtype=np.float64)

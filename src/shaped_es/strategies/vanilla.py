@@ -16,6 +16,16 @@ each other about the mean. Generation g's noise comes from ``np.random.default_r
 RNG state is saved and a resumed run draws the same numbers. ``ask`` draws the noise once a generation
 and ``tell`` reuses it: the gradient needs only ``z``, and the best member is rebuilt from its own row.
 
+Directions from outside (the shaped method's label mechanisms, ``guides/mechanisms/``), both for the next
+``ask`` only and kept in the state between ``tell`` and ``ask``:
+
+- ``set_pair_direction(d)``: the first antithetic pair goes along ``d`` instead of a random direction
+  (Meier et al. 2019, "Improving gradient estimation in evolutionary strategies with past descent
+  directions"): ``z_1 = c * d / |d|`` with ``|z_1| = sqrt(n)`` by default, the length a random ``z``
+  has on average; the estimator below is unchanged, so the pair's return difference weighs ``d``.
+- ``set_mean(x)``: move the mean to ``x`` (an injected solution that selection preferred: CEM-RL,
+  Pourchot & Sigaud 2019; Hansen 2011 for CMA-ES); the optimizer's moments are kept.
+
 Large policies (``num_params > float32_above``, default 20,000) take the **float32 path**: the noise is
 drawn by :func:`~shaped_es.strategies.fitness.standard_normal_f32` (Box-Muller from the same generator,
 ~4x faster than ``standard_normal``), kept as float32, and the population ``ask`` returns is float32
@@ -61,6 +71,7 @@ class VanillaES(Strategy):
         self._mean = self.x0.copy()  # (n,) mu_g
         self._mean.flags.writeable = False
         self._z: np.ndarray | None = None  # (P, n) directions of the current generation (cache)
+        self._pair: np.ndarray | None = None  # (n,) z of the first pair in the next ask (set_pair_direction)
         self._zbuf: np.ndarray | None = None  # (P, n) float32 path: the array _z is drawn into
 
     @property
@@ -85,8 +96,42 @@ class VanillaES(Strategy):
     def _directions(self) -> np.ndarray:
         if self._z is None:
             rng = np.random.default_rng([self.seed, self.generation])
-            self._z = self._sample_directions(rng)  # (P, n)
+            z = self._sample_directions(rng)  # (P, n)
+            if self._pair is not None:  # the first pair along the given direction (set_pair_direction)
+                z[0] = self._pair
+            self._z = z
         return self._z
+
+    def _between_generations(self, what: str) -> None:
+        if self._z is not None:
+            raise RuntimeError(f"{what} called between ask() and tell(); it shapes the next generation")
+
+    def set_pair_direction(self, d, length: float | None = None) -> None:
+        """The next ``ask``'s first antithetic pair is ``mu +- sigma * z_1`` with ``z_1`` along ``d`` (n,)
+        and ``|z_1| = length`` (default ``sqrt(n)``, a random ``z``'s typical length); ``None`` or a
+        zero ``d``: a random pair as usual. Cleared by ``tell``."""
+        self._between_generations("set_pair_direction()")
+        if d is None:
+            self._pair = None
+            return
+        d = np.asarray(d, dtype=np.float64).reshape(-1)
+        if d.shape != (self.num_params,) or not np.isfinite(d).all():
+            raise ValueError(f"pair direction must be {self.num_params} finite values, got shape {d.shape}")
+        norm = float(np.linalg.norm(d))
+        L = np.sqrt(self.num_params) if length is None else float(length)
+        if not L > 0:
+            raise ValueError(f"pair length must be > 0, got {length}")
+        self._pair = None if norm == 0 else (d * (L / norm)).astype(np.float32 if self.float32 else np.float64)
+
+    def set_mean(self, x) -> None:
+        """Move the mean to ``x`` (n,) before the next ``ask`` (an injected solution); the optimizer's
+        moments are kept, so the next step continues the search's momentum from there."""
+        self._between_generations("set_mean()")
+        x = np.array(x, dtype=np.float64).reshape(-1)
+        if x.shape != (self.num_params,) or not np.isfinite(x).all():
+            raise ValueError(f"mean must be {self.num_params} finite values, got shape {x.shape}")
+        x.flags.writeable = False
+        self._mean = x
 
     def ask(self) -> np.ndarray:
         """Population ``[mu + sigma z; mu - sigma z]`` (2P, n) (float32 on the float32 path); the same
@@ -131,17 +176,23 @@ class VanillaES(Strategy):
         self._mean = new_mean
         self.generation += 1
         self._z = None
+        self._pair = None
 
     # -- state ----------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         """Numpy-only state (no RNG state: noise derives from ``(seed, generation)``)."""
-        return self._base_state() | {"mean": self._mean.copy()}
+        pair = np.zeros(0) if self._pair is None else np.asarray(self._pair, np.float64).copy()
+        return self._base_state() | {"mean": self._mean.copy(), "pair": pair}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         mean = np.array(state["mean"], dtype=np.float64)
         if mean.shape != (self.num_params,):
             raise ValueError(f"mean has shape {mean.shape}, expected ({self.num_params},)")
+        pair = np.array(state.get("pair", np.zeros(0)), dtype=np.float64).reshape(-1)  # older states: none
+        if pair.shape not in ((0,), (self.num_params,)) or not np.isfinite(pair).all():
+            raise ValueError(f"pair has shape {pair.shape}, expected (0,) or ({self.num_params},)")
         self._load_base(state)
         mean.flags.writeable = False
         self._mean = mean
         self._z = None
+        self._pair = None if pair.size == 0 else pair.astype(np.float32 if self.float32 else np.float64)

@@ -23,6 +23,7 @@ import numpy as np
 
 from shaped_es.envs.carnav import vehicle as vh
 from shaped_es.envs.carnav.config import CarNavConfig
+from shaped_es.envs.carnav.controller import pure_pursuit
 from shaped_es.envs.carnav.lidar import beam_directions, cell_of, collides, scan_into
 from shaped_es.envs.carnav.planner import plan_routes
 from shaped_es.envs.carnav.town import TownPack, town_pack
@@ -180,3 +181,8 @@ class CarNavCore:
         act = np.ascontiguousarray(action, dtype=np.float32).reshape(state.batch_size, ACT_DIM)  # (B, 2)
         s, obs, reward, info = self._run(True, state, act)
         return s, obs, reward, s.flags[:, 0].copy(), s.flags[:, 1].copy(), info
+
+    def waypoint_controller(self, state: CarNavState, obs: np.ndarray, info: dict) -> np.ndarray:
+        """The env's scripted waypoint follower (``envs/core.py`` hook): pure pursuit of
+        ``info["waypoint"]`` (``controller.py``) -> ``(B, 2)`` in ``[-1, 1]``."""
+        return pure_pursuit(self.config, state.yaw, state.v, info["position"], info["waypoint"])

@@ -34,6 +34,7 @@ from mujoco import batch as mj_batch
 
 from shaped_es.envs.ur5.bezier import bezier_point, waypoint_t
 from shaped_es.envs.ur5.config import UR5Config
+from shaped_es.envs.ur5.controller import waypoint_controller
 
 MODEL_XML = Path(__file__).with_name("ur5.xml")
 JOINTS = ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2")
@@ -179,3 +180,8 @@ class UR5Core:
                 "reward_waypoint": r_wp, "reward_step": r_step, "reward_collision": r_col}
         reward = r_wp + r_step + r_col
         return new, self._obs(qpos, qvel, state.target, ee), reward, terminated, truncated, info
+
+    def waypoint_controller(self, state: UR5State, obs: np.ndarray, info: dict) -> np.ndarray:
+        """The env's scripted waypoint follower (``envs/core.py`` hook): resolved-rate control toward
+        ``info["waypoint"]`` (``controller.py``) -> ``(B, 5)`` in ``[-1, 1]``."""
+        return waypoint_controller(self.config, obs, info["position"], info["waypoint"])

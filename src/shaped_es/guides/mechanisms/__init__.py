@@ -1,0 +1,66 @@
+"""How the shaped method's labels become search (``shaping.mechanism``), one file a mechanism.
+
+The guide (``guides/shaped.py``) owns the data (every generation's recorded steps, in memory and in the
+trajectory store), ``M_phi`` and the label source (``shaping/labels.py``); a mechanism decides what is
+cloned and how the clone reaches the ES strategy:
+
+==============  ==========================================================================================
+mechanism       what it does with the labels
+==============  ==========================================================================================
+``paper``       every member is cloned toward the labels on its own data ``D_i``; ``Delta = (theta* -
+                mu_{g+1}) / eta`` spans the next generation's Guided-ES subspace (the paper, Algorithm 1)
+``candidate``   the *mean* is cloned toward the labels on the states the recent rollouts visited (DAgger
+                on the search's own distribution); the clone is evaluated beside the population on the
+                same episodes and becomes the new mean when it beats every member (selection judges it:
+                CEM-RL, Pourchot & Sigaud 2019; injected solutions, Hansen 2011)
+``pair``        the same clone of the mean, as a direction: the next generation's first antithetic pair
+                lies along ``theta* - mu`` (Meier et al. 2019)
+==============  ==========================================================================================
+
+A new mechanism is a :class:`Mechanism` subclass in its own file plus one entry in
+``methods.MECHANISMS``. The guide calls, per generation: :meth:`Mechanism.record_mask` (whose steps the
+rollouts keep), :meth:`Mechanism.extra_members` (policies evaluated beside the population),
+:meth:`Mechanism.after_tell` (after the ES update), and the state methods at every checkpoint.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class Mechanism:
+    """Base of the label mechanisms: records everyone, evaluates nothing extra, has no state."""
+
+    name = ""
+    metric_keys: tuple[str, ...] = ()  # the metrics columns its after_tell fills
+
+    def __init__(self, host):
+        self.host = host  # the ShapedGuide: cfg, spec, settings, data, labels, M_phi
+
+    def record_mask(self, population: int, extra: int) -> np.ndarray:
+        """Which members' steps the rollouts keep: ``(population + extra,)`` bool (default: all)."""
+        return np.ones(population + extra, bool)
+
+    def extra_members(self, generation: int) -> np.ndarray | None:
+        """Policies ``(k, n)`` evaluated beside generation ``generation``'s population on its episodes."""
+        return None
+
+    def after_tell(self, generation: int, params: np.ndarray, fitness: np.ndarray, extra_fitness: np.ndarray,
+                   results, old_mean: np.ndarray, strategy, map_tasks) -> dict:
+        """After ``strategy.tell``: ``params`` ``(P, n)`` the population, ``fitness`` ``(P,)`` its mean
+        returns, ``extra_fitness`` ``(k,)`` those of :meth:`extra_members`; returns metrics."""
+        return {}
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        return {}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        pass
+
+
+def every_kth(population: int, extra: int, k: int) -> np.ndarray:
+    """Record mask ``(population + extra,)``: members ``0, k, 2k, ...`` of the population and every extra."""
+    mask = np.zeros(population + extra, bool)
+    mask[: population : max(1, int(k))] = True
+    mask[population:] = True
+    return mask

@@ -1,0 +1,83 @@
+"""``shaping.mechanism = candidate``: the mean's clone as a candidate that selection judges.
+
+Per generation ``g`` (the search's mean ``mu_g``):
+
+1. ``c_g = mu_g + s (theta*_g - mu_g)`` for each scale ``s`` (``mean_clone.scales``; ``theta*_g`` the
+   mean's clone, ``mean_clone.py``, taken after the previous generation's update), and ``mu_g`` itself,
+   are rolled out beside the population, on the same episode seeds (common random numbers);
+2. the ES update gives ``mu_{g+1}``; the best ``c_g`` **replaces** it if its return beats every
+   member's (``accept = best``; or the mean's own, ``accept = mean``) -- a jump no ES step of the
+   Adam-normalized size can make, taken only where the returns say it pays;
+3. the new mean is cloned again for the next generation.
+
+Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
+surrogate subspace spanned by clones is mostly the generation's own perturbations (issue #19); judging
+the clone by its return instead, and aggregating the states the clones themselves visit (DAgger), is
+what lets labels move the search. Cost: ``len(scales) + 1`` more members' episodes and one clone.
+Logged: ``candidate_return``, ``mean_return``, ``candidate_gain`` (their difference: the return change
+the labels made), ``candidate_accepted``, ``candidate_scale``, ``clone_step_update_cosine`` (the label
+direction ``theta* - mu_g`` against the ES update).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shaped_es.guides.mechanisms import Mechanism, every_kth
+from shaped_es.guides.mechanisms.mean_clone import clone_mean
+from shaped_es.shaping.surrogate import cosine
+
+CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
+
+
+class MeanCandidate(Mechanism):
+    name = "candidate"
+    metric_keys = ("candidate_return", "mean_return", "candidate_gain", "candidate_accepted",
+                   "candidate_scale", "clone_step_update_cosine") + CLONE_METRICS
+
+    def __init__(self, host):
+        super().__init__(host)
+        self.cfg = host.mean_clone_cfg
+        self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, then the mean
+
+    def record_mask(self, population: int, extra: int) -> np.ndarray:
+        return every_kth(population, extra, self.cfg.record_every)
+
+    def extra_members(self, generation: int) -> np.ndarray | None:
+        return self.extras
+
+    def after_tell(self, generation, params, fitness, extra_fitness, results, old_mean, strategy,
+                   map_tasks) -> dict:
+        out: dict = {}
+        if self.extras is not None and extra_fitness.size == self.extras.shape[0]:
+            f_cand, f_mean = extra_fitness[:-1], float(extra_fitness[-1])  # (k-1,), the mean's
+            j = int(np.argmax(f_cand))
+            bar = float(np.max(fitness)) if self.cfg.accept == "best" else f_mean
+            accept = bool(f_cand[j] > bar)
+            es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
+            out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,
+                       candidate_gain=float(f_cand[j]) - f_mean, candidate_accepted=int(accept),
+                       candidate_scale=float(self.cfg.scales[j]),
+                       clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
+            if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
+                strategy.set_mean(self.extras[j])
+        self.extras = None
+        if self.host.labels.ready:
+            mu = np.asarray(strategy.mean, np.float64)  # (n,)
+            theta_star, info = clone_mean(self.host, generation, mu, self.cfg)
+            out.update(info)
+            if info:
+                d = theta_star - mu  # (n,) the label direction
+                self.extras = np.stack([mu + s * d for s in self.cfg.scales] + [mu]).astype(np.float32)
+        return out
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        n = self.host.spec.num_params
+        return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy()}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
+        k, n = len(self.cfg.scales) + 1, self.host.spec.num_params
+        if x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
+            raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
+        self.extras = x if x.size else None

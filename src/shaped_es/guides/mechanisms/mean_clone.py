@@ -1,0 +1,41 @@
+"""The clone of the search mean that the ``candidate`` and ``pair`` mechanisms share.
+
+DAgger (Ross et al. 2011) on the search's own state distribution: the states the recent rollouts
+visited (every ``record_every``-th member and every candidate, the last ``shaping.history``
+generations) are labelled by the label source (``shaping/labels.py``), and the mean ``mu`` is cloned
+toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` itself:
+
+    theta* = argmin_theta 1/M sum_t (pi_theta(s_t) - a_hat_t)^2,  started at mu     (Eq. L(theta), on mu)
+
+One policy instead of the population's 64 (the paper's construction), so it costs a fraction of the
+paper's cloning; the NumPy kernel of ``shaping/population_mlp.py`` runs it with a population of one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shaped_es import seeding
+from shaped_es.shaping.cloning import CloningConfig, clone_sampled
+from shaped_es.shaping.settings import MeanCloneConfig
+
+CLONE_KEY = 1_000_003  # the seed key of the mean's clone (members use 0..P-1)
+
+
+def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig) -> tuple[np.ndarray, dict]:
+    """``(theta*, metrics)``: the mean ``theta`` ``(n,)`` cloned toward the labels of the recent recorded
+    steps (``host.dagger_rows``); ``theta*`` is ``theta`` itself (and the metrics empty) without data."""
+    rows = host.dagger_rows(generation)
+    if int(rows.lengths().sum()) == 0 or cfg.steps == 0:
+        return np.asarray(theta, np.float64), {}
+    seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, CLONE_KEY)
+    clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
+                              max_samples=cfg.max_samples)
+    res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, host.labels, clone_cfg,
+                        np.array([seed]), reference_fn=host.reference)  # (1, n)
+    out = {"clone_loss_before": float(res.loss_before[0]), "clone_loss_after": float(res.loss_after[0]),
+           "label_std": res.label_std, "clone_samples": int(res.samples[0])}
+    if res.reference:
+        out.update(mphi_fig5_test_loss=res.reference["label_ref_error"],
+                   **{k: v for k, v in res.reference.items() if k != "label_ref_error"})
+    return res.theta_star[0].astype(np.float64), out
