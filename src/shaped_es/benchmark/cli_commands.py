@@ -59,6 +59,18 @@ def check_threshold(threshold: float | None) -> None:
         raise ConfigError(f"--threshold must be a finite number, got {threshold}")
 
 
+def _split_top_level(text: str) -> list[str]:
+    """``text`` split at the commas outside brackets, so a variant's value may be a YAML list
+    (``shaping.mean_clone.scales=[0.3,1.0]``)."""
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        depth += {"[": 1, "{": 1, "]": -1, "}": -1}.get(ch, 0)
+        if ch == "," and depth == 0:
+            parts.append(text[start:i])
+            start = i + 1
+    return parts + [text[start:]]
+
+
 def cmd_benchmark(a: argparse.Namespace) -> int:
     from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
     from shaped_es.config import ConfigError, RunConfig, parse_set, read_yaml
@@ -77,7 +89,7 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     variants = {}
     for text in a.variant:
         label, _, rest = text.partition("=")
-        method, *sets = [x.strip() for x in rest.split(",")] if rest else [""]
+        method, *sets = [x.strip() for x in _split_top_level(rest)] if rest else [""]
         variants[label.strip()] = {"method": method, **parse_set([x for x in sets if x])}
     spec = BenchmarkSpec(
         env=a.env, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),

@@ -74,21 +74,30 @@ class _Stepper:
 
 
 def _lower_bound(stepper: _Stepper, g: int) -> dict:
-    """M_phi's steps and the population's labels + cloning, alone on the master (``g``'s data)."""
+    """M_phi's steps and the mechanism's labels + cloning (the population's, or the mean's), alone on
+    the master (``g``'s data)."""
+    from shaped_es.guides.mechanisms.mean_clone import clone_mean
+
     guide = stepper.trainer.guide
-    if getattr(guide, "placement", None) != "master" or guide.mphi.iterations == 0:
+    if getattr(guide, "placement", None) != "master" or not guide.labels.ready:
         return {"mphi_s": None, "clone_s": None}
-    X = np.asarray(stepper.trainer.strategy.ask(), dtype=np.float32)  # (P, n) a population to clone
-    state = guide.mphi.state_dict(with_training=True)
-    t0 = time.perf_counter()
-    guide.mphi.train()
-    t1 = time.perf_counter()
-    guide.mphi.load_state_dict(state)
-    guide._clone(g, X, None, n_tasks=1)  # untimed: reads the history memory no longer holds
+    strategy = stepper.trainer.strategy
+    if guide.sh.mechanism == "paper":
+        X = np.asarray(strategy.ask(), dtype=np.float32)  # (P, n) a population to clone
+        clone = lambda: guide.mechanism._clone(g, X, None, n_tasks=1)  # noqa: E731
+    else:
+        clone = lambda: clone_mean(guide, g, np.asarray(strategy.mean), guide.mean_clone_cfg)  # noqa: E731
+    mphi_s = None
+    if guide.mphi is not None:
+        state = guide.mphi.state_dict(with_training=True)
+        t0 = time.perf_counter()
+        guide.mphi.train()
+        mphi_s = time.perf_counter() - t0
+        guide.mphi.load_state_dict(state)
+    clone()  # untimed: reads the history memory no longer holds
     t2 = time.perf_counter()
-    guide._clone(g, X, None, n_tasks=1)
-    t3 = time.perf_counter()
-    return {"mphi_s": t1 - t0, "clone_s": t3 - t2}
+    clone()
+    return {"mphi_s": mphi_s, "clone_s": time.perf_counter() - t2}
 
 
 def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str = "process",
