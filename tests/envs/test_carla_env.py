@@ -218,3 +218,16 @@ def test_rollout_marks_a_lost_server_as_a_worker_fault(server):
     import pickle
 
     assert pickle.loads(pickle.dumps(err.value)).worker_fault  # crosses to the trainer's process
+
+
+@pytest.mark.parametrize("method", ["vanilla", "shaped", "ppo"])
+def test_train_two_generations_with_every_kind_of_method(server, tmp_path, method):
+    from helpers import train
+
+    cfg = {"env": "CarlaNav-v0", "env_kwargs": {**FAST, "route_length": [20.0, 400.0], "max_steps": 12},
+           "method": method, "executor": "inline", "generations": 2, "seed": 1, "es": {"pairs": 2},
+           "policy": {"hidden": [4]}, "rollout": {"episodes": 2, "test_episodes": 2}, "tensorboard": False}
+    rows = train(tmp_path / method, cfg).read_metrics()
+    assert len(rows) == 2 and all(np.isfinite(float(r["test_reward_mean"])) for r in rows)
+    connection.close_all()  # what runs at exit: envs the rollout layer cached are never closed
+    assert server.actors == {} and not server.settings.synchronous_mode
