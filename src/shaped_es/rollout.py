@@ -340,8 +340,9 @@ def _run_serial(task: RolloutTask) -> RolloutResult:
     for i, row in enumerate(parts):
         eps = [(e, p.transitions[0]) for e, p in enumerate(row) if p.transitions]
         if eps:
-            fields = {f.name: np.concatenate([getattr(t, f.name) for _, t in eps])
-                      for f in dataclasses.fields(Transitions) if f.name not in ("generation", "member", "episode")}
+            per_step = [f.name for f in dataclasses.fields(Transitions)
+                        if f.name not in ("generation", "member", "episode")]
+            fields = {name: np.concatenate([getattr(t, name) for _, t in eps]) for name in per_step}
             transitions.append(Transitions(generation=task.generation, member=int(task.members[i]),
                                            episode=np.concatenate([np.full(len(t), e, np.int32) for e, t in eps]),
                                            **fields))

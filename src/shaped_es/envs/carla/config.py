@@ -88,7 +88,8 @@ def server_address(cfg: CarlaNavConfig, environ: Mapping[str, str] | None = None
     index = cfg.worker_index if cfg.worker_index is not None else _int_var(env, WORKER_INDEX_VAR, 0)
     port = int(base) + PORT_STEP * int(index)
     if not 0 < port < 65536 or index < 0:
-        raise ValueError(f"{ENV_ID}: port {base} + {PORT_STEP} x worker index {index} = {port} is not a TCP port")
+        raise ValueError(f"{ENV_ID}: port {base} + {PORT_STEP} x worker index {index} = {port} "
+                         f"is not a TCP port")
     return host, port
 
 

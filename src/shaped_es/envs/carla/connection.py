@@ -83,7 +83,8 @@ class Session:
             server = self.client.get_server_version()
         except RuntimeError as exc:
             raise CarlaServerLost(f"{ENV_ID}: no CARLA server answers at {self.address} within "
-                                  f"{cfg.timeout_s:g} s ({first_line(exc)}); start one (README, Real CARLA)") from None
+                                  f"{cfg.timeout_s:g} s ({first_line(exc)}); start one (README, Real CARLA)"
+                                  ) from None
         client = self.client.get_client_version()
         if _release(server) != _release(client):
             raise CarlaError(f"{ENV_ID}: the CARLA server at {self.address} runs {server} but the client is "

@@ -112,8 +112,8 @@ class CarlaNavEnv(gym.Env):
         if key not in session.cache:
             graph = RoadGraph(topology_segments(session.map, self.config.dense_step))
             spawns = list(session.map.get_spawn_points())
-            spots = [graph.locate(location_xyz(t.location)[:2], waypoint_key(session.map.get_waypoint(t.location)))
-                     for t in spawns]
+            spots = [graph.locate(location_xyz(t.location)[:2],
+                                  waypoint_key(session.map.get_waypoint(t.location))) for t in spawns]
             session.cache[key] = (graph, spawns, spots)
         return session.cache[key]
 

@@ -59,7 +59,8 @@ def topology_segments(carla_map, step: float) -> list[tuple[SegmentKey, np.ndarr
             if not options:
                 break
             same = [w for w in options if waypoint_key(w)[0] == waypoint_key(wp)[0]]
-            wp = min(same or options, key=lambda w: float(np.linalg.norm(location_xyz(w.transform.location) - end)))
+            wp = min(same or options,  # the option that heads for the exit
+                     key=lambda w: float(np.linalg.norm(location_xyz(w.transform.location) - end)))
             pts.append(location_xyz(wp.transform.location))
         if np.linalg.norm(pts[-1] - end) > 1e-6:
             pts.append(end)

@@ -18,7 +18,8 @@ from shaped_es.envs.carnav.observation import obs_scales, state_obs
 from shaped_es.envs.carnav.waypoints import advance, global_index, local_index
 
 
-def control_values(steer: float, throttle: float, speed: float, cfg: NavTaskConfig) -> tuple[float, float, float]:
+def control_values(steer: float, throttle: float, speed: float,
+                   cfg: NavTaskConfig) -> tuple[float, float, float]:
     """``VehicleControl`` (steer, throttle, brake) for an action in [-1, 1]^2 at ``speed`` m/s.
 
     Steer +1 is full left (CarNav-v0), CARLA's -1. Throttle >= 0 opens the throttle, < 0 brakes (-1:
@@ -32,7 +33,8 @@ def control_values(steer: float, throttle: float, speed: float, cfg: NavTaskConf
     return steer_command(steer), gas, brake
 
 
-def reward_terms(reached: int, num_waypoints: int, collided: bool, cfg: NavTaskConfig) -> tuple[float, float, float]:
+def reward_terms(reached: int, num_waypoints: int, collided: bool,
+                 cfg: NavTaskConfig) -> tuple[float, float, float]:
     """(waypoint, step, collision) reward of a step: +M/H per waypoint reached, -0.1, -50 on a collision."""
     return (reached * cfg.max_steps / num_waypoints, -cfg.step_penalty,
             -cfg.collision_penalty if collided else 0.0)
