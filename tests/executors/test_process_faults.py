@@ -81,6 +81,11 @@ def test_each_worker_has_a_stable_index_renumbered_by_a_new_pool(tmp_path):
         assert sorted(set(ex.map(worker_index, range(6)))) == ["0", "1", "2"]
     finally:
         ex.shutdown()
+    second = ProcessExecutor(workers=2, first_index=3)  # the trainer's evaluation pool: after training's
+    try:
+        assert sorted(set(second.map(worker_index, range(4)))) == ["3", "4"]
+    finally:
+        second.shutdown()
 
 
 def test_a_worker_fault_stops_the_map_unretried(pool, tmp_path):

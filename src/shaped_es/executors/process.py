@@ -11,8 +11,9 @@ Workers never outlive the process that started them: each one is killed when its
 forkserver, which exits with the trainer) dies (Linux ``PR_SET_PDEATHSIG``), and a watchdog thread ends
 it within a second of the trainer's death elsewhere, even while a task hangs inside ``env.step``.
 
-Each worker of a pool has a stable index 0..workers-1 in ``$SHAPED_ES_WORKER_INDEX`` (``base.WORKER_INDEX_ENV``;
-a rebuilt pool numbers its workers again), so an env can pick a resource per worker (CarlaNav-v0: the
+Each worker of a pool has a stable index ``first_index``..``first_index + workers - 1`` (0 first) in
+``$SHAPED_ES_WORKER_INDEX`` (``base.WORKER_INDEX_ENV``; a rebuilt pool numbers its workers again; the
+trainer's separate evaluation pool starts after the training workers), so an env can pick a resource per worker (CarlaNav-v0: the
 server at ``port + 3 * index``). A task that raises a worker fault (``base.is_worker_fault``: a lost
 simulator server) is not retried here: it propagates and the run stops with one line and the resume command.
 """
@@ -96,8 +97,10 @@ class ProcessExecutor(Executor):
         max_retries: int = 3,
         task_timeout_s: float | None = None,
         startup_timeout_s: float = 120.0,
+        first_index: int = 0,
     ):
         self.workers = int(workers or os.cpu_count() or 1)
+        self.first_index = int(first_index)  # worker indices are first_index .. first_index + workers - 1
         check_local_workers(self.workers, "process")
         if start_method not in ("spawn", "forkserver"):
             raise ExecutorError(f"start_method must be 'spawn' or 'forkserver', got {start_method!r}")
@@ -116,7 +119,7 @@ class ProcessExecutor(Executor):
                 os.environ.setdefault(var, "1")
             ctx = mp.get_context(self.start_method)
             self._pool = ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=_init_worker,
-                                             initargs=(os.getpid(), ctx.Value("i", 0)))
+                                             initargs=(os.getpid(), ctx.Value("i", self.first_index)))
             self._warm_up(self._pool)
         return self._pool
 
