@@ -20,7 +20,7 @@ from shaped_es.methods import METHODS
 # Lowest first. "shaped_es" is the package's own __init__ (registers the envs, version, lazy load_policy).
 LAYERS: list[tuple[str, ...]] = [
     ("seeding", "data", "progress", "tblog"),  # leaves: seeds, the Transitions record, display, TB tags
-    ("envs", "policies", "strategies"),  # the independent blocks
+    ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("config", "rollout"),
     ("store_io",),  # the run directory's error type and atomic writes
@@ -146,6 +146,22 @@ def test_registry_parts_live_below_their_resolvers():
         if m.strategy:
             for path in (m.strategy, m.guide):
                 assert LAYER[unit(path.partition(":")[0])] < LAYER["trainer"], (name, path)
+
+
+def test_the_carla_client_is_imported_lazily_in_one_place():
+    """``carla`` (an optional extra) is imported only inside a function of ``envs/carla/connection.py``,
+    so importing shaped_es, or registering CarlaNav-v0, never needs it."""
+    found = []
+    for name, path in _modules().items():
+        tree = ast.parse(path.read_text(), str(path))
+        in_function = {id(n) for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
+                       for n in ast.walk(f)}
+        for node in ast.walk(tree):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                     else [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else [])
+            if any(n == "carla" or n.startswith("carla.") for n in names):
+                found.append((name, id(node) in in_function))
+    assert found == [("shaped_es.envs.carla.connection", True)]
 
 
 def test_the_rules_would_catch_a_bad_import(tmp_path):

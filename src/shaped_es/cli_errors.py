@@ -73,6 +73,8 @@ def error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[
     if isinstance(exc, _user_errors()):
         msg, code = str(exc), USAGE_ERROR
         where = _log_detail(a, detail) if isinstance(exc, EnvError) and exc.detail else ""
+        hint = continue_hint(a) if getattr(exc, "worker_fault", False) else ""  # a lost simulator server
+        msg += f"; {hint}" if hint else ""
     elif isinstance(exc, MemoryError):
         msg = (f"out of memory ({_first(exc) or 'MemoryError'}); a smaller policy.hidden, es.pairs or "
                f"rollout.episodes needs less")

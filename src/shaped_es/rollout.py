@@ -20,16 +20,18 @@ the chosen action, -1 elsewhere).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import time
 import traceback
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import gymnasium as gym
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
+from shaped_es.envs.core import (CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller,
+                                 runs_serially)
 from shaped_es.policies import MLPSpec, forward
 
 
@@ -40,14 +42,17 @@ class EnvSpecError(ValueError):
 class EnvError(EnvSpecError):
     """The environment failed while running: it raised, returned a non-finite reward or observation, or
     changed an observation's shape. The message is one line (the env's exception type and message);
-    ``detail`` holds the full traceback (for a log file), from whichever process ran the env."""
+    ``detail`` holds the full traceback (for a log file), from whichever process ran the env;
+    ``worker_fault``: the env's exception marked its worker's resource as lost (a simulator server that
+    stopped answering), which executors may retry elsewhere (``executors.base.is_worker_fault``)."""
 
-    def __init__(self, message: str, detail: str = ""):
+    def __init__(self, message: str, detail: str = "", worker_fault: bool = False):
         super().__init__(message)
         self.detail = detail
+        self.worker_fault = worker_fault
 
     def __reduce__(self):  # crosses process boundaries with its traceback text
-        return type(self), (str(self), self.detail)
+        return type(self), (str(self), self.detail, self.worker_fault)
 
 
 def _first_line(exc: BaseException) -> str:
@@ -221,6 +226,8 @@ def run_task(task: RolloutTask) -> RolloutResult:
         core = get_batch_core(env0)
         if core is not None:
             out = _run_batched(core, task)
+        elif runs_serially(env0):
+            out = _run_serial(task)
         else:
             out = _run_gym(task)
     except Exception as exc:
@@ -228,7 +235,8 @@ def run_task(task: RolloutTask) -> RolloutResult:
         if isinstance(exc, EnvError):
             raise
         raise EnvError(f"env {task.env_id!r} raised {_first_line(exc)} (generation {task.generation}, "
-                       f"episode seeds {_seed_text(task.seeds)})", traceback.format_exc()) from None
+                       f"episode seeds {_seed_text(task.seeds)})", traceback.format_exc(),
+                       worker_fault=bool(getattr(exc, "worker_fault", False))) from None
     out.cpu_time_s = time.process_time() - t_cpu
     return out
 
@@ -375,6 +383,31 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
 def _info_vec(info: dict, key: str) -> np.ndarray:
     v = info.get(key)
     return np.zeros(0, np.float32) if v is None else np.asarray(v, dtype=np.float32).reshape(-1)
+
+
+def _run_serial(task: RolloutTask) -> RolloutResult:
+    """The episodes of ``task`` one after another on one env (an env whose instances in a process share
+    one simulator, ``envs.core.runs_serially``), giving what the lock-step run gives: returns and
+    lengths ``(m, E)``, and per member one :class:`Transitions` of its E episodes in episode order."""
+    m, E = task.seeds.shape
+    rec = task.recorded()  # (m,)
+    parts = [[_run_gym(replace(task, params=task.params[i:i + 1], members=task.members[i:i + 1],
+                               seeds=task.seeds[i:i + 1, e:e + 1], record=bool(rec[i])))
+              for e in range(E)] for i in range(m)]
+    transitions = []
+    for i, row in enumerate(parts):
+        eps = [(e, p.transitions[0]) for e, p in enumerate(row) if p.transitions]
+        if eps:
+            per_step = [f.name for f in dataclasses.fields(Transitions)
+                        if f.name not in ("generation", "member", "episode")]
+            fields = {name: None if any(getattr(t, name) is None for _, t in eps)  # an optional column
+                      else np.concatenate([getattr(t, name) for _, t in eps]) for name in per_step}
+            transitions.append(Transitions(generation=task.generation, member=int(task.members[i]),
+                                           episode=np.concatenate([np.full(len(t), e, np.int32) for e, t in eps]),
+                                           **fields))
+    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, transitions=transitions,
+                         returns=np.array([[p.returns[0, 0] for p in row] for row in parts]),  # (m, E)
+                         lengths=np.array([[p.lengths[0, 0] for p in row] for row in parts]))
 
 
 def _run_gym(task: RolloutTask) -> RolloutResult:

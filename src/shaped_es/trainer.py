@@ -89,7 +89,8 @@ class Trainer(RunLoop):
         )
         self.eval_executor = self.executor
         if cfg.eval_workers and cfg.executor == "process" and self._own_executor:
-            self.eval_executor = make_executor("process", workers=cfg.eval_workers,
+            self.eval_executor = make_executor("process", workers=cfg.eval_workers,  # worker indices
+                                               first_index=self.executor.workers,  # after training's
                                                **_executor_options(cfg))
         self._waiting: list[_Row] = []  # rows of finished generations, in order, awaiting test results
         # the env made once before the first rollout (dims; the reset info if the guide reads it)

@@ -41,7 +41,21 @@ def claim(marker: str) -> bool:
     return True
 
 
+class LostServer(ConnectionError):
+    """What an env raises when its simulator server stops answering (CarlaNav-v0's CarlaServerLost)."""
+
+    worker_fault = True
+
+
+def worker_index(_: object) -> str | None:
+    """The worker's ``$SHAPED_ES_WORKER_INDEX`` (sleeps so that concurrent tasks spread over workers)."""
+    time.sleep(0.3)
+    return os.environ.get("SHAPED_ES_WORKER_INDEX")
+
+
 def misbehave(mode: str) -> None:
+    if mode == "fault":
+        raise LostServer("the simulator server stopped answering")
     if mode == "exit":
         os._exit(13)  # the worker process dies without a word
     if mode == "kill":
@@ -58,7 +72,7 @@ class FailOnce:
 
     fn: Callable[[Any], Any]
     marker: str  # path of the marker file (absent before the run)
-    mode: str = "exit"  # exit | kill | hang
+    mode: str = "exit"  # exit | kill | hang | fault (raise a worker fault)
     only_value: Any = None  # only tasks equal to this may fail (plain values)
     generation: int | None = None  # only RolloutTasks of this generation may fail
 

@@ -3,7 +3,7 @@
 import time
 
 import pytest
-from executor_faults import FailAlways, FailOnce, raise_on_three, square
+from executor_faults import FailAlways, FailOnce, LostServer, raise_on_three, square, worker_index
 
 from shaped_es.executors import ExecutorError, ProcessExecutor, make_executor
 
@@ -70,3 +70,26 @@ def test_missing_extras_give_one_line(monkeypatch):
         make_executor("mpi", workers=1)
     with pytest.raises(ExecutorError, match="unknown executor 'dask'"):
         make_executor("dask")
+
+
+def test_each_worker_has_a_stable_index_renumbered_by_a_new_pool(tmp_path):
+    ex = ProcessExecutor(workers=3, max_retries=1)
+    try:
+        assert sorted(set(ex.map(worker_index, range(6)))) == ["0", "1", "2"]
+        ex.map(FailOnce(square, str(tmp_path / "died"), "exit", only_value=1), range(3))  # pool rebuilt
+        assert ex.restarts == 1
+        assert sorted(set(ex.map(worker_index, range(6)))) == ["0", "1", "2"]
+    finally:
+        ex.shutdown()
+    second = ProcessExecutor(workers=2, first_index=3)  # the trainer's evaluation pool: after training's
+    try:
+        assert sorted(set(second.map(worker_index, range(4)))) == ["3", "4"]
+    finally:
+        second.shutdown()
+
+
+def test_a_worker_fault_stops_the_map_unretried(pool, tmp_path):
+    """A lost simulator server is not retried by the process executor: the run stops (one line + resume)."""
+    with pytest.raises(LostServer, match="stopped answering"):
+        pool.map(FailOnce(square, str(tmp_path / "lost"), "fault", only_value=2), TASKS)
+    assert pool.restarts == 0

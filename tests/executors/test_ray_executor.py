@@ -86,6 +86,16 @@ def test_worker_killed_mid_map_costs_one_retry(connect, tmp_path):
     assert marker.exists() and ex.retries == 1
 
 
+def test_worker_fault_raised_by_the_task_is_retried(connect, tmp_path):
+    """A task whose env lost its simulator server (an exception with ``worker_fault``) runs again."""
+    ex = connect()
+    marker = tmp_path / "lost"
+    assert ex.map(FailOnce(square, str(marker), "fault", only_value=3), TASKS) == EXPECTED
+    assert marker.exists() and ex.retries == 1
+    futures = [ex.submit(FailOnce(square, str(tmp_path / "lost2"), "fault", only_value=4), t) for t in TASKS]
+    assert ex.collect(square, TASKS, futures) == EXPECTED  # the faulted attempt ran again (else it raises)
+
+
 def test_hung_task_is_cancelled_and_retried(connect, tmp_path):
     ex = connect(task_timeout_s=2.0)
     marker = tmp_path / "hung"

@@ -43,6 +43,7 @@ from shaped_es.baselines.ppo_settings import PPOSettings, iterations_per_generat
 from shaped_es.baselines.ppo_state import (BEST, POLICY, RNG, DeterministicEpisodes, actor_vector, copy_state,
                                            from_arrays, optimizer_from_arrays, optimizer_to_arrays, to_arrays)
 from shaped_es.config import RunConfig
+from shaped_es.envs.core import runs_serially
 from shaped_es.rollout import EnvProbe, make_env, probe_env
 from shaped_es.run_loop import RunLoop
 from shaped_es.store import RunStore, StoreError
@@ -154,6 +155,8 @@ class PPORun(RunLoop):
         if E and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
             seeds = seeding.episode_seeds(cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E) as ES
             test_ret, test_steps = self.test.run(policy, seeds[0])
+            if runs_serially(self.test.envs[0]):  # the test env took the simulator from the train env:
+                self.model._last_obs = None  # SB3 resets it at the next learn() (a new training episode)
             row.update(test_reward_mean=float(test_ret.mean()), test_reward_std=float(test_ret.std()),
                        test_env_steps=test_steps)
             if test_ret.mean() > self.c.best_test_reward:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 import torch
 
+from shaped_es.envs.core import runs_serially
 from shaped_es.rollout import make_env
 
 POLICY, BEST, OPTIM, RNG = "ppo/policy/", "ppo/best/", "ppo/optim/", "ppo/torch_rng"
@@ -67,6 +68,11 @@ class DeterministicEpisodes:
     def run(self, policy, seeds: np.ndarray) -> tuple[np.ndarray, int]:
         """Returns per-episode returns ``(E,)`` and the env steps taken."""
         seeds = np.asarray(seeds).reshape(-1)  # (E,)
+        if not self.envs:
+            self.envs.append(make_env(self.env_id, self.env_kwargs))
+        if len(seeds) > 1 and runs_serially(self.envs[0]):  # one simulator per process: one at a time
+            parts = [self.run(policy, seeds[i:i + 1]) for i in range(len(seeds))]
+            return np.concatenate([r for r, _ in parts]), sum(n for _, n in parts)
         while len(self.envs) < len(seeds):
             self.envs.append(make_env(self.env_id, self.env_kwargs))
         envs = self.envs[: len(seeds)]

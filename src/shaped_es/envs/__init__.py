@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 # id -> module holding ``make_limited`` (the env under a TimeLimit of its config's horizon) and the
-# ``VectorEnv`` over its batched core (``gymnasium.make_vec``'s ``vector_entry_point``)
+# ``VectorEnv`` over its batched core (``gymnasium.make_vec``'s ``vector_entry_point``; None: the env has
+# no batched core). CarlaNav-v0's module imports ``carla`` only when an env is made, so registering it
+# needs nothing and making it without the extra says ``pip install -e '.[carla]'`` in one line.
 BUILTIN = {
     "CarNav-v0": ("shaped_es.envs.carnav.env", "CarNavVectorEnv"),
     "UR5Reach-v0": ("shaped_es.envs.ur5.env", "UR5ReachVectorEnv"),
+    "CarlaNav-v0": ("shaped_es.envs.carla.env", None),
 }
 
 
@@ -23,4 +26,4 @@ def register_envs() -> None:
     for env_id, (module, vector) in BUILTIN.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, entry_point=f"{module}:make_limited",
-                         vector_entry_point=f"{module}:{vector}")
+                         vector_entry_point=f"{module}:{vector}" if vector else None)

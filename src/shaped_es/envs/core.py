@@ -46,6 +46,10 @@ import numpy as np
 
 POSITION_KEY = "position"
 WAYPOINT_KEY = "waypoint"
+# ``env.metadata[SERIAL_EPISODES_KEY] = True``: instances of the env in one process share one simulator
+# (CarlaNav-v0: one CARLA server per worker), so their episodes must run one after another, never in
+# lock-step (``rollout`` and PPO's test episodes honour it).
+SERIAL_EPISODES_KEY = "serial_episodes"
 REWARD_TERM_PREFIX = "reward_"
 EPISODE_SEED_HIGH = 2**63 - 1  # an env reset without a seed draws its episode seed as np_random.integers(this)
 
@@ -82,6 +86,11 @@ def has_controller(env: Any) -> bool:
     if core is not None:
         return callable(getattr(core, CONTROLLER_HOOK, None))
     return callable(getattr(getattr(env, "unwrapped", env), CONTROLLER_HOOK, None))
+
+
+def runs_serially(env: Any) -> bool:
+    """True if the env's episodes must not run in lock-step with others of the same process."""
+    return bool(getattr(env, "metadata", None) and env.metadata.get(SERIAL_EPISODES_KEY, False))
 
 
 def has_waypoint_contract(info: dict[str, Any]) -> bool:

@@ -22,6 +22,18 @@ class ExecutorWarning(UserWarning):
     """A setting that cannot apply, or looks wrong (the command line prints it as one line)."""
 
 
+# Each process-executor worker gets a stable index 0..workers-1 in this environment variable (a new pool
+# numbers its workers again); inline, Ray and MPI workers do not set it (index 0). An env that needs
+# one resource per worker (CarlaNav-v0: one CARLA server) picks it by this index.
+WORKER_INDEX_ENV = "SHAPED_ES_WORKER_INDEX"
+
+
+def is_worker_fault(exc: BaseException) -> bool:
+    """True if a task raised an exception that marks its worker's resource as lost (``worker_fault =
+    True``, e.g. CarlaNav-v0's lost server): a fault of the worker, not of the task."""
+    return bool(getattr(exc, "worker_fault", False))
+
+
 MAX_LOCAL_WORKERS = 1024  # processes on one machine; more is refused, more than 4 per core warned about
 
 

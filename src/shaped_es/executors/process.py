@@ -10,6 +10,12 @@ Tasks started with ``submit`` get the same treatment through ``collect``.
 Workers never outlive the process that started them: each one is killed when its parent (the
 forkserver, which exits with the trainer) dies (Linux ``PR_SET_PDEATHSIG``), and a watchdog thread ends
 it within a second of the trainer's death elsewhere, even while a task hangs inside ``env.step``.
+
+Each worker of a pool has a stable index ``first_index``..``first_index + workers - 1`` (0 first) in
+``$SHAPED_ES_WORKER_INDEX`` (``base.WORKER_INDEX_ENV``; a rebuilt pool numbers its workers again; the
+trainer's separate evaluation pool starts after the training workers), so an env can pick a resource per worker (CarlaNav-v0: the
+server at ``port + 3 * index``). A task that raises a worker fault (``base.is_worker_fault``: a lost
+simulator server) is not retried here: it propagates and the run stops with one line and the resume command.
 """
 
 from __future__ import annotations
@@ -25,16 +31,20 @@ from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
-from shaped_es.executors.base import Executor, ExecutorError, check_local_workers, pid_after
+from shaped_es.executors.base import WORKER_INDEX_ENV, Executor, ExecutorError, check_local_workers, pid_after
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
 
-def _init_worker(owner_pid: int | None = None) -> None:
+def _init_worker(owner_pid: int | None = None, counter=None) -> None:
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
     for var in _THREAD_VARS:
         os.environ[var] = "1"
+    if counter is not None:  # the pool's shared counter: this worker's index (0..workers-1)
+        with counter.get_lock():
+            os.environ[WORKER_INDEX_ENV] = str(counter.value)
+            counter.value += 1
     torch = sys.modules.get("torch")
     if torch is not None:
         torch.set_num_threads(1)
@@ -87,8 +97,10 @@ class ProcessExecutor(Executor):
         max_retries: int = 3,
         task_timeout_s: float | None = None,
         startup_timeout_s: float = 120.0,
+        first_index: int = 0,
     ):
         self.workers = int(workers or os.cpu_count() or 1)
+        self.first_index = int(first_index)  # worker indices are first_index .. first_index + workers - 1
         check_local_workers(self.workers, "process")
         if start_method not in ("spawn", "forkserver"):
             raise ExecutorError(f"start_method must be 'spawn' or 'forkserver', got {start_method!r}")
@@ -107,7 +119,7 @@ class ProcessExecutor(Executor):
                 os.environ.setdefault(var, "1")
             ctx = mp.get_context(self.start_method)
             self._pool = ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=_init_worker,
-                                             initargs=(os.getpid(),))
+                                             initargs=(os.getpid(), ctx.Value("i", self.first_index)))
             self._warm_up(self._pool)
         return self._pool
 

@@ -25,7 +25,9 @@ and resubmitted. Worker start-up never counts against the timeout: the executor 
 before the first map, and a replacement worker before each retry. Seeds travel inside tasks, so a
 retry reproduces the lost result. A task that fails ``max_retries + 1`` times raises
 :class:`ExecutorError`; an exception raised *by the task function* is not a fault and propagates
-unchanged (with the remote traceback as its ``__cause__``).
+unchanged (with the remote traceback as its ``__cause__``), except a *worker fault* (an exception with
+``worker_fault = True``, ``base.is_worker_fault``: CarlaNav-v0's lost server), which is retried like a
+lost worker. Ray workers have no ``$SHAPED_ES_WORKER_INDEX`` (index 0): one task slot per node.
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ from typing import Any
 import ray
 import ray.exceptions as rex
 
-from shaped_es.executors.base import Executor, ExecutorError, pid_after
+from shaped_es.executors.base import Executor, ExecutorError, is_worker_fault, pid_after
 
 LOOPBACK = "127.0.0.1"
 
@@ -167,7 +169,9 @@ class RayExecutor(Executor):
 
     # -- ``collect`` (base class): the same faults as ``map`` for submitted tasks -------------------
     def _is_fault(self, exc: BaseException) -> bool:
-        return isinstance(exc, _RETRYABLE) and not isinstance(exc, rex.RayTaskError)
+        if isinstance(exc, rex.RayTaskError):  # raised by the task: a fault only if it says so
+            return is_worker_fault(getattr(exc, "cause", None))
+        return isinstance(exc, _RETRYABLE)
 
     def _raise_task_error(self, exc: BaseException) -> None:
         cause = getattr(exc, "cause", None) if isinstance(exc, rex.RayTaskError) else None
@@ -218,8 +222,11 @@ class RayExecutor(Executor):
                 try:
                     results[i] = ray.get(ref)
                 except rex.RayTaskError as exc:  # raised inside the task (fn, or unpickling it): no retry
-                    self._cancel(running)
                     cause = exc.cause if isinstance(exc.cause, BaseException) else None
+                    if is_worker_fault(cause):  # the worker's resource was lost (a simulator server)
+                        retry(i, f"worker fault: {cause}")
+                        continue
+                    self._cancel(running)
                     if cause is None:
                         raise
                     raise cause from exc

@@ -1,6 +1,7 @@
 """CarNav-v0: a fast embedded driving simulator for waypoint navigation (the paper's CARLA Town07 task).
 
-Modules: ``config`` (typed presets), ``town`` (procedural towns, packed), ``planner`` (A*, routes and
+Modules: ``config`` (typed presets; the task shared with CarlaNav-v0), ``observation`` (the shared
+observation terms and scales), ``town`` (procedural towns, packed), ``planner`` (A*, routes and
 global waypoints), ``waypoints`` (reached / skipped / local waypoint rules), ``lidar`` (Numba lidar and
 collision kernels), ``vehicle`` (kinematic bicycle), ``core`` (the batched core), ``env`` (the Gymnasium
 ``CarNavEnv``), ``render`` (top-down ``rgb_array``).

@@ -1,4 +1,5 @@
-"""Typed settings of CarNav-v0 with two presets, ``paper`` and ``default``.
+"""Typed settings of CarNav-v0 with two presets, ``paper`` and ``default``; ``NavTaskConfig`` holds the task
+fields CarlaNav-v0 (``envs/carla``) shares, so both envs read one definition of episode, reward and scales.
 
 Paper values (Sec. IV, "Carla Driving simulator", and the shared reward of Sec. IV): global planner
 waypoints every 1.5 m, 800-1200 waypoints per episode, M = 1000 max frames, a waypoint is reached within
@@ -27,8 +28,10 @@ KMH = 1.0 / 3.6  # km/h -> m/s
 
 
 @dataclass(frozen=True)
-class CarNavConfig:
-    """All numbers of the task. Lengths in metres, times in seconds, angles in radians."""
+class NavTaskConfig:
+    """The driving task shared by CarNav-v0 and CarlaNav-v0 (``envs/carla``): episode, reward, waypoint
+    rules and the observation's scales, so a policy's input and return mean the same on both. Lengths
+    in metres, times in seconds, angles in radians."""
 
     # --- episode and reward (paper) ---
     max_steps: int = 250  # M: max frames; the episode is truncated after M steps
@@ -42,6 +45,73 @@ class CarNavConfig:
     #                          lateral distance skips it without reward (the car never has to turn back)
     local_lookahead: float = 3.0  # local waypoint: at most this far ahead (along the route) of the car
     terminate_at_goal: bool = True  # the episode ends once the last waypoint is reached or skipped
+
+    # --- vehicle: step, controls and the observation's scales (observation.py) ---
+    dt: float = 0.1  # seconds per step
+    wheelbase: float = 2.7  # front to rear axle
+    rear_to_center: float = 1.35  # rear axle to the reference point (centre of the car)
+    max_steer: float = math.radians(35.0)  # steer action +-1 -> +- this front wheel angle
+    max_accel: float = 3.0  # throttle +1 -> this acceleration (m/s^2)
+    max_brake: float = 8.0  # throttle -1 -> this deceleration (m/s^2)
+    speed_limit: float = 25.0 * KMH  # 25 km/h (paper); above it the brake is applied automatically
+    auto_brake: float = 8.0  # automatic braking deceleration above the speed limit (m/s^2)
+
+    # --- lidar ---
+    lidar_beams: int = 32  # beams over 360 degrees (paper: 32; the observation is 6 + beams)
+    lidar_range: float = 20.0  # readings are range / lidar_range in [0, 1]
+
+    env_id = "CarNav-v0"  # names the env in error messages (a class attribute, not a field)
+
+    @property
+    def obs_dim(self) -> int:
+        return 6 + self.lidar_beams
+
+    @property
+    def dense_step(self) -> float:
+        """Spacing of the dense route polyline: waypoint_spacing / stride, at most 0.5 m."""
+        return self.waypoint_spacing / self.wp_stride
+
+    @property
+    def wp_stride(self) -> int:
+        """Dense route points per global waypoint."""
+        return max(1, int(math.ceil(self.waypoint_spacing / 0.5 - 1e-9)))
+
+    def task_checks(self) -> list[tuple[bool, str]]:
+        """(holds, message) of every rule on the shared fields."""
+        lo, hi = self.route_length
+        return [
+            (self.max_steps > 0, "max_steps must be positive"),
+            (self.waypoint_spacing > 0 and self.reach_radius > 0,
+             "waypoint_spacing and reach_radius must be positive"),
+            (0 < lo <= hi, "route_length must be 0 < lo <= hi"),
+            (self.route_tries >= 1, "route_tries must be >= 1"),
+            (self.skip_width >= self.reach_radius, "skip_width must be >= reach_radius"),
+            (self.local_lookahead > 0, "local_lookahead must be positive"),
+            (self.dt > 0 and self.wheelbase > 0 and 0 < self.rear_to_center < self.wheelbase,
+             "dt, wheelbase must be > 0 and 0 < rear_to_center < wheelbase"),
+            (0 < self.max_steer < math.pi / 2, "max_steer must be in (0, pi/2)"),
+            (min(self.max_accel, self.max_brake, self.speed_limit, self.auto_brake) > 0,
+             "max_accel, max_brake, speed_limit, auto_brake must be positive"),
+            (self.lidar_beams >= 1 and self.lidar_range > 0, "lidar_beams, lidar_range must be positive"),
+        ]
+
+    def check(self, pairs: tuple[str, ...], checks: list[tuple[bool, str]]):
+        """Raise one-line ``ValueError`` (naming ``env_id``) on the first failed check; else self."""
+        for name in pairs:
+            if len(getattr(self, name)) != 2:
+                raise ValueError(f"{self.env_id}: {name} needs 2 numbers, got {getattr(self, name)!r}")
+        for ok, msg in checks:
+            if not ok:
+                raise ValueError(f"{self.env_id}: {msg}")
+        return self
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class CarNavConfig(NavTaskConfig):
+    """All numbers of CarNav-v0: the shared task plus the procedural town, the car and the renderer."""
 
     # --- town (procedural stand-in for CARLA Town07) ---
     num_towns: int = 16  # towns in the family; an episode's town is chosen by its seed
@@ -58,22 +128,12 @@ class CarNavConfig:
     turn_radius: float = 6.0  # the planner rounds every 90-degree turn with an arc of this radius
     wall_thickness: float = 2.0  # boundary wall around the town
 
-    # --- vehicle (kinematic bicycle) ---
-    dt: float = 0.1  # seconds per step
-    wheelbase: float = 2.7  # front to rear axle
-    rear_to_center: float = 1.35  # rear axle to the reference point (centre of the car)
+    # --- vehicle (kinematic bicycle; the shared fields are NavTaskConfig's) ---
     car_length: float = 4.5  # footprint used for collisions
     car_width: float = 1.9
-    max_steer: float = math.radians(35.0)  # steer action +-1 -> +- this front wheel angle
-    max_accel: float = 3.0  # throttle +1 -> this acceleration (m/s^2)
-    max_brake: float = 8.0  # throttle -1 -> this deceleration (m/s^2)
     coast_decel: float = 0.3  # rolling resistance (m/s^2) while moving
-    speed_limit: float = 25.0 * KMH  # 25 km/h (paper); above it the brake is applied automatically
-    auto_brake: float = 8.0  # automatic braking deceleration above the speed limit (m/s^2)
 
     # --- lidar ---
-    lidar_beams: int = 32  # beams over 360 degrees (paper: 32; the observation is 6 + beams)
-    lidar_range: float = 20.0  # readings are range / lidar_range in [0, 1]
     lidar_cell: float = 4.0  # cell of the spatial index (each cell lists the boxes within range)
 
     # --- rendering (no effect on results) ---
@@ -81,35 +141,13 @@ class CarNavConfig:
     render_window: float = 60.0  # side of the car-centred view (m); 0 renders the whole town
 
     @property
-    def obs_dim(self) -> int:
-        return 6 + self.lidar_beams
-
-    @property
     def route_buffer(self) -> int:
         """Dense route points stored per car (routes longer than the upper bound are cut)."""
         return int(math.ceil(1.3 * self.route_length[1] / self.dense_step)) + 64
 
-    @property
-    def dense_step(self) -> float:
-        """Spacing of the dense route polyline: waypoint_spacing / stride, at most 0.5 m."""
-        return self.waypoint_spacing / self.wp_stride
-
-    @property
-    def wp_stride(self) -> int:
-        """Dense route points per global waypoint."""
-        return max(1, int(math.ceil(self.waypoint_spacing / 0.5 - 1e-9)))
-
     def validate(self) -> "CarNavConfig":
-        lo, hi = self.route_length
         hw = self.road_width / 2
-        checks = [
-            (self.max_steps > 0, "max_steps must be positive"),
-            (self.waypoint_spacing > 0 and self.reach_radius > 0,
-             "waypoint_spacing and reach_radius must be positive"),
-            (0 < lo <= hi, "route_length must be 0 < lo <= hi"),
-            (self.route_tries >= 1, "route_tries must be >= 1"),
-            (self.skip_width >= self.reach_radius, "skip_width must be >= reach_radius"),
-            (self.local_lookahead > 0, "local_lookahead must be positive"),
+        checks = self.task_checks() + [
             (self.num_towns >= 1, "num_towns must be >= 1"),
             (min(self.grid_nodes) >= 2, "grid_nodes must be >= 2 in both directions"),
             (self.block_size[0] >= 2 * (hw + self.setback + self.turn_radius) + 4,
@@ -124,26 +162,12 @@ class CarNavConfig:
              "props_per_block must be 0 <= lo <= hi"),
             (self.turn_radius >= self.wheelbase / math.tan(self.max_steer) + 0.5,
              "turn_radius must exceed the car's minimum turning radius"),
-            (self.dt > 0 and self.wheelbase > 0 and 0 < self.rear_to_center < self.wheelbase,
-             "dt, wheelbase must be > 0 and 0 < rear_to_center < wheelbase"),
-            (0 < self.max_steer < math.pi / 2, "max_steer must be in (0, pi/2)"),
-            (min(self.max_accel, self.max_brake, self.speed_limit, self.auto_brake) > 0,
-             "max_accel, max_brake, speed_limit, auto_brake must be positive"),
             (self.coast_decel >= 0, "coast_decel must be >= 0"),
-            (self.lidar_beams >= 1 and self.lidar_range > 0 and self.lidar_cell > 0,
-             "lidar_beams, lidar_range, lidar_cell must be positive"),
+            (self.lidar_cell > 0, "lidar_cell must be positive"),
             (self.render_size >= 32 and self.render_window >= 0, "render_size >= 32, render_window >= 0"),
         ]
-        for name in ("route_length", "grid_nodes", "block_size", "buildings_per_block", "props_per_block"):
-            if len(getattr(self, name)) != 2:
-                raise ValueError(f"CarNav-v0: {name} needs 2 numbers, got {getattr(self, name)!r}")
-        for ok, msg in checks:
-            if not ok:
-                raise ValueError(f"CarNav-v0: {msg}")
-        return self
-
-    def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        return self.check(("route_length", "grid_nodes", "block_size", "buildings_per_block",
+                           "props_per_block"), checks)
 
 
 PRESETS: dict[str, CarNavConfig] = {

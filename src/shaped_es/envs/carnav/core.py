@@ -25,6 +25,7 @@ from shaped_es.envs.carnav import vehicle as vh
 from shaped_es.envs.carnav.config import CarNavConfig
 from shaped_es.envs.carnav.controller import pure_pursuit
 from shaped_es.envs.carnav.lidar import beam_directions, cell_of, collides, scan_into
+from shaped_es.envs.carnav.observation import state_obs
 from shaped_es.envs.carnav.planner import plan_routes
 from shaped_es.envs.carnav.town import TownPack, town_pack
 from shaped_es.envs.carnav.waypoints import advance, global_index, local_index
@@ -108,17 +109,11 @@ def _kernel(move, action, town, route, n_dense, num_wp, car, idx, flags, prev_ob
         p, loc = local_index(c[vh.X], c[vh.Y], route[i], n, idx[i, PROGRESS], g, ipar[vh.I_AHEAD])
         idx_out[i, K], idx_out[i, PROGRESS], idx_out[i, LOCAL] = k, p, loc
         waypoint[i] = route[i, loc]
-        # observation: heading error to the next global waypoint, odometry, velocities, lidar
-        dx, dy = route[i, g, 0] - c[vh.X], route[i, g, 1] - c[vh.Y]
-        d = math.hypot(dx, dy)
-        ch, sh = math.cos(c[vh.YAW]), math.sin(c[vh.YAW])
-        obs[i, 0] = (ch * dy - sh * dx) / d if d > 1e-9 else 0.0  # sin(heading error)
-        obs[i, 1] = (ch * dx + sh * dy) / d if d > 1e-9 else 1.0  # cos(heading error)
-        obs[i, 2] = min(c[vh.ODOMETER] * par[vh.P_ODO_SCALE], 1.0)
+        # observation: heading error to the next global waypoint, odometry, velocities (observation.py), lidar
         v_long = math.sqrt(max(c[vh.V] ** 2 - c[vh.V_LAT] ** 2, 0.0))
-        obs[i, 3] = min(1.0, v_long * par[vh.P_V_SCALE])
-        obs[i, 4] = max(-1.0, min(1.0, c[vh.V_LAT] * par[vh.P_V_SCALE]))
-        obs[i, 5] = max(-1.0, min(1.0, c[vh.YAW_RATE] * par[vh.P_W_SCALE]))
+        state_obs(c[vh.X], c[vh.Y], c[vh.YAW], c[vh.ODOMETER], v_long, c[vh.V_LAT], c[vh.YAW_RATE],
+                  route[i, g, 0], route[i, g, 1], par[vh.P_ODO_SCALE], par[vh.P_V_SCALE], par[vh.P_W_SCALE],
+                  obs[i])
         scan_into(c[vh.X], c[vh.Y], c[vh.YAW], beam_cos, beam_sin, boxes[t], cell_items[t], i0, i1, rng,
                   inv_x, inv_y, ranges)
         for j in range(nbeam):

@@ -20,6 +20,7 @@ import numba as nb
 import numpy as np
 
 from shaped_es.envs.carnav.config import CarNavConfig
+from shaped_es.envs.carnav.observation import obs_scales
 
 CAR_FIELDS = ("x", "y", "yaw", "v", "v_lat", "yaw_rate", "steer", "odometer")
 X, Y, YAW, V, V_LAT, YAW_RATE, STEER, ODOMETER = range(8)  # columns of ``car`` (B, 8)
@@ -34,16 +35,13 @@ def kernel_params(cfg: CarNavConfig, grid_shape: tuple[int, int], cell: float):
     """(``par`` float64 ``(21,)``, ``ipar`` int64 ``(6,)``): the step kernel's settings."""
     lr = cfg.rear_to_center
     beta_gain = lr / cfg.wheelbase
-    beta_max = math.atan(beta_gain * math.tan(cfg.max_steer))
     par = np.zeros(21)
     par[[P_DT, P_MAX_STEER, P_ACCEL, P_BRAKE, P_COAST, P_V_LIMIT, P_AUTO_BRAKE, P_LR, P_BETA_GAIN]] = (
         cfg.dt, cfg.max_steer, cfg.max_accel, cfg.max_brake, cfg.coast_decel, cfg.speed_limit, cfg.auto_brake,
         lr, beta_gain)
     par[[P_HALF_LEN, P_HALF_WID, P_REACH, P_SKIP, P_RANGE, P_CELL]] = (
         cfg.car_length / 2, cfg.car_width / 2, cfg.reach_radius, cfg.skip_width, cfg.lidar_range, cell)
-    par[P_ODO_SCALE] = 1.0 / (cfg.speed_limit * cfg.dt * cfg.max_steps)  # 1: at the limit all episode
-    par[P_V_SCALE] = 1.0 / cfg.speed_limit
-    par[P_W_SCALE] = lr / (cfg.speed_limit * math.sin(beta_max))  # 1: full lock at the speed limit
+    par[[P_ODO_SCALE, P_V_SCALE, P_W_SCALE]] = obs_scales(cfg)  # observation.py
     par[[P_M, P_STEP_PENALTY, P_COLL_PENALTY]] = cfg.max_steps, cfg.step_penalty, cfg.collision_penalty
     ahead = max(1, int(round(cfg.local_lookahead / cfg.dense_step)))
     ipar = np.array([grid_shape[0], grid_shape[1], cfg.wp_stride, ahead, cfg.max_steps,

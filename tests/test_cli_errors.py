@@ -1,0 +1,18 @@
+"""How a command ends on a lost simulator server: one line that names the resume command."""
+
+import argparse
+
+from shaped_es.cli_errors import USAGE_ERROR, error_line
+from shaped_es.rollout import EnvError
+
+
+def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_does_not(tmp_path):
+    a = argparse.Namespace(command="train", out=str(tmp_path / "run"))
+    lost = EnvError("env 'CarlaNav-v0' raised CarlaServerLost: CarlaNav-v0: the CARLA server at localhost:2000 "
+                    "stopped answering (time-out of 10000ms)", "Traceback ...", worker_fault=True)
+    line, code = error_line(lost, a, debug=False)
+    assert code == USAGE_ERROR and "\n" not in line
+    assert line.startswith("shaped-es: error: env 'CarlaNav-v0' raised CarlaServerLost")
+    assert line.endswith(f"; continue with: shaped-es resume {tmp_path / 'run'}")
+    line, _ = error_line(EnvError("env 'X' raised ValueError: bad", "Traceback ..."), a, debug=False)
+    assert "resume" not in line
