@@ -89,6 +89,7 @@ MECHANISMS: dict[str, str] = {
     "paper": "shaped_es.guides.mechanisms.paper:PaperSubspace",
     "candidate": "shaped_es.guides.mechanisms.candidate:MeanCandidate",
     "pair": "shaped_es.guides.mechanisms.pair:MeanPair",
+    "candidate_pair": "shaped_es.guides.mechanisms.candidate_pair:MeanCandidatePair",
 }
 
 

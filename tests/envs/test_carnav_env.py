@@ -138,16 +138,8 @@ def test_render_top_down(env):
     assert (centre.min(axis=-1) > 200).any()  # the (white) car sits in the middle of the view
 
 
-def _pursuit(info, state, cfg, speed=6.5):
-    """Pure pursuit toward info["waypoint"] with a proportional speed controller."""
-    d = info["waypoint"] - info["position"]  # (B, 2)
-    alpha = np.angle(np.exp(1j * (np.arctan2(d[:, 1], d[:, 0]) - state.yaw)))
-    look = np.maximum(np.hypot(d[:, 0], d[:, 1]), 2.5)
-    steer = np.arctan(cfg.wheelbase * 2 * np.sin(alpha) / look) / cfg.max_steer
-    return np.stack([np.clip(steer, -1, 1), np.clip(0.5 * (speed - state.v), -1, 1)], 1).astype(np.float32)
-
-
 def test_pure_pursuit_solves_random_does_not():
+    """The env's waypoint controller (pure pursuit, ``carnav/controller.py``) drives the routes."""
     core = CarNavCore(make_config("default"))
     rng = np.random.default_rng(0)
     fractions, returns = {}, {}
@@ -155,7 +147,7 @@ def test_pure_pursuit_solves_random_does_not():
         state, _, info = core.reset(np.arange(100, 132))
         total, crashed = np.zeros(32), np.zeros(32, bool)
         while not np.all(state.terminated | state.truncated):
-            act = _pursuit(info, state, core.config) if name == "pursuit" else rng.uniform(-1, 1, (32, 2))
+            act = core.waypoint_controller(state, None, info) if name == "pursuit" else rng.uniform(-1, 1, (32, 2))
             state, _, rew, _, _, info = core.step(state, act.astype(np.float32))
             total, crashed = total + rew, crashed | info["collision"]
         fractions[name], returns[name] = state.reached / state.num_wp, total

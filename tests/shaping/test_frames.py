@@ -34,3 +34,18 @@ def test_motion_angle_and_identity_in_world_frame():
     assert to_frame(tr, disp, "world") is disp
     rotated = to_frame(tr, disp, "motion")
     np.testing.assert_allclose(np.linalg.norm(rotated, axis=1), np.linalg.norm(disp, axis=1), rtol=1e-5)
+
+
+def test_waypoint_frame_puts_the_query_on_x_and_removes_the_world_rotation():
+    a, b = _car(0.0), _car(1.1)
+    q = query_displacement(a, "waypoint")  # (T, 2): straight to the waypoint
+    dist = np.linalg.norm(a.waypoint - a.position, axis=1)
+    np.testing.assert_allclose(q[:, 0], dist, atol=1e-5)
+    np.testing.assert_allclose(q[:, 1], 0.0, atol=1e-5)
+    for fn in (lambda tr, f: training_pairs(tr, f)[1], query_displacement):
+        np.testing.assert_allclose(fn(a, "waypoint"), fn(b, "waypoint"), atol=1e-4)  # defined at t = 0 too
+    # a step to the waypoint's left has a positive y in its frame
+    tr = _car(0.0)
+    left = to_frame(tr, np.tile([[0.0, 1.0]], (12, 1)).astype(np.float32), "waypoint")
+    ang = np.arctan2(tr.waypoint[:, 1] - tr.position[:, 1], tr.waypoint[:, 0] - tr.position[:, 0])
+    np.testing.assert_allclose(left[:, 1], np.cos(ang), atol=1e-5)

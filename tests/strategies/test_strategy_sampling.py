@@ -150,3 +150,55 @@ def test_make_strategy_and_bad_hyperparameters():
         es.tell(np.zeros(3))
     with pytest.raises(ValueError, match="finite"):
         es.tell(np.array([0.0, np.nan, 1.0, 2.0]))
+
+
+@pytest.mark.parametrize("cls", [VanillaES, GuidedES])
+def test_pair_direction_replaces_the_first_pair_only(cls):
+    """set_pair_direction(d): row 0 is mu + sigma sqrt(n) d/|d|, row P its mirror; every other row is
+    the ask it would have been (Meier et al.'s antithetic pair along a given direction)."""
+    n, P, sigma = 7, 4, 0.3
+    mu = np.linspace(-1, 1, n)
+    plain, paired = cls(mu, sigma=sigma, pairs=P, seed=5), cls(mu, sigma=sigma, pairs=P, seed=5)
+    d = np.arange(1.0, n + 1)
+    paired.set_pair_direction(3 * d)  # only the direction counts
+    X, Y = plain.ask(), paired.ask()
+    z1 = np.sqrt(n) * d / np.linalg.norm(d)
+    np.testing.assert_allclose(Y[0], mu + sigma * z1, rtol=1e-12)
+    np.testing.assert_allclose(Y[P], mu - sigma * z1, rtol=1e-12)
+    rest = [i for i in range(2 * P) if i not in (0, P)]
+    np.testing.assert_array_equal(Y[rest], X[rest])
+    # the estimator is unchanged: the pair's return difference weighs d (sgd, no shaping, no decay)
+    es = cls(mu, sigma=sigma, lr=1.0, pairs=P, seed=5, optimizer="sgd", fitness_shaping="none")
+    es.set_pair_direction(d, length=2.0)
+    Z = (es.ask()[:P] - mu) / sigma  # (P, n)
+    np.testing.assert_allclose(Z[0], 2.0 * d / np.linalg.norm(d), rtol=1e-12)
+    f = np.zeros(2 * P)
+    f[0], f[P] = 1.0, -1.0  # only the pair along d differs
+    es.tell(f)
+    np.testing.assert_allclose(es.mean - mu, Z[0] * 2.0 / (2 * sigma * P), rtol=1e-12)
+    assert es.ask() is not None and not np.allclose(es.ask()[0] - es.mean, sigma * Z[0])  # used once
+
+
+def test_set_mean_moves_the_mean_and_keeps_the_optimizer_and_the_pair_survives_a_checkpoint():
+    from helpers import npz_round_trip
+
+    es = VanillaES(np.zeros(4), sigma=0.1, pairs=2, seed=1)
+    es.tell(sphere(es.ask()))
+    m_before = {k: v.copy() for k, v in es.opt.state_dict().items()}
+    es.set_mean([1.0, 2.0, 3.0, 4.0])
+    np.testing.assert_array_equal(es.mean, [1.0, 2.0, 3.0, 4.0])
+    for k, v in es.opt.state_dict().items():  # Adam's moments are kept
+        np.testing.assert_array_equal(v, m_before[k])
+    es.set_pair_direction(np.ones(4))
+    twin = VanillaES(np.zeros(4), sigma=0.1, pairs=2, seed=1)
+    twin.load_state_dict(npz_round_trip(es.state_dict()))
+    np.testing.assert_array_equal(twin.ask(), es.ask())  # the pending pair is part of the state
+    with pytest.raises(RuntimeError, match="between ask"):
+        es.set_mean(np.zeros(4))
+    with pytest.raises(RuntimeError, match="between ask"):
+        es.set_pair_direction(np.ones(4))
+    es.tell(sphere(es.ask()))
+    with pytest.raises(ValueError):
+        es.set_mean([np.nan, 0, 0, 0])
+    with pytest.raises(ValueError):
+        es.set_pair_direction(np.ones(3))

@@ -1,0 +1,150 @@
+"""The label mechanisms (guides/mechanisms/) end to end on UR5Reach-v0 with tiny budgets: what they log,
+that they resume exactly, and that both placements give the same run; the candidate's acceptance rule
+on a stub host."""
+
+import numpy as np
+import pytest
+
+from helpers import new_run, run_until_crash, strip_time, train
+from shaped_es.guides.mechanisms.candidate import MeanCandidate
+from shaped_es.shaping.settings import MeanCloneConfig
+from shaped_es.strategies import GuidedES
+from shaped_es.trainer import Trainer
+
+TINY = {
+    "env": "UR5Reach-v0",
+    "executor": "inline",
+    "method": "shaped",
+    "generations": 4,
+    "seed": 1,
+    "es": {"pairs": 6},
+    "policy": {"hidden": [8]},
+    "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40},
+    "shaping": {"inverse_dynamics": {"steps_per_generation": 30, "filter": "none"}, "history": 2,
+                "mean_clone": {"steps": 10, "batch_size": 32, "record_every": 3}},
+    "tensorboard": False,
+}
+
+
+def _shaping(**over):
+    return {**TINY["shaping"], **over}
+
+
+@pytest.mark.parametrize("mechanism,labels", [("candidate", "controller"), ("candidate", "mphi"),
+                                              ("pair", "controller"), ("candidate_pair", "mphi")])
+def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels):
+    sh = _shaping(mechanism=mechanism, labels=labels)
+    full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
+    assert full[-1]["shaping_active"] == "1"
+    if "candidate" in mechanism:
+        scored = [r for r in full if r["candidate_return"] != ""]
+        assert scored and all(r["candidate_accepted"] in ("0", "1") for r in scored)
+        for r in scored:  # the gain is the candidate's return over the mean's, on the same episodes
+            assert float(r["candidate_gain"]) == pytest.approx(
+                float(r["candidate_return"]) - float(r["mean_return"]))
+    if "pair" in mechanism:
+        assert any(r["pair_return_diff"] != "" for r in full)
+    assert ("mphi_iterations" in full[0]) == (labels == "mphi")  # M_phi exists only as the label source
+    assert "surrogate_rank" not in full[0]  # the paper's columns belong to its mechanism
+    # a crash at generation 3, then a new trainer resumes from the checkpoint after generation 2
+    cfg, store = new_run(tmp_path / "crashed", {**TINY, "shaping": sh})
+    run_until_crash(monkeypatch, cfg, store, 3)
+    Trainer(cfg, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_controller_candidates_are_accepted_and_make_the_car_drive(tmp_path):
+    """CarNav-v0 with the pure-pursuit controller's labels: the mean's clone beats every member within a
+    few generations and becomes the mean (an accepted candidate's return is above the population's best);
+    the car then drives (the population's best return climbs from below 0 to > 50 in 6 generations;
+    seeds 0-3 all reach 100-190)."""
+    car = {**TINY, "env": "CarNav-v0", "policy": {"hidden": [32, 32]}, "es": {"pairs": 8},
+           "rollout": {"episodes": 2, "test_episodes": 2, "max_steps": 150},
+           "shaping": _shaping(mechanism="candidate", labels="controller",
+                               mean_clone={"steps": 100, "batch_size": 128, "record_every": 4}),
+           "generations": 6}
+    rows = train(tmp_path / "c", car).read_metrics()
+    accepted = [r for r in rows if r["candidate_accepted"] == "1"]
+    assert accepted
+    assert all(float(r["candidate_return"]) > float(r["train_reward_max"]) for r in accepted)
+    assert float(rows[0]["train_reward_max"]) < 0 and float(rows[-1]["train_reward_max"]) > 50
+
+
+def test_master_and_worker_placement_give_the_same_candidate_run(tmp_path):
+    for labels in ("controller", "mphi"):
+        runs = [train(tmp_path / f"{labels}_{p}", {**TINY, "shaping": _shaping(
+            mechanism="candidate", labels=labels, placement=p)}).read_metrics() for p in ("master", "workers")]
+        a, b = (strip_time(r) for r in runs)
+        assert a == b, labels
+
+
+def test_controller_labels_need_the_hook(tmp_path):
+    from shaped_es.config import ConfigError
+
+    cfg, store = new_run(tmp_path / "pend", {**TINY, "env": "CartPole-v1", "shaping": _shaping(
+        labels="controller")})
+    with pytest.raises(ConfigError):  # CartPole has neither the contract nor a controller
+        Trainer(cfg, store, progress=False)
+
+
+def test_reference_labels_need_a_reference_run(tmp_path):
+    from shaped_es.config import ConfigError
+
+    cfg, store = new_run(tmp_path / "r", {**TINY, "shaping": _shaping(labels="reference",
+                                                                      mechanism="candidate")})
+    with pytest.raises(ConfigError, match="reference_run"):
+        Trainer(cfg, store, progress=False)
+
+
+def test_reference_labels_are_the_reference_policys_actions(tmp_path):
+    ref = train(tmp_path / "ref", {**TINY, "method": "vanilla"})
+    sh = _shaping(labels="reference", reference_run=str(ref.root), mechanism="candidate")
+    rows = train(tmp_path / "r", {**TINY, "shaping": sh}).read_metrics()
+    assert rows[-1]["shaping_active"] == "1" and rows[-1]["mphi_fig5_test_loss"] != ""
+    # the labels are the reference's actions, so their error against the reference is zero
+    assert all(float(r["mphi_fig5_test_loss"]) == pytest.approx(0.0, abs=1e-6)
+               for r in rows if r["mphi_fig5_test_loss"] != "")
+
+
+# -- the candidate's rule, on a stub host ---------------------------------------------------------------
+class _Labels:
+    ready = True
+
+
+class _Host:
+    def __init__(self, n, accept):
+        self.mean_clone_cfg = MeanCloneConfig(accept=accept, scales=(0.5, 1.0))
+        self.labels = _Labels()
+        self.spec = type("S", (), {"num_params": n})()
+
+
+@pytest.mark.parametrize("accept", ["best", "mean"])
+def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, accept):
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    n, P = 5, 4
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+    mech = MeanCandidate(_Host(n, accept))
+    theta_star = np.arange(1.0, n + 1)
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + theta_star, {"label_std": 0.1}))
+    es.ask()
+    es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+    mech.after_tell(0, None, np.zeros(P), np.zeros(0), [], np.zeros(n), es, None)
+    mu0 = np.array(es.mean)
+    np.testing.assert_allclose(mech.extra_members(1), np.stack([mu0 + 0.5 * theta_star, mu0 + theta_star, mu0]),
+                               rtol=1e-6)
+    fitness = np.array([1.0, 2.0, 3.0, 4.0])
+    # candidates: 3.5 (scale 0.5), 2.5; the mean's own return 1.0
+    X = es.ask()
+    assert X.shape == (P, n)
+    es.tell(fitness)
+    es_mean = np.array(es.mean)
+    out = mech.after_tell(1, None, fitness, np.array([3.5, 2.5, 1.0]), [], mu0, es, None)
+    assert out["candidate_return"] == 3.5 and out["mean_return"] == 1.0 and out["candidate_gain"] == 2.5
+    assert out["candidate_scale"] == 0.5
+    if accept == "best":  # 3.5 does not beat the best member's 4.0: the ES update stands
+        assert out["candidate_accepted"] == 0
+        np.testing.assert_array_equal(np.array(es.mean), es_mean)
+    else:  # 3.5 beats the mean's own 1.0: the candidate is the new mean
+        assert out["candidate_accepted"] == 1
+        np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star, rtol=1e-6)
