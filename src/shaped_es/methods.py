@@ -27,8 +27,9 @@ def _no_args(*_) -> dict[str, Any]:
 class Method:
     """How one method is built; see the module docstring."""
 
-    # "module:attr" of ``train(cfg, store, progress=True, probe=None) -> metrics rows``: trains or resumes a
-    # run (``probe``: the run's ``rollout.EnvProbe`` if the caller made one, else it probes its env).
+    # "module:attr" of ``train(cfg, store, progress=True, probe=None, callback=None) -> metrics rows``: trains
+    # or resumes a run (``probe``: the run's ``rollout.EnvProbe`` if the caller made one, else it probes its
+    # env; ``callback``: shaped_es.callbacks).
     train: str = "shaped_es.trainer:train"
     # ES methods: "module:attr" of the strategy class, built as ``cls(x0, **strategy_args(cfg, seed))``.
     strategy: str | None = None

@@ -67,6 +67,8 @@ METRIC_KEYS = (
     "time_store_write_s", "shaping_active", "mphi_fig5_test_loss", "own_ref_error", "clone_ref_error",
     "label_beats_own", "clone_return_gain", "clone_improved_fraction",
 )
+REFERENCE_KEYS = ("mphi_fig5_test_loss", "own_ref_error", "clone_ref_error", "label_beats_own")
+DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")
 FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
@@ -117,6 +119,12 @@ class ShapedGuide(NoGuide):
         self._warned = False
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
+
+    def metric_keys(self) -> tuple[str, ...]:
+        """``METRIC_KEYS`` but the ones only ``reference_run`` / ``diagnose_returns`` fill, unless set."""
+        off = set() if self.sh.reference_run else set(REFERENCE_KEYS)
+        off |= set() if self.sh.diagnose_returns else set(DIAGNOSE_KEYS)
+        return tuple(k for k in METRIC_KEYS if k not in off) + ("clone_cpu_time_s",)
 
     def rollout_fn(self):
         if self.placement == "workers":  # each worker writes its chunk's shard before it returns
