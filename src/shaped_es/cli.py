@@ -38,9 +38,8 @@ def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
 
 
 def cmd_train(a: argparse.Namespace) -> int:
+    from shaped_es.api import prepare_run
     from shaped_es.config import build_config, merge, parse_set, read_yaml
-    from shaped_es.preflight import check_run
-    from shaped_es.store import RunStore
 
     data = read_yaml(a.config) if a.config else {}
     flags = {"env": a.env, "method": a.method, "generations": a.generations, "seed": a.seed,
@@ -51,10 +50,7 @@ def cmd_train(a: argparse.Namespace) -> int:
         overrides["env_kwargs.preset"] = a.preset
     overrides.update(parse_set(a.set))
     cfg = build_config(merge(data, overrides))
-    store = RunStore(a.out)
-    if store.exists() or (store.root.exists() and not store.root.is_dir()):
-        store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
-    probe = check_run(cfg)  # everything is validated before anything is written (its env probe reused)
+    store, probe = prepare_run(cfg, a.out)  # everything is validated before anything is written
     with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
         store.create(cfg)  # checks again, under the lock, that no other train got there first
         return _run(cfg, store, a, probe)
