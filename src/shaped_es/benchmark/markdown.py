@@ -12,7 +12,7 @@ import math
 from dataclasses import asdict
 from pathlib import Path
 
-from shaped_es.benchmark.summary import load_runs, method_settings, summarize
+from shaped_es.benchmark.summary import load_runs, method_settings, plain, summarize
 from shaped_es.config import RunConfig
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
 from shaped_es.report.style import figure_title
@@ -134,11 +134,11 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
                 "concurrently, such as M_phi training during the rollouts, overlap).", ""]
         out += [*_table(["method", *phases], [[k, *[_num(s["time_split_s"].get(p), 1) for p in phases]]
                                               for k, s in methods.items()]), ""]
-    out += ["## Settings", "", *_table(["method", *next(iter(settings.values()), {}).keys()],
-                                       [[k, *[f"`{json.dumps(v)}`" for v in st.values()]]
-                                        for k, st in settings.items()]), ""]
+    out += ["## Settings", "", "Per method, the settings it uses (a method never reads the others).", "",
+            *_table(["method", "settings"], [[k, "; ".join(f"{name} {plain(v)}" for name, v in st.items())]
+                                             for k, st in settings.items()]), ""]
     if summary.get("ppo_settings"):
-        ppo = ", ".join(f"{k} {v}" for k, v in summary["ppo_settings"].items())
+        ppo = ", ".join(f"{k} {plain(v)}" for k, v in summary["ppo_settings"].items())
         out += [f"PPO (Stable-Baselines3, one torch thread): {ppo}; a generation = the whole number of PPO "
                 "iterations nearest to one ES generation's largest env-step budget (`gen_env_steps`).", ""]
     out += ["## Runs", ""] + [f"- {k}: " + ", ".join(f"`{r}`" for r in rs) for k, rs in runs.items()] + [""]
