@@ -68,8 +68,11 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
             "improvement.", ""]
     out += ["## Fig. 4: test reward vs generation, env steps, CPU time and wall time", "",
             "Mean across seeds of the test reward (ES: the generation's best member over the test episodes; "
-            "PPO: the deterministic policy on the same test seeds), band: confidence interval; on the cost "
-            "panels a seed that finished sooner keeps its final reward up to the longest seed's end.", "",
+            "PPO: the deterministic policy on the same test seeds), band: confidence interval. Each seed's "
+            "curve is a step function (held between its evaluations) on a common grid, and the mean is drawn "
+            "only where every seed has data: from the last seed's first evaluation on (so one seed alone is "
+            "never averaged in as if it were all); on the cost panels a seed that finished sooner keeps its "
+            "final reward up to the longest seed's end.", "",
             f"![Fig. 4]({figures['fig4']})", ""]
     out += ["## Performance profile of the final test reward", "",
             "Fraction of seeds whose final test reward exceeds tau, per method (band: pointwise bootstrap "
