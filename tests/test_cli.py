@@ -103,19 +103,31 @@ def _parsers(p: argparse.ArgumentParser, path=()):
                 yield from _parsers(sp, (*path, name))
 
 
-def test_every_help_shows_defaults_and_version(capsys):
-    seen = 0
+def test_every_option_of_every_command_explains_itself(capsys):
+    """Every option of every (sub)command has a description and shows its default (the formatter's
+    "(default: X)", or its own words for defaults taken from the config or the env); positionals are
+    described; --method names what each method is."""
+    seen, missing = 0, []
     for path, p in _parsers(build_parser()):
-        text = p.format_help()
+        fmt = p.formatter_class(prog="x")
         for a in p._actions:
-            if a.option_strings and a.default not in (None, argparse.SUPPRESS) and a.dest != "help":
-                assert "default" in p.formatter_class(prog="x")._format_action(a), (path, a.dest)
-                seen += 1
-        if path == ("train",):
-            assert "(default: 50)" in text and "(default: vanilla)" in text and "(default: 32)" in text
-        if path == ("evaluate",):
-            assert "(default: 15)" in text and "(default: 12345)" in text
-    assert seen > 10
+            if isinstance(a, (argparse._HelpAction, argparse._VersionAction, argparse._SubParsersAction)):
+                continue
+            seen += 1
+            text = fmt._format_action(a)
+            if not (a.help or "").strip():
+                missing.append((path, a.dest, "no help"))
+            elif a.option_strings and not a.required and "default" not in text:
+                missing.append((path, a.dest, "no default"))
+            elif "(default: )" in text or "(default: None)" in text:
+                missing.append((path, a.dest, "an empty default"))
+    assert not missing, missing
+    assert seen > 80
+    train = _help(["train"])
+    assert "(default: 50)" in train and "(default: vanilla)" in train and "(default: 32)" in train
+    for method in ("vanilla", "guided", "cmaes", "shaped", "ppo"):
+        assert f"{method}:" in train
+    assert "(default: 15)" in _help(["evaluate"]) and "(default: 12345)" in _help(["evaluate"])
     with pytest.raises(SystemExit) as exc:
         main(["--version"])
     assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"shaped-es {__version__}"
@@ -123,6 +135,10 @@ def test_every_help_shows_defaults_and_version(capsys):
     assert res.returncode == 0 and res.stdout.strip() == f"shaped-es {__version__}"
     res = subprocess.run([sys.executable, "-m", "shaped_es", "train", "--help"], capture_output=True, text=True)
     assert res.returncode == 0 and "--popsize" in res.stdout
+
+
+def _help(path) -> str:
+    return dict(_parsers(build_parser()))[tuple(path)].format_help()
 
 
 def test_pairs_and_popsize(tmp_path, capsys):

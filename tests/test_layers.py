@@ -32,10 +32,11 @@ LAYERS: list[tuple[str, ...]] = [
     ("load",),  # a run's policy from Python (ES or PPO)
     ("guides",),  # per-method hooks of the generation loop (shaped: a reference run's policy via load)
     ("trainer",),
-    ("preflight",),
-    ("evaluate", "render", "report"),
+    ("preflight", "env_check"),  # checks before a run; what an env needs (check-env, envs)
+    ("evaluate", "render", "report", "api"),  # api: shaped_es.train from Python
     ("benchmark", "speed"),
-    ("cli_errors",),  # how a command ends: one error line, exit codes, MPI supervision
+    ("cli_errors", "cli_info"),  # how a command ends (one error line, exit codes, MPI supervision); the
+    # commands that explain (config, envs, check-env)
     ("cli",),
     ("__main__",),
 ]

@@ -285,6 +285,17 @@ def merge(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def set_item(text: str) -> str:
+    """``--set``'s argparse type: ``KEY=VALUE`` as one word (``--set es.sigma 0.1`` is refused here,
+    naming the fix, before argparse would report the value as an unrecognized argument)."""
+    if "=" not in text:
+        import argparse
+
+        raise argparse.ArgumentTypeError(f"expects KEY=VALUE as one word, got {text!r}: write --set "
+                                         f"{text or 'es.sigma'}=VALUE, no spaces around '='")
+    return text
+
+
 def parse_set(items: list[str] | None) -> dict[str, Any]:
     """``--set KEY=VALUE`` flags as overrides for :func:`merge` (each value read as YAML)."""
     out = {}

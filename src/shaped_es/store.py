@@ -142,7 +142,9 @@ class RunStore:
 
     def read_config(self) -> RunConfig:
         if not self.exists():
-            if self.root.exists() and not self.root.is_dir():
+            if not self.root.exists():
+                raise StoreError(f"{self.root} is not a run directory: it does not exist")
+            if not self.root.is_dir():
                 raise StoreError(f"{self.root} is not a run directory (not a directory)")
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         return build_config(read_yaml(self.config_path))
