@@ -3,6 +3,7 @@ retry), ``module:Env`` ids from the working directory, defaults in every ``--hel
 ``python -m shaped_es``, ``--pairs`` / ``--popsize``, ``resume --generations`` below what is done."""
 
 import argparse
+import json
 import os
 import shutil
 import subprocess
@@ -13,6 +14,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from helpers import SRC
 from shaped_es import __version__
 from shaped_es.cli import build_parser, main
 
@@ -93,6 +95,19 @@ def test_own_env_module_from_the_working_directory(tmp_path, executor):
                          env=env, capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "run" / "checkpoints" / "latest.json").is_file()
+    if executor == "process":
+        return
+    # the run from another folder: its env's module is named, with what to do
+    (tmp_path / "elsewhere").mkdir()
+    evaluate = [sys.executable, "-m", "shaped_es", "evaluate", str(tmp_path / "run"), "--episodes", "2"]
+    res = subprocess.run(evaluate, cwd=tmp_path / "elsewhere", env={**env, "PYTHONPATH": str(SRC)},
+                         capture_output=True, text=True, timeout=300)
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert "its module 'myenvs' cannot be imported from" in lines[0] and "PYTHONPATH" in lines[0]
+    res = subprocess.run(evaluate, cwd=tmp_path / "elsewhere", env={**env, "PYTHONPATH": f"{SRC}:{tmp_path}"},
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0 and json.loads(res.stdout)["episodes"] == 2, res.stderr
 
 
 def _parsers(p: argparse.ArgumentParser, path=()):
