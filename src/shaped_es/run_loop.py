@@ -219,6 +219,8 @@ class RunLoop:
 
         if self._wandb is None:
             self._wandb = wandb_log.open_run(self.store.root, self.cfg.wandb, self.cfg.model_dump(mode="json"))
+            if self.progress:
+                print(f"[{self.label}] W&B: {wandb_log.where(self._wandb)}", file=sys.stderr, flush=True)
         wandb_log.log_row(self._wandb, row)
 
     def close(self) -> None:

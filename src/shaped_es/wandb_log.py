@@ -3,7 +3,8 @@
 ``misc/env_steps`` as every chart's x axis, as TensorBoard's step.
 
 The W&B run's id is kept in ``RUN/wandb_id``, so ``resume`` continues the same W&B run (the rows a
-killed run wrote after its last checkpoint are logged again: W&B keeps both). ``mode`` ``offline``
+killed run wrote after its last checkpoint are logged again: W&B keeps both). W&B's own console output
+is silenced: the run's progress display says, in one line, where the W&B run goes. ``mode`` ``offline``
 (or ``WANDB_MODE=offline``) needs no network or account: the run is written under ``RUN/wandb/`` for a
 later ``wandb sync``.
 """
@@ -29,16 +30,25 @@ def open_run(root: str | Path, settings, config: dict):
     id_path = root / ID_FILE
     run_id = id_path.read_text().strip() if id_path.is_file() else None
     if not run_id:
+        import secrets
+
         from shaped_es.store_io import atomic_write_text
 
-        run_id = wandb.util.generate_id()
+        run_id = secrets.token_hex(8)  # W&B ids: letters and digits
         atomic_write_text(id_path, run_id + "\n")
     run = wandb.init(project=settings.project, entity=settings.entity, group=settings.group,
                      name=root.name, id=run_id, resume="allow", dir=str(root), config=config,
-                     mode=settings.mode)
+                     mode=settings.mode, settings=wandb.Settings(silent=True, console="off"))
     run.define_metric(STEP)
     run.define_metric("*", step_metric=STEP)
     return run
+
+
+def where(run) -> str:
+    """Where the W&B run goes, in words: its URL, or the ``wandb sync`` command of an offline run."""
+    if getattr(run, "offline", False):
+        return f"offline, written to {run.settings.sync_dir} (upload later: wandb sync {run.settings.sync_dir})"
+    return str(run.url)
 
 
 def log_row(run, row: dict) -> None:
