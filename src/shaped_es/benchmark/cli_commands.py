@@ -104,6 +104,6 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
         overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
         threshold=a.threshold, variants=variants,
     )
-    res = run_benchmark(spec, a.out, progress=not a.quiet)
+    res = run_benchmark(spec, a.out, progress=not a.quiet, estimate=not a.no_estimate)
     print(json.dumps({k: res.get(k) for k in ("report", "summary", "fig4", "profile", "fig5")}))
     return 0

@@ -232,8 +232,10 @@ def _check_all(cfgs: dict[str, RunConfig]) -> None:
             check_run(cfg)
 
 
-def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None) -> dict:
-    """Run (or continue) every run of ``spec`` under ``out``, then write summary.json and report.md."""
+def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
+                  estimate: bool = True) -> dict:
+    """Run (or continue) every run of ``spec`` under ``out``, then write summary.json and report.md;
+    ``estimate``: first print what the runs left will cost (``estimate.py``: a short probe per method)."""
     from shaped_es.benchmark.markdown import write_report
 
     log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
@@ -246,6 +248,12 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     out.mkdir(parents=True, exist_ok=True)
     record = json.loads(json.dumps(asdict(spec)))  # tuples -> lists for YAML
     atomic_write_text(out / "benchmark.yaml", yaml.safe_dump(record, sort_keys=False))
+    if estimate:
+        from shaped_es.benchmark.estimate import benchmark_estimate, describe
+
+        labels = {run_name(m, s): m for s in spec.seeds for m in spec.methods}
+        for line in describe(benchmark_estimate(plan, out / "runs", labels.__getitem__)):
+            log(f"[benchmark] estimate: {line}")
     status: dict[str, dict] = {}
     for name, (action, cfg) in plan.items():
         t0 = time.perf_counter()
