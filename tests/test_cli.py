@@ -180,3 +180,28 @@ def test_resume_below_the_generations_done_says_so(tmp_path, capsys):
     assert "2 generations done" in line and "--generations 1" in line
     assert (tmp_path / "r" / "config.yaml").read_text() == before  # untouched
     assert main(["resume", out, "--generations", "3", "--quiet"]) == 0
+
+
+def test_report_without_out_writes_a_folder_of_its_own(tmp_path, capsys, monkeypatch):
+    run = str(tmp_path / "runs" / "r")
+    assert main(["train", "--env", "CartPole-v1", *TINY, "--out", run]) == 0
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    capsys.readouterr()
+    assert main(["report", run]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["report"] == "shaped-es-report/report.md"
+    assert [p.name for p in work.iterdir()] == ["shaped-es-report"]  # nothing loose in the working folder
+    assert {"report.md", "summary.json", "figures"} <= {p.name for p in (work / "shaped-es-report").iterdir()}
+
+
+def test_train_stop_at_ends_the_run_as_finished(tmp_path, capsys):
+    out = str(tmp_path / "r")
+    args = [a if a != "2" else "4" for a in TINY[:4]] + TINY[4:]  # --generations 4
+    assert main(["train", "--env", "CartPole-v1", *args, "--stop-at", "1", "--out", out]) == 0
+    done = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert done["generations"] == 2  # CartPole scores >= 1: stopped after its first evaluated row
+    assert yaml.safe_load((tmp_path / "r" / "config.yaml").read_text())["stop_at"] == 1.0
+    assert main(["resume", out, "--quiet"]) == 0  # finished: resume has nothing to do
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["generations"] == 2

@@ -74,3 +74,16 @@ def test_a_benchmark_prints_its_estimate_first(tmp_path):
     assert said[1].startswith("[benchmark] estimate: total ~") and said[2].startswith("[benchmark] vanilla_s0: new")
     assert [p.name for p in (tmp_path / "b" / "runs").iterdir()] == ["vanilla_s0"]  # the probe ran elsewhere
     assert len(RunStore(tmp_path / "b" / "runs" / "vanilla_s0").read_metrics()) == 2
+
+
+def test_estimate_only_writes_nothing(tmp_path):
+    from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
+
+    said = []
+    spec = BenchmarkSpec(env="CartPole-v1", methods=("vanilla", "cmaes"), seeds=(0, 1), generations=3,
+                         overrides={"executor": "inline", "es.pairs": 4, "rollout.test_episodes": 2})
+    res = run_benchmark(spec, tmp_path / "b", log=said.append, estimate_only=True)
+    assert set(res["estimate_s"]) == {"vanilla", "cmaes"} and all(v > 0 for v in res["estimate_s"].values())
+    assert len(said) == 3 and said[0].startswith("[benchmark] estimate: vanilla: 2 runs, 6 generations at ")
+    assert said[1].startswith("[benchmark] estimate: cmaes: 2 runs") and said[2].startswith("[benchmark] estimate: total")
+    assert not (tmp_path / "b").exists()

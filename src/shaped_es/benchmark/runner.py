@@ -233,9 +233,10 @@ def _check_all(cfgs: dict[str, RunConfig]) -> None:
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
-                  estimate: bool = True) -> dict:
+                  estimate: bool = True, estimate_only: bool = False) -> dict:
     """Run (or continue) every run of ``spec`` under ``out``, then write summary.json and report.md;
-    ``estimate``: first print what the runs left will cost (``estimate.py``: a short probe per method)."""
+    ``estimate``: first print what the runs left will cost (``estimate.py``: a short probe per method);
+    ``estimate_only``: print it and stop, writing nothing."""
     from shaped_es.benchmark.markdown import write_report
 
     log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
@@ -245,15 +246,18 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     cfgs = run_configs(spec)
     _check_all(cfgs)
     plan = plan_runs(cfgs, out / "runs")
-    out.mkdir(parents=True, exist_ok=True)
-    record = json.loads(json.dumps(asdict(spec)))  # tuples -> lists for YAML
-    atomic_write_text(out / "benchmark.yaml", yaml.safe_dump(record, sort_keys=False))
-    if estimate:
+    if estimate or estimate_only:
         from shaped_es.benchmark.estimate import benchmark_estimate, describe
 
         labels = {run_name(m, s): m for s in spec.seeds for m in spec.methods}
-        for line in describe(benchmark_estimate(plan, out / "runs", labels.__getitem__)):
+        est = benchmark_estimate(plan, out / "runs", labels.__getitem__)
+        for line in describe(est):
             log(f"[benchmark] estimate: {line}")
+        if estimate_only:
+            return {"estimate_s": {k: round(e["seconds"], 1) for k, e in est.items()}}
+    out.mkdir(parents=True, exist_ok=True)
+    record = json.loads(json.dumps(asdict(spec)))  # tuples -> lists for YAML
+    atomic_write_text(out / "benchmark.yaml", yaml.safe_dump(record, sort_keys=False))
     status: dict[str, dict] = {}
     for name, (action, cfg) in plan.items():
         t0 = time.perf_counter()
