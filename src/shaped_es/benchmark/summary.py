@@ -254,7 +254,7 @@ def plain(v) -> str:
     """A setting as the report prints it: numbers with their significant digits, text as it is."""
     if isinstance(v, float):
         return f"{v:g}"
-    return str(v)
+    return "none" if v is None else str(v)
 
 
 def non_defaults(cfg: RunConfig) -> str:
