@@ -8,13 +8,12 @@ import os
 import shutil
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pytest
 import yaml
 
-from helpers import SRC
+from helpers import POINT_ENV_MODULE, SRC
 from shaped_es import __version__
 from shaped_es.cli import build_parser, main
 
@@ -53,31 +52,6 @@ def test_benchmark_validates_every_method_before_writing(tmp_path, capsys):
     assert not out.exists()
 
 
-MYENVS = '''
-import gymnasium as gym
-import numpy as np
-
-
-class Point(gym.Env):
-    """A point pushed towards the origin; 20 steps."""
-
-    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
-    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
-
-    def reset(self, *, seed=None, options=None):
-        super().reset(seed=seed)
-        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
-        return self.x.copy(), {}
-
-    def step(self, action):
-        self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32), -10, 10)
-        return self.x.copy(), -float(np.linalg.norm(self.x)), False, False, {}
-
-
-gym.register("Point-v0", entry_point=Point, max_episode_steps=20)
-'''
-
-
 def _console_script():
     exe = Path(sys.executable).parent / "shaped-es"
     return str(exe) if exe.is_file() else shutil.which("shaped-es")
@@ -85,7 +59,7 @@ def _console_script():
 
 @pytest.mark.parametrize("executor", ["inline", "process"])
 def test_own_env_module_from_the_working_directory(tmp_path, executor):
-    (tmp_path / "myenvs.py").write_text(textwrap.dedent(MYENVS))
+    (tmp_path / "myenvs.py").write_text(POINT_ENV_MODULE)
     script = _console_script()
     assert script, "the shaped-es console script is not installed"
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
@@ -97,9 +71,13 @@ def test_own_env_module_from_the_working_directory(tmp_path, executor):
     assert (tmp_path / "run" / "checkpoints" / "latest.json").is_file()
     if executor == "process":
         return
-    # the run from another folder: its env's module is named, with what to do
+    # the run used from another folder: its env's module is named, with what to do (this tree's code)
+    own = {**env, "PYTHONPATH": str(SRC)}
+    res = subprocess.run([sys.executable, "-m", "shaped_es", *args[1:-1], "own"], cwd=tmp_path, env=own,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
     (tmp_path / "elsewhere").mkdir()
-    evaluate = [sys.executable, "-m", "shaped_es", "evaluate", str(tmp_path / "run"), "--episodes", "2"]
+    evaluate = [sys.executable, "-m", "shaped_es", "evaluate", str(tmp_path / "own"), "--episodes", "2"]
     res = subprocess.run(evaluate, cwd=tmp_path / "elsewhere", env={**env, "PYTHONPATH": str(SRC)},
                          capture_output=True, text=True, timeout=300)
     lines = res.stderr.strip().splitlines()

@@ -5,12 +5,11 @@ import os
 import re
 import subprocess
 import sys
-import textwrap
 
 import pytest
 import yaml
 
-from helpers import SRC
+from helpers import POINT_ENV_MODULE, SRC
 from shaped_es.cli import main
 from shaped_es.config import RunConfig
 
@@ -62,34 +61,29 @@ def test_envs_lists_ids_presets_and_the_waypoint_contract(capsys):
     assert by["Blackjack-v1"]["error"] and by["CarNav-v0"]["waypoints"] == 2
 
 
-POINT = '''
-import gymnasium as gym
-import numpy as np
+INFOPOINT = POINT_ENV_MODULE + '''
 
+class InfoPoint(Point):
+    """Point with the waypoint contract: its position, and the origin as the waypoint."""
 
-class Point(gym.Env):
-    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
-    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+    def _info(self):
+        return {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
 
     def reset(self, *, seed=None, options=None):
-        super().reset(seed=seed)
-        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
-        return self.x.copy(), {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
+        return super().reset(seed=seed)[0], self._info()
 
     def step(self, action):
-        self.x = self.x + 0.1 * np.asarray(action, np.float32)
-        info = {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
-        return self.x.copy(), -float(np.linalg.norm(self.x)), False, False, info
+        return (*super().step(action)[:4], self._info())
 
 
-gym.register("InfoPoint-v0", entry_point=Point, max_episode_steps=20)
-gym.register("InfoPointNaN-v0", entry_point=lambda: gym.wrappers.TransformReward(Point(), lambda r: float("nan")),
+gym.register("InfoPoint-v0", entry_point=InfoPoint, max_episode_steps=20)
+gym.register("InfoPointNaN-v0", entry_point=lambda: gym.wrappers.TransformReward(InfoPoint(), lambda r: float("nan")),
              max_episode_steps=20)
 '''
 
 
 def _cli(tmp_path, *argv):
-    (tmp_path / "infopoint.py").write_text(textwrap.dedent(POINT))
+    (tmp_path / "infopoint.py").write_text(INFOPOINT)
     env = {**os.environ, "PYTHONPATH": str(SRC)}  # this tree's package; the env's module from the cwd
     return subprocess.run([sys.executable, "-m", "shaped_es", *argv], cwd=tmp_path, capture_output=True,
                           text=True, timeout=300, env=env)

@@ -1,4 +1,5 @@
-"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench).
+"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench),
+and the commands that explain: config / envs / check-env (``cli_info.py``).
 
 Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
 directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
