@@ -13,7 +13,6 @@ unexpected internal error is reported the same way with exit code 1. Warnings ar
 from __future__ import annotations
 
 import argparse
-import copy
 import json
 import os
 import sys
@@ -249,41 +248,6 @@ def cmd_bench_shaping(a: argparse.Namespace) -> int:
     return 0
 
 
-class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
-    """Every option's default in its help; ``None`` defaults (taken from the config) are described in the
-    option's own help instead of printing "(default: None)", and a help that names its default already
-    gets no second one."""
-
-    def _get_help_string(self, action):
-        if action.default is None or "default" in (action.help or "").lower():  # already says it
-            return action.help or ""
-        return super()._get_help_string(action)
-
-    def _format_action(self, action):
-        if not action.help and action.option_strings and action.default not in (None, argparse.SUPPRESS):
-            action = copy.copy(action)
-            action.help = "(default: %(default)s)"  # an option without help still shows its default
-        return super()._format_action(action)
-
-
-class Parser(argparse.ArgumentParser):
-    """A malformed command line is one error line too (argparse prints its usage first): ``shaped-es:
-    error: ...`` naming the command's ``--help``, exit code 2. Sub-parsers are of this class."""
-
-    def error(self, message: str):
-        print(f"shaped-es: error: {' '.join(message.split())} (usage: {self.prog} --help)", file=sys.stderr)
-        sys.exit(2)
-
-
-def _use_formatter(parser: argparse.ArgumentParser) -> None:
-    """``HelpFormatter`` for the parser and every sub-parser, however deep (added anywhere)."""
-    parser.formatter_class = HelpFormatter
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sp in action.choices.values():
-                _use_formatter(sp)
-
-
 def _config_default(dotted: str):
     from shaped_es.config import RunConfig
 
@@ -301,6 +265,8 @@ def build_parser() -> argparse.ArgumentParser:
     from shaped_es.methods import METHODS
 
     d = _config_default
+    from shaped_es.cli_info import Parser, use_formatter
+
     p = Parser(prog="shaped-es", description="Shaped policy search with evolution strategies")
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     p.add_argument("--debug", action="store_true",
@@ -398,7 +364,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="config override for the shaped run only, e.g. shaping.cloning.steps=5")
     bs.add_argument("--json", action="store_true", help="one line of JSON")
     bs.set_defaults(fn=cmd_bench_shaping)
-    _use_formatter(p)
+    use_formatter(p)
     return p
 
 

@@ -1,12 +1,14 @@
-"""The commands that explain rather than run: ``shaped-es config`` (every config field with its value,
-default, type and description, so ``--set`` keys can be found), ``shaped-es envs`` (the registered env
-ids, their presets and whether they meet the waypoint contract) and ``shaped-es check-env ID`` (what an
-env needs to train here, one line per check; ``env_check.py``). Their parsers and handlers, for
-``cli.py`` to wire in."""
+"""How the command line explains itself: every ``--help`` with each option's default (:class:`HelpFormatter`),
+a malformed command line as one error line (:class:`Parser`), and the commands that explain rather than
+run: ``shaped-es config`` (every config field with its value, default, type and description, so ``--set``
+keys can be found), ``shaped-es envs`` (the registered env ids, their presets and whether they meet the
+waypoint contract) and ``shaped-es check-env ID`` (what an env needs to train here, one line per check;
+``env_check.py``). Their parsers and handlers, for ``cli.py`` to wire in."""
 
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import sys
 import textwrap
@@ -16,6 +18,42 @@ from typing import Any
 from pydantic import BaseModel
 
 WRAP = 100  # config comments wrap at this width
+
+
+# -- every command's --help and its errors ---------------------------------------------------------------------
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Every option's default in its help; ``None`` defaults (taken from the config) are described in the
+    option's own help instead of printing "(default: None)", and a help that names its default already
+    gets no second one."""
+
+    def _get_help_string(self, action):
+        if action.default is None or "default" in (action.help or "").lower():  # already says it
+            return action.help or ""
+        return super()._get_help_string(action)
+
+    def _format_action(self, action):
+        if not action.help and action.option_strings and action.default not in (None, argparse.SUPPRESS):
+            action = copy.copy(action)
+            action.help = "(default: %(default)s)"  # an option without help still shows its default
+        return super()._format_action(action)
+
+
+class Parser(argparse.ArgumentParser):
+    """A malformed command line is one error line too (argparse prints its usage first): ``shaped-es:
+    error: ...`` naming the command's ``--help``, exit code 2. Sub-parsers are of this class."""
+
+    def error(self, message: str):
+        print(f"shaped-es: error: {' '.join(message.split())} (usage: {self.prog} --help)", file=sys.stderr)
+        sys.exit(2)
+
+
+def use_formatter(parser: argparse.ArgumentParser) -> None:
+    """``HelpFormatter`` for the parser and every sub-parser, however deep (added anywhere)."""
+    parser.formatter_class = HelpFormatter
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sp in action.choices.values():
+                use_formatter(sp)
 
 
 # -- shaped-es config ----------------------------------------------------------------------------------------

@@ -296,19 +296,9 @@ class RunStore:
         return gens[-1] if gens else 0
 
     def checkpoint_meta(self) -> dict | None:
-        """The newest complete checkpoint's metadata (its ``.json``; no arrays read), None without one."""
-        gens = self.checkpoints()
-        if not gens:
-            return None
-        name = f"gen_{gens[-1]:06d}"
-        try:
-            meta = json.loads((self.ckpt_dir / f"{name}.json").read_bytes().decode("utf-8"))
-        except (OSError, ValueError):
-            raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable") from None
-        if not isinstance(meta, dict) or meta.get("generation") != gens[-1]:
-            raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable (its .json is not this "
-                             f"checkpoint's metadata)")
-        return meta
+        """The newest complete checkpoint's metadata, None without one."""
+        loaded = self.load_checkpoint()
+        return None if loaded is None else loaded[1]
 
     def require_checkpoint(self) -> tuple[dict[str, np.ndarray], dict]:
         """:meth:`load_checkpoint`, with one clear ``StoreError`` when the run has none yet."""

@@ -150,16 +150,22 @@ def describe(est: dict[str, dict]) -> list[str]:
             continue
         how = "measured on this benchmark's runs" if p.source == "measured" else "timed just now"
         up = (f" (up to {duration(e['upper_seconds'])} if every episode runs to its time limit)"
-              if e["upper_seconds"] > 1.2 * e["seconds"] else "")
-        lines.append(f"{label}: {e['runs']} run{'s' * (e['runs'] != 1)}, {e['generations']} generations at {p.generation_s:,.2f} s "
+              if _more(e["upper_seconds"], e["seconds"]) else "")
+        gens = f"{e['generations']} generation{'s' * (e['generations'] != 1)}"
+        lines.append(f"{label}: {e['runs']} run{'s' * (e['runs'] != 1)}, {gens} at {p.generation_s:,.2f} s "
                      f"each (~{p.env_steps:,} env steps, {how}) -> ~{duration(e['seconds'])}{up}")
     total = sum(e["seconds"] for e in est.values())
     upper = sum(e["upper_seconds"] for e in est.values())
     big = max(est, key=lambda k: est[k]["seconds"], default=None)
     share = f"; {big} {est[big]['seconds'] / total:.0%} of it" if big and total > 0 else ""
-    lines.append(f"total ~{duration(total)}" + (f" (up to {duration(upper)})" if upper > 1.2 * total else "")
+    lines.append(f"total ~{duration(total)}" + (f" (up to {duration(upper)})" if _more(upper, total) else "")
                  + share)
     return lines
+
+
+def _more(upper: float, point: float) -> bool:
+    """The bound is worth a mention: over 1.2x the point estimate, and different when printed."""
+    return upper > 1.2 * point and duration(upper) != duration(point)
 
 
 def duration(s: float) -> str:

@@ -246,6 +246,11 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     cfgs = run_configs(spec)
     _check_all(cfgs)
     plan = plan_runs(cfgs, out / "runs")
+    for name in plan:  # a run another process is writing: refused now, before the estimate's timing
+        store = RunStore(out / "runs" / name)
+        if store.root.is_dir():
+            with store.lock():
+                pass
     if estimate or estimate_only:
         from shaped_es.benchmark.estimate import benchmark_estimate, describe
 
