@@ -35,6 +35,32 @@ CARTPOLE_TINY = {  # a CartPole-v1 ES run that learns in a few seconds (the end-
 }
 
 
+# an own env's module, as a user writes it next to their runs (myenvs.py: `--env myenvs:Point-v0`)
+POINT_ENV_MODULE = '''
+import gymnasium as gym
+import numpy as np
+
+
+class Point(gym.Env):
+    """A point pushed towards the origin; 20 steps."""
+
+    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        return self.x.copy(), {}
+
+    def step(self, action):
+        self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32), -10, 10)
+        return self.x.copy(), -float(np.linalg.norm(self.x)), False, False, {}
+
+
+gym.register("Point-v0", entry_point=Point, max_episode_steps=20)
+'''
+
+
 def new_run(root, cfg: dict | RunConfig) -> tuple[RunConfig, RunStore]:
     """A run directory at ``root`` holding ``cfg`` (a dict is built first); nothing trained yet."""
     cfg = build_config(cfg) if isinstance(cfg, dict) else cfg

@@ -3,16 +3,17 @@ retry), ``module:Env`` ids from the working directory, defaults in every ``--hel
 ``python -m shaped_es``, ``--pairs`` / ``--popsize``, ``resume --generations`` below what is done."""
 
 import argparse
+import json
 import os
 import shutil
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pytest
 import yaml
 
+from helpers import POINT_ENV_MODULE, SRC
 from shaped_es import __version__
 from shaped_es.cli import build_parser, main
 
@@ -51,31 +52,6 @@ def test_benchmark_validates_every_method_before_writing(tmp_path, capsys):
     assert not out.exists()
 
 
-MYENVS = '''
-import gymnasium as gym
-import numpy as np
-
-
-class Point(gym.Env):
-    """A point pushed towards the origin; 20 steps."""
-
-    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
-    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
-
-    def reset(self, *, seed=None, options=None):
-        super().reset(seed=seed)
-        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
-        return self.x.copy(), {}
-
-    def step(self, action):
-        self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32), -10, 10)
-        return self.x.copy(), -float(np.linalg.norm(self.x)), False, False, {}
-
-
-gym.register("Point-v0", entry_point=Point, max_episode_steps=20)
-'''
-
-
 def _console_script():
     exe = Path(sys.executable).parent / "shaped-es"
     return str(exe) if exe.is_file() else shutil.which("shaped-es")
@@ -83,7 +59,7 @@ def _console_script():
 
 @pytest.mark.parametrize("executor", ["inline", "process"])
 def test_own_env_module_from_the_working_directory(tmp_path, executor):
-    (tmp_path / "myenvs.py").write_text(textwrap.dedent(MYENVS))
+    (tmp_path / "myenvs.py").write_text(POINT_ENV_MODULE)
     script = _console_script()
     assert script, "the shaped-es console script is not installed"
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
@@ -93,6 +69,23 @@ def test_own_env_module_from_the_working_directory(tmp_path, executor):
                          env=env, capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "run" / "checkpoints" / "latest.json").is_file()
+    if executor == "process":
+        return
+    # the run used from another folder: its env's module is named, with what to do (this tree's code)
+    own = {**env, "PYTHONPATH": str(SRC)}
+    res = subprocess.run([sys.executable, "-m", "shaped_es", *args[1:-1], "own"], cwd=tmp_path, env=own,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    (tmp_path / "elsewhere").mkdir()
+    evaluate = [sys.executable, "-m", "shaped_es", "evaluate", str(tmp_path / "own"), "--episodes", "2"]
+    res = subprocess.run(evaluate, cwd=tmp_path / "elsewhere", env={**env, "PYTHONPATH": str(SRC)},
+                         capture_output=True, text=True, timeout=300)
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert "its module 'myenvs' cannot be imported from" in lines[0] and "PYTHONPATH" in lines[0]
+    res = subprocess.run(evaluate, cwd=tmp_path / "elsewhere", env={**env, "PYTHONPATH": f"{SRC}:{tmp_path}"},
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0 and json.loads(res.stdout)["episodes"] == 2, res.stderr
 
 
 def _parsers(p: argparse.ArgumentParser, path=()):
@@ -103,19 +96,31 @@ def _parsers(p: argparse.ArgumentParser, path=()):
                 yield from _parsers(sp, (*path, name))
 
 
-def test_every_help_shows_defaults_and_version(capsys):
-    seen = 0
+def test_every_option_of_every_command_explains_itself(capsys):
+    """Every option of every (sub)command has a description and shows its default (the formatter's
+    "(default: X)", or its own words for defaults taken from the config or the env); positionals are
+    described; --method names what each method is."""
+    seen, missing = 0, []
     for path, p in _parsers(build_parser()):
-        text = p.format_help()
+        fmt = p.formatter_class(prog="x")
         for a in p._actions:
-            if a.option_strings and a.default not in (None, argparse.SUPPRESS) and a.dest != "help":
-                assert "default" in p.formatter_class(prog="x")._format_action(a), (path, a.dest)
-                seen += 1
-        if path == ("train",):
-            assert "(default: 50)" in text and "(default: vanilla)" in text and "(default: 32)" in text
-        if path == ("evaluate",):
-            assert "(default: 15)" in text and "(default: 12345)" in text
-    assert seen > 10
+            if isinstance(a, (argparse._HelpAction, argparse._VersionAction, argparse._SubParsersAction)):
+                continue
+            seen += 1
+            text = fmt._format_action(a)
+            if not (a.help or "").strip():
+                missing.append((path, a.dest, "no help"))
+            elif a.option_strings and not a.required and "default" not in text:
+                missing.append((path, a.dest, "no default"))
+            elif "(default: )" in text or "(default: None)" in text:
+                missing.append((path, a.dest, "an empty default"))
+    assert not missing, missing
+    assert seen > 80
+    train = _help(["train"])
+    assert "(default: 50)" in train and "(default: vanilla)" in train and "(default: 32)" in train
+    for method in ("vanilla", "guided", "cmaes", "shaped", "ppo"):
+        assert f"{method}:" in train
+    assert "(default: 15)" in _help(["evaluate"]) and "(default: 12345)" in _help(["evaluate"])
     with pytest.raises(SystemExit) as exc:
         main(["--version"])
     assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"shaped-es {__version__}"
@@ -123,6 +128,10 @@ def test_every_help_shows_defaults_and_version(capsys):
     assert res.returncode == 0 and res.stdout.strip() == f"shaped-es {__version__}"
     res = subprocess.run([sys.executable, "-m", "shaped_es", "train", "--help"], capture_output=True, text=True)
     assert res.returncode == 0 and "--popsize" in res.stdout
+
+
+def _help(path) -> str:
+    return dict(_parsers(build_parser()))[tuple(path)].format_help()
 
 
 def test_pairs_and_popsize(tmp_path, capsys):
@@ -149,3 +158,28 @@ def test_resume_below_the_generations_done_says_so(tmp_path, capsys):
     assert "2 generations done" in line and "--generations 1" in line
     assert (tmp_path / "r" / "config.yaml").read_text() == before  # untouched
     assert main(["resume", out, "--generations", "3", "--quiet"]) == 0
+
+
+def test_report_without_out_writes_a_folder_of_its_own(tmp_path, capsys, monkeypatch):
+    run = str(tmp_path / "runs" / "r")
+    assert main(["train", "--env", "CartPole-v1", *TINY, "--out", run]) == 0
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    capsys.readouterr()
+    assert main(["report", run]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["report"] == "shaped-es-report/report.md"
+    assert [p.name for p in work.iterdir()] == ["shaped-es-report"]  # nothing loose in the working folder
+    assert {"report.md", "summary.json", "figures"} <= {p.name for p in (work / "shaped-es-report").iterdir()}
+
+
+def test_train_stop_at_ends_the_run_as_finished(tmp_path, capsys):
+    out = str(tmp_path / "r")
+    args = [a if a != "2" else "4" for a in TINY[:4]] + TINY[4:]  # --generations 4
+    assert main(["train", "--env", "CartPole-v1", *args, "--stop-at", "1", "--out", out]) == 0
+    done = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert done["generations"] == 2  # CartPole scores >= 1: stopped after its first evaluated row
+    assert yaml.safe_load((tmp_path / "r" / "config.yaml").read_text())["stop_at"] == 1.0
+    assert main(["resume", out, "--quiet"]) == 0  # finished: resume has nothing to do
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["generations"] == 2

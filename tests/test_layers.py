@@ -19,22 +19,24 @@ from shaped_es.methods import METHODS
 
 # Lowest first. "shaped_es" is the package's own __init__ (registers the envs, version, lazy load_policy).
 LAYERS: list[tuple[str, ...]] = [
-    ("seeding", "data", "progress", "tblog"),  # leaves: seeds, the Transitions record, display, TB tags
+    ("seeding", "data", "progress", "tblog", "callbacks"),  # leaves: seeds, the Transitions record, display,
+    # TB tags, the callback protocol
     ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("config", "rollout"),
     ("store_io",),  # the run directory's error type and atomic writes
-    ("run_lock",),  # one writer per run directory
+    ("run_lock", "wandb_log"),  # one writer per run directory; W&B logging (TB tags, its id file)
     ("store", "run_meta"),
     ("run_loop",),  # the run loop every method shares (lock, restore, rows, checkpoints)
     ("baselines",),  # PPO: knows nothing of ES
     ("load",),  # a run's policy from Python (ES or PPO)
     ("guides",),  # per-method hooks of the generation loop (shaped: a reference run's policy via load)
     ("trainer",),
-    ("preflight",),
-    ("evaluate", "render", "report"),
+    ("preflight", "env_check"),  # checks before a run; what an env needs (check-env, envs)
+    ("evaluate", "render", "report", "api"),  # api: shaped_es.train from Python
     ("benchmark", "speed"),
-    ("cli_errors",),  # how a command ends: one error line, exit codes, MPI supervision
+    ("cli_errors", "cli_info"),  # how a command ends (one error line, exit codes, MPI supervision); the
+    # commands that explain (config, envs, check-env)
     ("cli",),
     ("__main__",),
 ]

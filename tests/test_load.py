@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import torch
 
-from shaped_es import load_policy, seeding
+from shaped_es import evaluation_seeds, load_policy
 from shaped_es.cli import main
 from shaped_es.evaluate import evaluate_run
 
@@ -52,12 +52,36 @@ def _returns_with(policy, seeds):
 @pytest.mark.parametrize("which", ["best", "mean"])
 def test_load_policy_returns_what_evaluate_reports(runs, name, which):
     policy = load_policy(runs[name], which=which)
-    assert policy.generation == 2 and policy.which == which
-    seeds = seeding.episode_seeds(SEED, seeding.EVAL, 0, np.zeros(1), EPISODES)[0]  # evaluate's seeds
-    ours = _returns_with(policy, seeds)
+    assert policy.checkpoint_generation == 2 and policy.which == which
     ev = evaluate_run(runs[name], episodes=EPISODES, which=which, seed=SEED, executor="inline")
+    seeds = evaluation_seeds(EPISODES, SEED)  # the public function gives evaluate's seeds
+    assert ev["episode_seeds"] == seeds == policy.evaluation_seeds(EPISODES, SEED)
+    ours = _returns_with(policy, seeds)
+    np.testing.assert_allclose(ev["episode_returns"], ours, rtol=1e-6, atol=1e-6)
     assert ev["reward_mean"] == pytest.approx(ours.mean(), rel=1e-6, abs=1e-6)
-    assert ev["reward_min"] == pytest.approx(ours.min(), rel=1e-6, abs=1e-6)
+    assert ev["policy_generation"] == policy.generation and ev["checkpoint_generations"] == 2
+
+
+@pytest.mark.parametrize("name", ["es", "ppo"])
+def test_the_best_policy_names_its_generation(runs, name, tmp_path):
+    """The best policy comes from the first generation whose test reward is the run's best (counted as
+    generations done), also for checkpoints written before this was recorded (read from metrics.csv)."""
+    import json
+    import shutil
+
+    from shaped_es.store import RunStore
+
+    rows = RunStore(runs[name]).read_metrics()
+    test = [float(r["test_reward_mean"]) for r in rows]
+    assert load_policy(runs[name]).generation == int(np.argmax(test)) + 1
+    assert load_policy(runs[name], which="mean").generation == 2
+    old = tmp_path / "old"
+    shutil.copytree(runs[name], old)
+    meta_path = sorted((old / "checkpoints").glob("gen_*.json"))[-1]
+    meta = json.loads(meta_path.read_text())
+    del meta["best_generation"]
+    meta_path.write_text(json.dumps(meta))
+    assert load_policy(old).generation == int(np.argmax(test)) + 1
 
 
 @pytest.mark.parametrize("name", ["es", "ppo", "cartpole"])

@@ -92,7 +92,8 @@ def test_kill_and_resume_gives_identical_rows(tmp_path):
         (["train", "--env", "CartPole-v1", "--set", "es.sigma=-2", "--out", "{tmp}/d"], "es.sigma"),
         (["train", "--env", "CartPole-v1", "--set", "nonsense", "--out", "{tmp}/e"], "KEY=VALUE"),
         (["train", "--env", "CartPole-v1", "--set", "es.colour=3", "--out", "{tmp}/f"], "es.colour"),
-        (["resume", "{tmp}/nothing-here"], "not a run directory"),
+        (["resume", "{tmp}/nothing-here"], "nothing-here is not a run directory: it does not exist"),
+        (["train", "--env", "CartPole-v1", "--set", "es.sigma", "0.1", "--out", "{tmp}/g"], "expects KEY=VALUE"),
         (["evaluate", "{tmp}/nothing-here"], "not a run directory"),
     ],
 )

@@ -2,7 +2,9 @@
 
 Importing the package registers the built-in environments with Gymnasium, so
 ``gymnasium.make("shaped_es:CarNav-v0")`` works. ``load_policy(run_dir)`` loads a trained policy
-(``shaped_es.load``; imported on first use, so ``import shaped_es`` stays light for workers).
+(``shaped_es.load``), ``evaluation_seeds`` gives ``shaped-es evaluate``'s episode seeds, and
+``train(config, out, callback=...)`` starts a run from Python (``shaped_es.api``); all are imported on
+first use, so ``import shaped_es`` stays light for workers.
 """
 
 from shaped_es.envs import register_envs as _register_envs
@@ -11,8 +13,10 @@ __version__ = "0.1.0"
 
 _register_envs()
 
-_LAZY = {"load_policy": "shaped_es.load", "Policy": "shaped_es.load"}
-__all__ = ["Policy", "__version__", "load_policy"]
+_LAZY = {"load_policy": "shaped_es.load", "Policy": "shaped_es.load", "train": "shaped_es.api",
+         "RunConfig": "shaped_es.config", "Callback": "shaped_es.callbacks",
+         "evaluation_seeds": "shaped_es.seeding"}
+__all__ = ["Callback", "Policy", "RunConfig", "__version__", "evaluation_seeds", "load_policy", "train"]
 
 
 def __getattr__(name: str):

@@ -1,4 +1,5 @@
-"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench).
+"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench),
+and the commands that explain: config / envs / check-env (``cli_info.py``).
 
 Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
 directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
@@ -12,7 +13,6 @@ unexpected internal error is reported the same way with exit code 1. Warnings ar
 from __future__ import annotations
 
 import argparse
-import copy
 import json
 import os
 import sys
@@ -38,23 +38,20 @@ def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
 
 
 def cmd_train(a: argparse.Namespace) -> int:
+    from shaped_es.api import prepare_run
     from shaped_es.config import build_config, merge, parse_set, read_yaml
-    from shaped_es.preflight import check_run
-    from shaped_es.store import RunStore
 
     data = read_yaml(a.config) if a.config else {}
     flags = {"env": a.env, "method": a.method, "generations": a.generations, "seed": a.seed,
-             "executor": a.executor, "workers": a.workers, "address": a.address}
+             "executor": a.executor, "workers": a.workers, "address": a.address, "stop_at": a.stop_at,
+             "wandb.enabled": a.wandb or None}
     overrides = {k: v for k, v in flags.items() if v is not None}
     overrides.update(_pairs_override(a.pairs, a.popsize))
     if a.preset is not None:
         overrides["env_kwargs.preset"] = a.preset
     overrides.update(parse_set(a.set))
     cfg = build_config(merge(data, overrides))
-    store = RunStore(a.out)
-    if store.exists() or (store.root.exists() and not store.root.is_dir()):
-        store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
-    probe = check_run(cfg)  # everything is validated before anything is written (its env probe reused)
+    store, probe = prepare_run(cfg, a.out)  # everything is validated before anything is written
     with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
         store.create(cfg)  # checks again, under the lock, that no other train got there first
         return _run(cfg, store, a, probe)
@@ -129,7 +126,10 @@ def cmd_evaluate(a: argparse.Namespace) -> int:
     return 0
 
 
+RUN_DIR_HELP = "a run directory (the --out of train)"
+POLICY_HELP = "best: the policy with the best test reward so far; mean: the latest (ES: the search mean)"
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
+REPORT_OUT = "shaped-es-report/report.md"  # report's default: never loose files in the working folder
 
 
 def add_report_parser(sub) -> argparse.ArgumentParser:
@@ -137,9 +137,11 @@ def add_report_parser(sub) -> argparse.ArgumentParser:
 
     r = sub.add_parser("report", help="Fig. 4/5 (mean + CI over seeds, grouped by method) for any runs")
     r.add_argument("run_dirs", nargs="+", help="run directories, or benchmark directories (their runs/)")
-    r.add_argument("--out", default="report.png",
-                   help="a figure (.png/.pdf/.svg: Fig. 4 there, Fig. 5 beside it) or a .md report")
-    r.add_argument("--title", default="", help="figure / report title")
+    r.add_argument("--out", default=REPORT_OUT,
+                   help="a .md report page (summary.json and figures/ beside it) or a figure (.png/.pdf/.svg: "
+                        f"Fig. 4 there, the profile and Fig. 5 beside it) (default: {REPORT_OUT}, a folder of "
+                        "its own)")
+    r.add_argument("--title", help="figure / report title (default: the env and the seeds)")
     add_threshold(r)
     r.set_defaults(fn=cmd_report)
     return r
@@ -175,7 +177,7 @@ def cmd_report(a: argparse.Namespace) -> int:
         if taken and not out.exists():  # files a report page writes, but not from a report here
             raise ConfigError(f"--out {out} would overwrite {', '.join(taken)}, which no report {out.name} "
                               f"wrote; choose a directory of its own (or the existing report to redraw it)")
-        print(json.dumps(write_report(out, groups, configs, title=a.title, threshold=a.threshold)))
+        print(json.dumps(write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)))
         return 0
     if suffix not in FIGURE_SUFFIXES:
         raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
@@ -184,20 +186,22 @@ def cmd_report(a: argparse.Namespace) -> int:
     summary = summarize(metrics, threshold=a.threshold, config=first)
     figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
                                            "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
-                        first.env, a.title)
+                        first.env, a.title or "")
     print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
     return 0
 
 
 def add_render_parser(sub) -> argparse.ArgumentParser:
     r = sub.add_parser("render", help="write a rollout of a run's trained policy as a GIF")
-    r.add_argument("run_dir")
+    r.add_argument("run_dir", help=RUN_DIR_HELP)
     r.add_argument("--out", default="video.gif", help="output .gif")
-    r.add_argument("--policy", choices=("best", "mean"), default="best")
-    r.add_argument("--episodes", type=int, default=1)
-    r.add_argument("--seed", type=int, default=12345, help="seed of the rendered episodes")
-    r.add_argument("--max-steps", type=int, help="cap on steps per episode")
-    r.add_argument("--fps", type=float, default=30.0)
+    r.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
+    r.add_argument("--episodes", type=int, default=1, help="episodes in the GIF, one after another")
+    r.add_argument("--seed", type=int, default=12345,
+                   help="seed of the rendered episodes (evaluate's: the same seed gives its first episodes)")
+    r.add_argument("--max-steps", type=int,
+                   help="cap on steps per episode (default: the run's rollout.max_steps, else the env's limit)")
+    r.add_argument("--fps", type=float, default=30.0, help="frames per second of the GIF")
     r.add_argument("--every", type=int, default=1, help="keep every N-th frame")
     r.set_defaults(fn=cmd_render)
     return r
@@ -244,32 +248,6 @@ def cmd_bench_shaping(a: argparse.Namespace) -> int:
     return 0
 
 
-class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
-    """Every option's default in its help; ``None`` defaults (taken from the config) are described in the
-    option's own help instead of printing "(default: None)", and a help that names its default already
-    gets no second one."""
-
-    def _get_help_string(self, action):
-        if action.default is None or "default" in (action.help or "").lower():  # already says it
-            return action.help or ""
-        return super()._get_help_string(action)
-
-    def _format_action(self, action):
-        if not action.help and action.option_strings and action.default not in (None, argparse.SUPPRESS):
-            action = copy.copy(action)
-            action.help = "(default: %(default)s)"  # an option without help still shows its default
-        return super()._format_action(action)
-
-
-def _use_formatter(parser: argparse.ArgumentParser) -> None:
-    """``HelpFormatter`` for the parser and every sub-parser, however deep (added anywhere)."""
-    parser.formatter_class = HelpFormatter
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sp in action.choices.values():
-                _use_formatter(sp)
-
-
 def _config_default(dotted: str):
     from shaped_es.config import RunConfig
 
@@ -282,11 +260,14 @@ def _config_default(dotted: str):
 
 def build_parser() -> argparse.ArgumentParser:
     from shaped_es import __version__
+    from shaped_es.config import set_item
     from shaped_es.executors import EXECUTORS
     from shaped_es.methods import METHODS
 
     d = _config_default
-    p = argparse.ArgumentParser(prog="shaped-es", description="Shaped policy search with evolution strategies")
+    from shaped_es.cli_info import Parser, use_formatter
+
+    p = Parser(prog="shaped-es", description="Shaped policy search with evolution strategies")
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     p.add_argument("--debug", action="store_true",
                    help="print full tracebacks of errors (accepted anywhere on the command line; they also "
@@ -298,7 +279,8 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Start a run in a new directory" + cfg_note + ".")
     t.add_argument("--env", help=f"Gymnasium id, e.g. Pendulum-v1, CarNav-v0 or mypkg.envs:MyEnv-v0 "
                    f"(default: {d('env')})")
-    t.add_argument("--method", choices=tuple(METHODS), help=f"(default: {d('method')})")
+    t.add_argument("--method", choices=tuple(METHODS), metavar="{" + ",".join(METHODS) + "}",
+                   help="; ".join(f"{k}: {m.about}" for k, m in METHODS.items()) + f" (default: {d('method')})")
     t.add_argument("--generations", type=int, help=f"generations to run (default: {d('generations')})")
     t.add_argument("--seed", type=int, help=f"root seed (default: {d('seed')})")
     t.add_argument("--pairs", type=int, help=f"antithetic pairs, population = 2 x pairs "
@@ -306,31 +288,37 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--popsize", type=int, help=f"population size, even: sets --pairs to half of it "
                    f"(default: {2 * d('es.pairs')})")
     t.add_argument("--out", required=True, help="run directory (must not hold a run yet)")
-    t.add_argument("--executor", choices=tuple(EXECUTORS), help=f"(default: {d('executor')})")
+    t.add_argument("--executor", choices=tuple(EXECUTORS), help=f"where rollouts run: inline (this process), "
+                   f"process (local workers), ray, mpi (default: {d('executor')})")
     t.add_argument("--workers", type=int, help="worker count (default: all cores)")
     t.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster (default: a private "
                    "local Ray)")
     t.add_argument("--preset", help="env preset (built-in envs: default, paper; default: the env's)")
     t.add_argument("--config", help="YAML config file (default: none, built-in defaults)")
-    t.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a field, e.g. es.sigma=0.1 (repeatable; default: none)")
+    t.add_argument("--set", action="append", metavar="KEY=VALUE", type=set_item,
+                   help="override a config field, e.g. es.sigma=0.1 (repeatable; every field: shaped-es config; "
+                   "default: none)")
+    t.add_argument("--stop-at", type=float, metavar="R",
+                   help="end the run, as finished, once a test reward reaches R (default: run every generation)")
+    t.add_argument("--wandb", action="store_true",
+                   help="also log to Weights & Biases (pip install 'shaped-es[wandb]'; offline: WANDB_MODE=offline "
+                   "or --set wandb.mode=offline)")
     t.add_argument("--quiet", action="store_true", help="no progress display")
     t.set_defaults(fn=cmd_train)
 
     r = sub.add_parser("resume", help="continue a killed or finished run")
-    r.add_argument("run_dir")
+    r.add_argument("run_dir", help=RUN_DIR_HELP)
     r.add_argument("--generations", type=int,
                    help="extend the run to this many generations (default: the run's config)")
-    r.add_argument("--executor", choices=tuple(EXECUTORS), help="(default: the run's config)")
-    r.add_argument("--workers", type=int, help="(default: the run's config)")
+    r.add_argument("--executor", choices=tuple(EXECUTORS), help="where rollouts run (default: the run's config)")
+    r.add_argument("--workers", type=int, help="worker count (default: the run's config)")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(fn=cmd_resume)
 
     e = sub.add_parser("evaluate", help="evaluate a run's policy on fresh test episodes")
-    e.add_argument("run_dir")
+    e.add_argument("run_dir", help=RUN_DIR_HELP)
     e.add_argument("--episodes", type=int, default=15, help="test episodes")
-    e.add_argument("--policy", choices=("best", "mean"), default="best",
-                   help="best: the best test reward so far; mean: the latest (ES: the search mean)")
+    e.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
     e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
     e.set_defaults(fn=cmd_evaluate)
 
@@ -339,22 +327,25 @@ def build_parser() -> argparse.ArgumentParser:
     add_benchmark_parser(sub)
     add_report_parser(sub)
     add_render_parser(sub)
+    from shaped_es import cli_info
+
+    cli_info.add_parsers(sub)  # config, envs, check-env
 
     # "speed", so it is not confused with "benchmark" (the multi-seed study); "bench" still works
     b = sub.add_parser("speed", aliases=["bench"], help="speed benchmarks that print figures (JSON with --json)")
     bsub = b.add_subparsers(dest="what", required=True)
     be = bsub.add_parser("env", help="env + policy steps per second on all cores")
-    be.add_argument("env_id")
-    be.add_argument("--num-envs", type=int, default=1024)
-    be.add_argument("--workers", type=int)
-    be.add_argument("--seconds", type=float, default=6.0)
-    be.add_argument("--json", action="store_true")
+    be.add_argument("env_id", help="Gymnasium id, e.g. CarNav-v0")
+    be.add_argument("--num-envs", type=int, default=1024, help="episodes stepped together per worker")
+    be.add_argument("--workers", type=int, help="worker processes (default: all cores)")
+    be.add_argument("--seconds", type=float, default=6.0, help="how long to measure")
+    be.add_argument("--json", action="store_true", help="one line of JSON")
     be.set_defaults(fn=cmd_bench)
     bx = bsub.add_parser("executors", help="generation time and overhead per executor (population 64)")
     bx.add_argument("--executors", default="process,ray,mpi", help="comma-separated (default: all)")
     bx.add_argument("--env", help="env id (default: CarNav-v0)")
     bx.add_argument("--pairs", type=int, default=32, help="antithetic pairs (population = 2 x pairs)")
-    bx.add_argument("--workers", type=int)
+    bx.add_argument("--workers", type=int, help="worker count (default: all cores)")
     bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
     bx.add_argument("--json", action="store_true", help="one line of JSON")
     bx.set_defaults(fn=cmd_bench_executors)
@@ -367,13 +358,13 @@ def build_parser() -> argparse.ArgumentParser:
     bs.add_argument("--envs", default="CarNav-v0,UR5Reach-v0", help="comma-separated env ids")
     bs.add_argument("--generations", type=int, default=10, help="timed generations (medians reported)")
     bs.add_argument("--warmup", type=int, default=3, help="untimed generations first")
-    bs.add_argument("--executor", default="process", choices=("inline", "process"))
+    bs.add_argument("--executor", default="process", choices=("inline", "process"), help="where rollouts run")
     bs.add_argument("--workers", type=int, help="worker processes (default: all cores)")
-    bs.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+    bs.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", type=set_item,
                     help="config override for the shaped run only, e.g. shaping.cloning.steps=5")
     bs.add_argument("--json", action="store_true", help="one line of JSON")
     bs.set_defaults(fn=cmd_bench_shaping)
-    _use_formatter(p)
+    use_formatter(p)
     return p
 
 
@@ -400,6 +391,9 @@ def main(argv: list[str] | None = None) -> int:
         if mpi_spawn_command(a):
             return supervise(a, argv, debug)
         return int(a.fn(a) or 0)
+    except BrokenPipeError:  # the output's reader went away (| head): not an error of the command
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except KeyboardInterrupt:
         hint = continue_hint(a)
         print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)

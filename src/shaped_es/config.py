@@ -193,6 +193,17 @@ class PPOConfig(_Strict):
     target_kl: Float | None = Field(None, gt=0, description="early stop of an iteration's epochs")
 
 
+class WandbConfig(_Strict):
+    enabled: Bool = Field(False, description="log every metrics row to Weights & Biases under the TensorBoard "
+                          "tags (pip install 'shaped-es[wandb]')")
+    project: str = Field("shaped-es", description="W&B project")
+    entity: str | None = Field(None, description="W&B entity (user or team; None: the account's default)")
+    group: str | None = Field(None, description="W&B group (a benchmark sets its directory's name)")
+    mode: Literal["online", "offline", "disabled"] | None = Field(
+        None, description="offline: written under RUN/wandb/ for a later 'wandb sync', no network or account "
+        "needed; None: W&B's own setting (WANDB_MODE, else online)")
+
+
 class RunConfig(_Strict):
     env: str = Field("Pendulum-v1", description="Gymnasium id; 'module:Env-v0' imports module first")
     env_kwargs: dict[str, Any] = Field(default_factory=dict, description="keyword args for gym.make")
@@ -215,6 +226,9 @@ class RunConfig(_Strict):
     checkpoint_every: Int = Field(1, gt=0, description="checkpoint every N generations")
     keep_checkpoints: Int = Field(3, gt=0, description="checkpoints kept on disk (newest)")
     tensorboard: Bool = Field(True, description="also write TensorBoard events")
+    stop_at: Float | None = Field(None, description="end the run, as finished, once a test reward reaches "
+                                  "this (None: run every generation)")
+    wandb: WandbConfig = Field(default_factory=WandbConfig)
     policy: PolicyConfig = Field(default_factory=PolicyConfig)
     es: ESConfig = Field(default_factory=ESConfig)
     rollout: RolloutConfig = Field(default_factory=RolloutConfig)
@@ -301,6 +315,17 @@ def merge(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
             node = nxt
         node[parts[-1]] = value
     return out
+
+
+def set_item(text: str) -> str:
+    """``--set``'s argparse type: ``KEY=VALUE`` as one word (``--set es.sigma 0.1`` is refused here,
+    naming the fix, before argparse would report the value as an unrecognized argument)."""
+    if "=" not in text:
+        import argparse
+
+        raise argparse.ArgumentTypeError(f"expects KEY=VALUE as one word, got {text!r}: write --set "
+                                         f"{text or 'es.sigma'}=VALUE, no spaces around '='")
+    return text
 
 
 def parse_set(items: list[str] | None) -> dict[str, Any]:

@@ -1,4 +1,9 @@
-"""Evaluate a run's saved policy on fresh test episodes (``shaped-es evaluate RUN --episodes 15``)."""
+"""Evaluate a run's saved policy on fresh test episodes (``shaped-es evaluate RUN --episodes 15``).
+
+The JSON names the policy's own generation (``policy_generation``: for ``best``, the generations done
+when its test episodes made it the best; ``checkpoint_generations``: the checkpoint it is read from) and
+the episode seeds (``episode_seeds``, also ``shaped_es.evaluation_seeds``): ``env.reset(seed=s)`` with
+each, driven by ``load_policy(RUN).predict``, gives the returns reported here."""
 
 from __future__ import annotations
 
@@ -6,6 +11,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import make_executor
+from shaped_es.load import policy_generation
 from shaped_es.rollout import policy_episode_tasks, policy_spec, run_task
 from shaped_es.store import RunStore, StoreError
 
@@ -17,7 +23,7 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
     store = RunStore(run_dir)
     cfg = store.read_config()
     arrays, meta = store.require_checkpoint()
-    seeds = seeding.episode_seeds(seed, seeding.EVAL, 0, np.zeros(1), episodes)  # (1, E)
+    seeds = np.array([seeding.evaluation_seeds(episodes, seed)])  # (1, E)
     if cfg.method == "ppo":  # one process, as PPO trains (SB3 policy, deterministic actions)
         from shaped_es.baselines.ppo import load_policy
         from shaped_es.baselines.ppo_state import DeterministicEpisodes
@@ -27,7 +33,7 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
             returns, _ = runner.run(load_policy(cfg, arrays, which), seeds[0])  # (E,)
         finally:
             runner.close()
-        return _summary(run_dir, which, meta, returns)
+        return _summary(store, which, meta, returns, seeds[0])
     key = f"policy/{which}"
     if key not in arrays:
         raise StoreError(f"checkpoint of {run_dir} has no {which!r} policy")
@@ -41,12 +47,14 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
                                      max_steps=cfg.rollout.max_steps)
         res = ex.map(run_task, tasks)
     returns = np.concatenate([r.returns[0] for r in res])  # (E,)
-    return _summary(run_dir, which, meta, returns)
+    return _summary(store, which, meta, returns, seeds[0])
 
 
-def _summary(run_dir, which: str, meta: dict, returns: np.ndarray) -> dict:
-    # the generations the checkpoint covers (the best policy may come from an earlier one)
-    return {"run_dir": str(run_dir), "policy": which, "checkpoint_generations": meta["generation"],
+def _summary(store: RunStore, which: str, meta: dict, returns: np.ndarray, seeds: np.ndarray) -> dict:
+    return {"run_dir": str(store.root), "policy": which,
+            "policy_generation": policy_generation(store, meta, which),  # best: when it was found
+            "checkpoint_generations": meta["generation"],  # the generations the checkpoint covers
             "episodes": int(len(returns)), "reward_mean": float(returns.mean()),
             "reward_std": float(returns.std()), "reward_min": float(returns.min()),
-            "reward_max": float(returns.max())}
+            "reward_max": float(returns.max()), "episode_returns": [float(r) for r in returns],
+            "episode_seeds": [int(s) for s in seeds]}

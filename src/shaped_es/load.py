@@ -7,6 +7,7 @@
 
     policy = load_policy("runs/quickstart")          # which="best" (default) or "mean"
     env = policy.make_env()                          # gymnasium.make(the run's env id, **its env_kwargs)
+    seeds = policy.evaluation_seeds(15)              # the episodes of shaped-es evaluate --episodes 15
     obs, _ = env.reset(seed=0)
     action = policy.predict(obs)                     # one observation -> one action
     actions = policy.predict(obs_batch)              # (B, obs_dim) -> (B, act_dim), or (B,) for Discrete
@@ -17,8 +18,9 @@ Actions are those ``shaped-es evaluate`` feeds the env: ES policies output ``[-1
 bounds). PPO runs load the same way (``policy.sb3_policy`` is the SB3 ``ActorCriticPolicy``).
 
 ``which``: ``"best"`` is the policy with the best test reward so far (what ``evaluate`` and ``render``
-use by default); ``"mean"`` is the latest (ES: the search distribution's mean; PPO: the latest weights).
-Both come from the run's newest checkpoint.
+use by default; ``policy.generation`` says when it was found); ``"mean"`` is the latest (ES: the search
+distribution's mean; PPO: the latest weights). Both come from the run's newest checkpoint
+(``policy.checkpoint_generation``).
 """
 
 from __future__ import annotations
@@ -42,9 +44,14 @@ class Policy:
     run_dir: Path
     method: str  # vanilla | guided | cmaes | shaped | ppo
     which: str  # best | mean
-    generation: int  # generations done at the checkpoint it comes from
+    # the policy's own generation, counted as generations done (metrics.csv row ``generation - 1``):
+    # "best": when its test episodes made it the best so far (0: the initial policy; None: a checkpoint
+    # older than this record whose metrics do not tell); "mean": the checkpoint's
+    generation: int | None
+    checkpoint_generation: int  # generations done at the checkpoint it is read from
     env_id: str  # the run's Gymnasium id
     env_kwargs: dict  # the run's keyword arguments for gymnasium.make
+    max_steps: int | None  # the run's rollout.max_steps: evaluate's cap on episode length (None: the env's)
     observation_space: gym.spaces.Box
     action_space: gym.Space
     theta: np.ndarray | None = None  # ES: flat parameters (num_params,) float32
@@ -56,10 +63,18 @@ class Policy:
         return int(self.observation_space.shape[0])
 
     def make_env(self, **kwargs) -> gym.Env:
-        """``gymnasium.make`` of the run's env with its ``env_kwargs`` (``kwargs`` override them)."""
+        """``gymnasium.make`` of the run's env with its ``env_kwargs`` (``kwargs`` override them), capped
+        at the run's ``rollout.max_steps`` if it sets one: the episodes ``evaluate`` runs."""
         import shaped_es  # noqa: F401 - registers the built-in envs
 
-        return gym.make(self.env_id, **{**self.env_kwargs, **kwargs})
+        env = gym.make(self.env_id, **{**self.env_kwargs, **kwargs})
+        return env if self.max_steps is None else gym.wrappers.TimeLimit(env, self.max_steps)
+
+    def evaluation_seeds(self, episodes: int = 15, seed: int = 12345) -> list[int]:
+        """The episode seeds of ``shaped-es evaluate --episodes E --seed S`` (``shaped_es.evaluation_seeds``)."""
+        from shaped_es.seeding import evaluation_seeds
+
+        return evaluation_seeds(episodes, seed)
 
     def predict(self, obs) -> np.ndarray | int:
         """Deterministic action(s) for one observation ``(obs_dim,)`` or a batch ``(B, obs_dim)``."""
@@ -107,9 +122,10 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
         obs_space, act_space = env.observation_space, env.action_space
     finally:
         env.close()
-    common = dict(run_dir=Path(run_dir), method=cfg.method, which=which, generation=int(meta["generation"]),
-                  env_id=cfg.env, env_kwargs=dict(cfg.env_kwargs), observation_space=obs_space,
-                  action_space=act_space)
+    common = dict(run_dir=Path(run_dir), method=cfg.method, which=which,
+                  generation=policy_generation(store, meta, which), checkpoint_generation=int(meta["generation"]),
+                  env_id=cfg.env, env_kwargs=dict(cfg.env_kwargs), max_steps=cfg.rollout.max_steps,
+                  observation_space=obs_space, action_space=act_space)
     if cfg.method == "ppo":
         from shaped_es.baselines.ppo import load_policy as load_sb3
 
@@ -125,6 +141,24 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
         raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
                          f"{spec.num_params}")
     return Policy(**common, theta=theta, spec=spec)
+
+
+def policy_generation(store: RunStore, meta: dict, which: str) -> int | None:
+    """Generations done when the checkpoint's ``which`` policy was made (``Policy.generation``): the
+    checkpoint's for "mean"; for "best" its record (``best_generation``), else, for checkpoints older than
+    it, the first metrics row whose test reward is the checkpoint's best (None if none is)."""
+    if which == "mean":
+        return int(meta["generation"])
+    g = meta.get("best_generation")
+    if type(g) is int:
+        return g
+    best = meta.get("best_test_reward")
+    if best is None:
+        return None
+    for row in store.read_metrics():
+        if row.get("test_reward_mean") not in (None, "") and float(row["test_reward_mean"]) == best:
+            return int(row["generation"]) + 1
+    return None
 
 
 def _to_space(space: gym.Space, a: np.ndarray) -> np.ndarray:

@@ -27,8 +27,9 @@ def _no_args(*_) -> dict[str, Any]:
 class Method:
     """How one method is built; see the module docstring."""
 
-    # "module:attr" of ``train(cfg, store, progress=True, probe=None) -> metrics rows``: trains or resumes a
-    # run (``probe``: the run's ``rollout.EnvProbe`` if the caller made one, else it probes its env).
+    # "module:attr" of ``train(cfg, store, progress=True, probe=None, callback=None) -> metrics rows``: trains
+    # or resumes a run (``probe``: the run's ``rollout.EnvProbe`` if the caller made one, else it probes its
+    # env; ``callback``: shaped_es.callbacks).
     train: str = "shaped_es.trainer:train"
     # ES methods: "module:attr" of the strategy class, built as ``cls(x0, **strategy_args(cfg, seed))``.
     strategy: str | None = None
@@ -42,6 +43,7 @@ class Method:
     # The fields of the method-specific sections (``es``, ``shaping``, ``ppo``) it reads: "es.sigma" is a
     # field, "shaping" a whole section. The benchmark compares and reports runs by them.
     reads: tuple[str, ...] = ()
+    about: str = ""  # what the method is, in a few words (the CLI's --method help)
 
 
 def _es_args(cfg, seed: int) -> dict[str, Any]:
@@ -67,19 +69,24 @@ ES_READS = ("es.pairs", "es.sigma", "es.lr", "es.optimizer", "es.momentum", "es.
             "es.fitness_shaping")  # what _es_args reads
 
 METHODS: dict[str, Method] = {
-    "vanilla": Method(strategy=VANILLA_ES, strategy_args=_es_args, reads=ES_READS),
+    "vanilla": Method(strategy=VANILLA_ES, strategy_args=_es_args, reads=ES_READS,
+                      about="antithetic ES with rank-shaped returns and Adam (Vanilla-ES)"),
     "guided": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides:PastUpdateGuide",
                      guide_args=lambda cfg, spec, store, probe: {"k": cfg.es.guided_k},
-                     reads=ES_READS + ("es.alpha", "es.guided_k")),
+                     reads=ES_READS + ("es.alpha", "es.guided_k"),
+                     about="Guided ES, the last ES updates as surrogate gradients (no waypoints)"),
     "cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
                     reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
-                           "es.cmaes_diagonal_above")),
+                           "es.cmaes_diagonal_above"), about="CMA-ES (pycma; separable above a size)"),
     "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
                      guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
                                                                  "probe": probe},
-                     probe_reset=True, reads=ES_READS + ("es.alpha", "shaping")),
+                     probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
+                     about="the paper's method: Guided ES whose surrogates are policies behaviour-cloned "
+                           "towards waypoint labels (needs info['position'] and info['waypoint'])"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget
-    "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo")),
+    "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo"),
+                  about="PPO (Stable-Baselines3, one core), a generation = the env steps of one ES one"),
 }
 
 

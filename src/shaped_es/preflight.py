@@ -2,7 +2,7 @@
 
 ``train`` and ``benchmark`` call :func:`check_run` first, so bad input (an unknown env, spaces the
 policy cannot use, ``--method shaped`` on an env without the waypoint contract, PPO without a time
-limit, strategy settings the strategy refuses, a missing optional executor, a policy or population
+limit, strategy settings the strategy refuses, a missing optional executor or wandb package, a policy or population
 that cannot fit in memory, more local workers than a machine runs) fails with one line and leaves no
 directory that would block the retry.
 """
@@ -28,6 +28,7 @@ def check_run(cfg: RunConfig) -> EnvProbe:
     # one env made for the dims, the time limit and (shaped) the reset info
     probe = probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
     _check_executor(cfg.executor)
+    _check_wandb(cfg)
     _check_workers(cfg)
     if cfg.method == "ppo":
         from shaped_es.baselines.ppo_settings import iterations_per_generation, ppo_settings
@@ -94,3 +95,10 @@ def _check_executor(name: str) -> None:
     needs = {"ray": ("ray", "ray"), "mpi": ("mpi4py", "mpi")}.get(name)
     if needs and importlib.util.find_spec(needs[0]) is None:
         raise ExecutorError(f"{needs[0]} is not installed: pip install 'shaped-es[{needs[1]}]'")
+
+
+def _check_wandb(cfg: RunConfig) -> None:
+    import importlib.util
+
+    if cfg.wandb.enabled and importlib.util.find_spec("wandb") is None:
+        raise ConfigError("--wandb: the wandb package is not installed: pip install 'shaped-es[wandb]'")

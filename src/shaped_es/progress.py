@@ -1,28 +1,42 @@
-"""Live progress for long runs: a rich bar on a terminal, a plain line every few generations otherwise."""
+"""Live progress for long runs: a rich bar on a terminal, a plain line otherwise (a log file, a pipe).
+
+Off a terminal the first line comes with the first generation, the second with the next, then one every
+~5% of the run. Its pace, the steps/s and the ETA, is measured from the first generation's line on: the
+first generation carries the start-up (worker processes, compiled kernels, imports), so the time to it
+would inflate every ETA; the first line therefore has no ETA yet. Below ~110 columns the terminal bar
+drops its bar graphic and keeps the generation count, the rewards, steps/s and the ETA (80 columns fit).
+"""
 
 from __future__ import annotations
 
 import sys
 import time
+from collections.abc import Callable
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+COMPACT_BELOW = 110  # terminal columns
+
 
 class ProgressDisplay:
-    def __init__(self, total: int, start: int = 0, enabled: bool = True, label: str = "train"):
+    def __init__(self, total: int, start: int = 0, enabled: bool = True, label: str = "train",
+                 clock: Callable[[], float] = time.perf_counter, console: Console | None = None,
+                 stream=None):
         self.total, self.enabled, self.label = total, enabled, label
-        self._t0, self._start = time.perf_counter(), start
+        self._clock, self._stream = clock, stream
+        self._t0, self._start = clock(), start
+        self._first: tuple[float, int, int] | None = None  # (time, generations done, steps) at the first line
         self._steps = 0
-        self._live = enabled and sys.stderr.isatty()
+        self._live = enabled and (console is not None or sys.stderr.isatty())
         self._every = max(1, (total - start) // 20)
         self._bar = None
         self._compact = False
         if self._live:
-            console = Console(stderr=True)
-            # below ~110 columns the bar graphic and the least needed figures go first, so that the
-            # generation count and the ETA always fit (rich cuts a line's end otherwise)
-            self._compact = console.width < 110
+            console = console or Console(stderr=True)
+            # below COMPACT_BELOW columns the bar graphic goes and the figures shorten, so that the
+            # generation count, steps/s and the ETA always fit (rich cuts a line's end otherwise)
+            self._compact = console.width < COMPACT_BELOW
             bar = [] if self._compact else [BarColumn(bar_width=24)]
             self._bar = Progress(
                 TextColumn("[bold]{task.description}"),
@@ -38,27 +52,50 @@ class ProgressDisplay:
             self._bar.start()
             self._task = self._bar.add_task(label, total=total, completed=start, info="")
 
+    def _rate(self, now: float) -> float:
+        """Env steps per second since the first line (before it: since the start)."""
+        if self._first is None or now <= self._first[0]:
+            return self._steps / max(now - self._t0, 1e-9)
+        return (self._steps - self._first[2]) / (now - self._first[0])
+
+    def eta(self, now: float, done: int) -> float | None:
+        """Seconds left at the pace since the first line (None before a second line)."""
+        if self._first is None or done <= self._first[1] or now <= self._first[0]:
+            return None
+        return (now - self._first[0]) / (done - self._first[1]) * (self.total - done)
+
     def update(self, generation: int, row: dict) -> None:
         if not self.enabled:
             return
+        now, done = self._clock(), generation + 1
         self._steps += int(row.get("gen_env_steps", 0) or 0)
-        rate = self._steps / max(time.perf_counter() - self._t0, 1e-9)
+        rate = self._rate(now)
         test = row.get("test_reward_mean")
-        test_s = "" if test in (None, "") else f" test {float(test):8.2f}"
         if self._compact:
-            info = f"train {row['train_reward_mean']:7.1f}{'' if not test_s else f' test {float(test):7.1f}'}"
+            test_s = "" if test in (None, "") else f" test {float(test):.1f}"
+            info = f"train {float(row['train_reward_mean']):.1f}{test_s} {_si(rate)} steps/s"
         else:
-            info = (f"train mean {row['train_reward_mean']:8.2f} max {row['train_reward_max']:8.2f}"
+            test_s = "" if test in (None, "") else f" test {float(test):8.2f}"
+            info = (f"train mean {float(row['train_reward_mean']):8.2f} max {float(row['train_reward_max']):8.2f}"
                     f"{test_s}  {rate:,.0f} steps/s")
-        done = generation + 1
         if self._bar is not None:
             self._bar.update(self._task, completed=done, info=info)
-        elif done % self._every == 0 or done == self.total:
-            elapsed = time.perf_counter() - self._t0
-            left = elapsed / max(done - self._start, 1) * (self.total - done)  # at the pace so far
-            print(f"[{self.label}] gen {done}/{self.total} {info}  {elapsed:.0f}s, ETA {left:.0f}s",
-                  file=sys.stderr, flush=True)
+        elif done - self._start <= 2 or done % self._every == 0 or done == self.total:
+            left = self.eta(now, done)
+            eta = f"ETA {left:.0f}s" if left is not None else "ETA after the next generation"
+            print(f"[{self.label}] gen {done}/{self.total} {info}  {now - self._t0:.0f}s, {eta}",
+                  file=self._stream or sys.stderr, flush=True)
+        if self._first is None:
+            self._first = (now, done, self._steps)
 
     def close(self) -> None:
         if self._bar is not None:
             self._bar.stop()
+
+
+def _si(x: float) -> str:
+    """1234 -> '1.2k', 2.5e6 -> '2.5M' (compact figures for narrow terminals)."""
+    for scale, suffix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if abs(x) >= scale:
+            return f"{x / scale:.1f}{suffix}"
+    return f"{x:.0f}"

@@ -104,7 +104,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
     act = policy_fn(store, which)
     env = _rgb_env(cfg.env, cfg.env_kwargs)
     cap = max_steps or cfg.rollout.max_steps
-    seeds = seeding.episode_seeds(seed, seeding.EVAL, 0, np.zeros(1), episodes)[0]  # (E,)
+    seeds = seeding.evaluation_seeds(episodes, seed)  # evaluate's episodes
     frames, returns = [], []
     try:
         for s in seeds:

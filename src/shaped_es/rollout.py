@@ -130,9 +130,26 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
         return gym.make(env_id, **(env_kwargs or {}))
     except (gym.error.Error, ModuleNotFoundError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
+            msg = _missing_module(env_id.split(":", 1)[0], exc) or msg
         raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
     except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
         raise EnvError(f"cannot make env {env_id!r}: {_first_line(exc)}", traceback.format_exc()) from None
+
+
+def _missing_module(module: str, exc: ModuleNotFoundError) -> str | None:
+    """Why ``module`` of a ``module:Env-v0`` id did not import: it is not on the path here (a run of an
+    env defined next to it, used from another folder), or it imports a package that is not installed."""
+    import os
+
+    cause = exc.__cause__ if isinstance(exc.__cause__, ModuleNotFoundError) else exc
+    missing = getattr(cause, "name", None)
+    if missing is None:
+        return None
+    if missing == module or module.startswith(missing + "."):
+        return (f"its module {module!r} cannot be imported from {os.getcwd()}: run from the folder that "
+                f"holds {module.split('.')[0]}, or add that folder to PYTHONPATH")
+    return f"its module {module!r} imports {missing!r}, which is not installed"
 
 
 def env_dims(env: gym.Env) -> tuple[int, int]:

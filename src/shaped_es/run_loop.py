@@ -12,7 +12,16 @@ generations and at the last one. A method supplies:
 - ``load_state(arrays, meta)``: load them, raising ``KeyError``/``ValueError``/... if they do not fit
   (nothing on disk changes before it returns); ``resumed(arrays, meta)``: what follows once the
   counters are back (default nothing);
-- ``close()``: release what it holds, calling ``super().close()``.
+- ``close()``: release what it holds, calling ``super().close()``;
+- ``columns()``: the ``metrics.csv`` columns its rows fill (default :data:`BASE_COLUMNS`; a guide adds
+  the ones it fills with its config, ``guides.NoGuide.metric_keys``), so no column stays always empty;
+- ``best_generation``: set to the generations done when its best policy was found (checkpointed).
+
+After each row the loop calls the run's callbacks (``callback``: a function ``row -> bool | None`` or a
+:class:`shaped_es.callbacks.Callback`, or a list of them; ``False`` stops the run, as SB3's
+``BaseCallback._on_step``), and ``stop_at`` (``--stop-at R``) ends the run once a test reward reaches
+``R``. A stopped run completes the rows still waiting for their test episodes and checkpoints; one
+stopped by ``stop_at`` counts as finished (:func:`run_finished`) while its config keeps ``stop_at``.
 """
 
 from __future__ import annotations
@@ -20,19 +29,35 @@ from __future__ import annotations
 import contextlib
 import math
 
+import sys
+
+from shaped_es.callbacks import as_callbacks
 from shaped_es.config import RunConfig
 from shaped_es.progress import ProgressDisplay
 from shaped_es.run_meta import Counters, config_digest
 from shaped_es.store import RunStore, StoreError
 
+# the columns every method's metrics row holds, in metrics.csv's order
+BASE_COLUMNS = ("generation", "env_steps", "wall_time_s", "cpu_time_s", "train_reward_mean", "train_reward_max",
+                "train_reward_min", "test_reward_mean", "test_reward_std", "test_reward_best_so_far",
+                "test_env_steps", "gen_env_steps", "gen_time_s", "rollout_time_s", "update_norm")
+STOP_AT = "stop_at"  # a checkpoint's ``stopped``: the run reached ``cfg.stop_at`` (finished)
+CALLBACK = "callback"  # ... a callback stopped it (resumable)
+
 
 class RunLoop:
     label = "train"  # the progress bar's label
 
-    def __init__(self, cfg: RunConfig, store: RunStore, method: str, progress: bool = True):
+    def __init__(self, cfg: RunConfig, store: RunStore, method: str, progress: bool = True, callback=None):
         self.cfg, self.store, self.method, self.progress = cfg, store, method, progress
         self.c = Counters()
+        # generations done when the best policy was found (0: the initial one; None: an old checkpoint's)
+        self.best_generation: int | None = 0
+        self.stopped: str | None = None  # STOP_AT or CALLBACK once the run ended early
+        self.callbacks = as_callbacks(callback)
+        self._restored_stop: str | None = None
         self._tb = None
+        self._wandb = None
 
     # -- supplied by each method -------------------------------------------------------------------
     def step(self, g: int) -> list[dict]:
@@ -50,6 +75,9 @@ class RunLoop:
     def resumed(self, arrays: dict, meta: dict) -> None:
         pass
 
+    def columns(self) -> tuple[str, ...]:
+        return BASE_COLUMNS
+
     # -- the loop ----------------------------------------------------------------------------------
     def run(self) -> list[dict]:
         """Run (or continue) to ``cfg.generations``; returns the rows written by this call."""
@@ -64,6 +92,11 @@ class RunLoop:
     def _loop(self) -> list[dict]:
         self.restore()
         rows: list[dict] = []
+        if self._restored_stop == STOP_AT and self.cfg.stop_at is not None:  # finished: nothing to do
+            self.close()
+            return rows
+        for cb in self.callbacks:
+            cb.on_start(self)
         bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress,
                               label=self.label)
         try:
@@ -72,23 +105,66 @@ class RunLoop:
                 last = g + 1 == self.cfg.generations
                 if last:
                     done += self.finish()
-                for row in done:
-                    self.store.append_metrics(row)
-                    self._log_tb(row)
-                    rows.append(row)
-                    bar.update(int(row["generation"]), row)
-                if (g + 1) % self.cfg.checkpoint_every == 0 or last:
+                stop = self._write_rows(done, rows, bar)
+                if stop and not last:  # the rows still waiting for their test episodes, then stop
+                    self._write_rows(self.finish(), rows, bar)
+                    self.stopped = stop
+                if (g + 1) % self.cfg.checkpoint_every == 0 or last or self.stopped:
                     self.checkpoint()
+                if self.stopped:
+                    self._say_stopped(rows)
+                    break
         finally:
             bar.close()
             self.close()
+        for cb in self.callbacks:
+            cb.on_end(rows)
         return rows
+
+    def _write_rows(self, done: list[dict], rows: list[dict], bar: ProgressDisplay) -> str | None:
+        """Write each row (metrics.csv, TensorBoard, W&B, the progress bar), then call the callbacks;
+        returns why the run should stop (``STOP_AT`` / ``CALLBACK``), or None."""
+        stop = None
+        for raw in done:
+            row = self.metrics_row(raw)
+            self.store.append_metrics(row)
+            self._log_tb(row)
+            self._log_wandb(row)
+            rows.append(row)
+            bar.update(int(row["generation"]), row)
+            test = row.get("test_reward_mean")
+            if self.cfg.stop_at is not None and test is not None and test >= self.cfg.stop_at:
+                stop = stop or STOP_AT
+            if any([cb.on_generation(row) is False for cb in self.callbacks]):  # every callback sees it
+                stop = stop or CALLBACK
+        return stop
+
+    def metrics_row(self, row: dict) -> dict:
+        """``row`` as ``metrics.csv`` holds it: every declared column (:meth:`columns`), in order; a value
+        in an undeclared column is a bug of the method (a column it fills but does not declare)."""
+        cols = self.columns()
+        stray = sorted(k for k, v in row.items() if k not in cols and v is not None)
+        if stray:
+            raise RuntimeError(f"{self.method}: metrics columns {stray} are filled but not declared "
+                               f"(columns() / the guide's metric_keys())")
+        return {k: row.get(k) for k in cols}
+
+    def _say_stopped(self, rows: list[dict]) -> None:
+        if self.stopped == STOP_AT:
+            best = max(float(r["test_reward_mean"]) for r in rows if r.get("test_reward_mean") is not None)
+            why = f"a test reward of {best:.2f} reached --stop-at {self.cfg.stop_at:g}"
+        else:
+            why = "a callback returned False"
+        if self.progress:
+            print(f"[{self.label}] stopped after {self.c.generation} of {self.cfg.generations} generations: "
+                  f"{why}", file=sys.stderr, flush=True)
 
     # -- checkpoint and resume ---------------------------------------------------------------------
     def checkpoint(self) -> None:
         """Save the method's state with the counters, the config digest and the method's name."""
         arrays, extra = self.checkpoint_state()
-        meta = {**self.c.__dict__, "config_digest": config_digest(self.cfg), "method": self.method, **extra}
+        meta = {**self.c.__dict__, "config_digest": config_digest(self.cfg), "method": self.method,
+                "best_generation": self.best_generation, "stopped": self.stopped, **extra}
         if not math.isfinite(meta["best_test_reward"]):
             meta["best_test_reward"] = None
         self.store.save_checkpoint(self.c.generation, arrays, meta, keep=self.cfg.keep_checkpoints)
@@ -117,6 +193,9 @@ class RunLoop:
         self.store.recover(loaded=loaded)
         for k, v in counters.items():
             setattr(self.c, k, v)
+        best = meta.get("best_generation")
+        self.best_generation = best if type(best) is int else None
+        self._restored_stop = meta.get("stopped")
         self.resumed(arrays, meta)
         return True
 
@@ -132,10 +211,34 @@ class RunLoop:
             self._tb = tblog.open_writer(self.store.root / "tb", row)
         tblog.log_row(self._tb, row)
 
+    def _log_wandb(self, row: dict) -> None:
+        """The row in Weights & Biases under the same ``GROUP/column`` names (:mod:`shaped_es.wandb_log`)."""
+        if not self.cfg.wandb.enabled:
+            return
+        from shaped_es import wandb_log
+
+        if self._wandb is None:
+            self._wandb = wandb_log.open_run(self.store.root, self.cfg.wandb, self.cfg.model_dump(mode="json"))
+            if self.progress:
+                print(f"[{self.label}] W&B: {wandb_log.where(self._wandb)}", file=sys.stderr, flush=True)
+        wandb_log.log_row(self._wandb, row)
+
     def close(self) -> None:
         if self._tb is not None:
             self._tb.close()
             self._tb = None
+        if self._wandb is not None:
+            self._wandb.finish()
+            self._wandb = None
+
+
+def run_finished(cfg: RunConfig, store: RunStore) -> bool:
+    """The run's newest checkpoint covers ``cfg.generations``, or the run stopped at ``cfg.stop_at``."""
+    meta = store.checkpoint_meta()
+    if meta is None:
+        return False
+    return int(meta["generation"]) >= cfg.generations or (meta.get("stopped") == STOP_AT and
+                                                          cfg.stop_at is not None)
 
 
 def read_counters(meta: dict) -> dict:

@@ -38,3 +38,9 @@ def episode_seeds(
         for e in range(episodes):
             out[r, e] = derive_seed(root, stream, generation, int(m) + 1, e)
     return out
+
+
+def evaluation_seeds(episodes: int = 15, seed: int = 12345) -> list[int]:
+    """The episode seeds ``shaped-es evaluate --episodes E --seed S`` (and ``render``) run, in order:
+    ``env.reset(seed=s)`` for each gives the episodes it reports (``evaluate``'s JSON lists them too)."""
+    return [int(s) for s in episode_seeds(seed, EVAL, 0, np.zeros(1), episodes)[0]]

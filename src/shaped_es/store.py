@@ -142,7 +142,9 @@ class RunStore:
 
     def read_config(self) -> RunConfig:
         if not self.exists():
-            if self.root.exists() and not self.root.is_dir():
+            if not self.root.exists():
+                raise StoreError(f"{self.root} is not a run directory: it does not exist")
+            if not self.root.is_dir():
                 raise StoreError(f"{self.root} is not a run directory (not a directory)")
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         return build_config(read_yaml(self.config_path))
@@ -292,6 +294,11 @@ class RunStore:
         """Generations covered by the newest complete checkpoint (0 without one); reads no arrays."""
         gens = self.checkpoints()
         return gens[-1] if gens else 0
+
+    def checkpoint_meta(self) -> dict | None:
+        """The newest complete checkpoint's metadata, None without one."""
+        loaded = self.load_checkpoint()
+        return None if loaded is None else loaded[1]
 
     def require_checkpoint(self) -> tuple[dict[str, np.ndarray], dict]:
         """:meth:`load_checkpoint`, with one clear ``StoreError`` when the run has none yet."""

@@ -62,9 +62,11 @@ def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe 
     return resolve(method.guide)(**method.guide_args(cfg, spec, store, probe))
 
 
-def train(cfg: RunConfig, store: RunStore, progress: bool = True, probe: EnvProbe | None = None) -> list[dict]:
-    """Train (or resume) an ES run into ``store``; returns the metrics rows written (``Trainer.run``)."""
-    return Trainer(cfg, store, progress=progress, probe=probe).run()
+def train(cfg: RunConfig, store: RunStore, progress: bool = True, probe: EnvProbe | None = None,
+          callback=None) -> list[dict]:
+    """Train (or resume) an ES run into ``store``; returns the metrics rows written (``Trainer.run``;
+    ``callback``: see :mod:`shaped_es.callbacks`)."""
+    return Trainer(cfg, store, progress=progress, probe=probe, callback=callback).run()
 
 
 @dataclass
@@ -81,8 +83,8 @@ class Trainer(RunLoop):
     """The ES generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints)."""
 
     def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
-                 progress: bool = True, probe: EnvProbe | None = None):
-        super().__init__(cfg, store, cfg.method, progress)
+                 progress: bool = True, probe: EnvProbe | None = None, callback=None):
+        super().__init__(cfg, store, cfg.method, progress, callback)
         self._own_executor = executor is None
         self.executor = executor or make_executor(
             cfg.executor, workers=cfg.workers, **_executor_options(cfg)
@@ -100,6 +102,9 @@ class Trainer(RunLoop):
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store, probe)
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
+
+    def columns(self) -> tuple[str, ...]:
+        return super().columns() + tuple(self.guide.metric_keys())
 
     # -- checkpointing -----------------------------------------------------------------------------
     def checkpoint_state(self) -> tuple[dict, dict]:
@@ -185,6 +190,7 @@ class Trainer(RunLoop):
             row["test_env_steps"] = int(sum(r.lengths.sum() for r in res))
             if test_ret.mean() > self.c.best_test_reward:
                 self.c.best_test_reward, self.best_params = float(test_ret.mean()), item.theta
+                self.best_generation = int(row["generation"]) + 1
         row["test_reward_best_so_far"] = self.c.best_test_reward if math.isfinite(
             self.c.best_test_reward) else None
         return row

@@ -21,7 +21,7 @@ def tiny(seeds=2, generations=2):
             "--set", "es.pairs=4", "--set", "rollout.max_steps=100", "--set", "rollout.test_episodes=3",
             "--set", "policy.hidden=[8]", "--set", "tensorboard=false", "--quiet",
             # PPO with a small rollout: SB3's 2048 steps x 10 epochs would dominate a tiny benchmark
-            "--set", "ppo.n_steps=256", "--set", "ppo.n_epochs=4"]
+            "--set", "ppo.n_steps=256", "--set", "ppo.n_epochs=4", "--no-estimate"]
 
 
 TINY = tiny()

@@ -17,7 +17,7 @@ from shaped_es.store import RunStore, StoreError
 TINY = ["--env", "CartPole-v1", "--seeds", "1", "--executor", "inline", "--quiet",
         "--set", "es.pairs=2", "--set", "rollout.max_steps=50", "--set", "rollout.test_episodes=2",
         "--set", "policy.hidden=[4]", "--set", "tensorboard=false", "--set", "ppo.n_steps=128",
-        "--set", "ppo.n_epochs=1"]
+        "--set", "ppo.n_epochs=1", "--no-estimate"]
 
 
 def _cli(*argv):
@@ -97,3 +97,17 @@ def test_four_method_benchmark_on_a_builtin_env_with_defaults(tmp_path):
     assert (out / "report.md").is_file()
     for m in s["methods"]:
         assert len(_metrics(out, f"{m}_s0").strip().splitlines()) == 3
+
+
+def test_stop_at_ends_runs_early_and_a_rerun_skips_them(tmp_path):
+    out = tmp_path / "b"
+    # CartPole's test reward is at least 1: every run reaches --stop-at 1 at its first evaluation
+    assert _cli(*TINY, "--methods", "vanilla,ppo", "--generations", 4, "--stop-at", 1, "--out", out) == 0
+    assert _status(out) == {"vanilla_s0": "new", "ppo_s0": "new"}
+    assert len(_metrics(out, "vanilla_s0").strip().splitlines()) == 1 + 2  # its row 0, and generation 1's
+    assert len(_metrics(out, "ppo_s0").strip().splitlines()) == 1 + 1
+    assert _cli(*TINY, "--methods", "vanilla,ppo", "--generations", 4, "--stop-at", 1, "--out", out) == 0
+    assert _status(out) == {"vanilla_s0": "skipped", "ppo_s0": "skipped"}  # finished, as far as they go
+    assert _cli(*TINY, "--methods", "vanilla", "--generations", 4, "--out", out) == 0  # without it: continued
+    assert _status(out) == {"vanilla_s0": "resumed"}
+    assert len(_metrics(out, "vanilla_s0").strip().splitlines()) == 1 + 4

@@ -175,3 +175,27 @@ def test_report_says_which_method_beats_which(tmp_path):
     # threshold = best baseline final mean (no 'shaped'): vanilla's 12.5; 3 of its 6 seeds reach it
     assert s["threshold"]["value"] == 12.5 and s["methods"]["vanilla"]["successes"] == 3
     assert s["methods"]["cmaes"]["to_threshold"]["generations"]["per_seed"] == [3.0] * 6  # budget 2 + 1
+
+
+def test_settings_show_what_each_method_uses_as_plain_values(runs, tmp_path):
+    from shaped_es.benchmark.summary import method_settings
+
+    def settings(method, **over):
+        return method_settings(build_config({"env": "CarNav-v0", "method": method, "es": {"sigma": 0.1},
+                                             "env_kwargs": {"preset": "paper"}, **over}))
+
+    van, shaped, ppo = settings("vanilla"), settings("shaped"), settings("ppo", ppo={"n_steps": 256})
+    assert {"pairs", "sigma", "lr", "executor", "workers"} <= set(van) and not {"alpha", "eta"} & set(van)
+    assert shaped["alpha"] == 0.9 and shaped["eta"] == 0.01 and shaped["sigma"] == 0.1
+    assert not {"sigma", "lr", "alpha", "eta", "workers"} & set(ppo) and ppo["executor"] == "none (one process)"
+    assert ppo["other non-defaults"] == "ppo.n_steps=256" and van["other non-defaults"] == "none"
+    # an es field a method never reads is no "non-default" of it
+    assert settings("ppo", es={"optimizer": "sgd"})["other non-defaults"] == "none"
+    assert settings("vanilla", es={"optimizer": "sgd"})["other non-defaults"] == "es.optimizer=sgd"
+    groups, configs = group_runs(runs)
+    write_report(tmp_path / "rep" / "report.md", groups, configs)
+    md = (tmp_path / "rep" / "report.md").read_text()
+    table = md[md.index("## Settings"):md.index("## Runs")]
+    assert "| vanilla | env CartPole-v1; pairs 32; sigma 0.05; lr 0.03; episodes 2; test episodes 15; " \
+           "executor process; workers all cores; other non-defaults none |" in table
+    assert "alpha 0.9; eta 0.01" in table and '"' not in table and "`" not in table

@@ -159,6 +159,11 @@ def test_reference_metrics_and_return_diagnostics_are_logged(tmp_path):
     assert 0 <= float(last["label_beats_own"]) <= 1 and last["shaping_active"] == "1"
     plain = _run(tmp_path, "plain", method="shaped").read_metrics()
     assert _rewards(plain) == _rewards(rows)  # metrics only: the run itself is unchanged
+    # without them, their columns are not written at all (no column stays empty in every row)
+    missing = {"mphi_fig5_test_loss", "own_ref_error", "clone_ref_error", "label_beats_own", "clone_return_gain",
+               "clone_improved_fraction"}
+    assert missing <= set(last) and not missing & set(plain[0])
+    assert [k for k in plain[0] if all(r[k] == "" for r in plain)] == []
 
 
 def test_an_untrained_mphi_is_said_once_and_logged(tmp_path, capsys):

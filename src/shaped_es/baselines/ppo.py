@@ -104,8 +104,8 @@ class PPORun(RunLoop):
     label = "ppo"
 
     def __init__(self, cfg: RunConfig, store: RunStore, settings: PPOSettings, progress: bool = True,
-                 probe: EnvProbe | None = None):
-        super().__init__(cfg, store, "ppo", progress)
+                 probe: EnvProbe | None = None, callback=None):
+        super().__init__(cfg, store, "ppo", progress, callback)
         self.s = settings
         probe = probe or probe_env(cfg.env, cfg.env_kwargs)  # the env's time limit (``env_time_limit``)
         self.iterations = iterations_per_generation(cfg, settings, probe.time_limit)
@@ -162,8 +162,10 @@ class PPORun(RunLoop):
             if test_ret.mean() > self.c.best_test_reward:
                 self.c.best_test_reward = float(test_ret.mean())
                 self.best_state = copy_state(policy.state_dict())
+                self.best_generation = g + 1
         elif not E:
             self.best_state = copy_state(policy.state_dict())  # nothing to choose by: keep the latest
+            self.best_generation = g + 1
         if math.isfinite(self.c.best_test_reward):
             row["test_reward_best_so_far"] = self.c.best_test_reward
         gen_time = time.perf_counter() - t0
@@ -184,12 +186,13 @@ class PPORun(RunLoop):
 
 
 def train_ppo(cfg: RunConfig, store: RunStore, progress: bool = True,
-              settings: PPOSettings | None = None, probe: EnvProbe | None = None) -> list[dict]:
-    """Train (or resume) PPO into ``store`` on one torch thread; returns the metrics rows written."""
+              settings: PPOSettings | None = None, probe: EnvProbe | None = None, callback=None) -> list[dict]:
+    """Train (or resume) PPO into ``store`` on one torch thread; returns the metrics rows written
+    (``callback``: see :mod:`shaped_es.callbacks`)."""
     threads = torch.get_num_threads()
     torch.set_num_threads(1)  # the paper's PPO: single core
     try:
-        return PPORun(cfg, store, settings or ppo_settings(cfg), progress, probe).run()
+        return PPORun(cfg, store, settings or ppo_settings(cfg), progress, probe, callback).run()
     finally:
         torch.set_num_threads(threads)
 

@@ -16,6 +16,7 @@ DEFAULT_METHODS = "shaped,vanilla,cmaes,ppo"
 
 # -- benchmark -------------------------------------------------------------------------------------------
 def add_benchmark_parser(sub) -> argparse.ArgumentParser:
+    from shaped_es.config import set_item
     from shaped_es.executors import EXECUTORS
 
     b = sub.add_parser("benchmark", help="run every (method, seed), then write summary.json and report.md")
@@ -30,17 +31,33 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
     b.add_argument("--generations", type=int, help="generations per run (default: the config's)")
     b.add_argument("--out", required=True, help="benchmark directory (rerun to skip finished runs)")
-    b.add_argument("--preset", help="env preset (built-in envs: default, paper)")
-    b.add_argument("--config", help="YAML config applied to every run (flags override it)")
-    b.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a field, e.g. es.sigma=0.1")
-    b.add_argument("--executor", choices=tuple(EXECUTORS))
-    b.add_argument("--workers", type=int)
-    b.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster")
+    b.add_argument("--preset", help="env preset (built-in envs: default, paper; default: the env's)")
+    b.add_argument("--config", help="YAML config applied to every run, flags override it (default: none, "
+                   "the built-in defaults)")
+    b.add_argument("--set", action="append", metavar="KEY=VALUE", type=set_item,
+                   help="override a config field of every run, e.g. es.sigma=0.1 (repeatable; every field: "
+                   "shaped-es config; default: none)")
+    b.add_argument("--executor", choices=tuple(EXECUTORS),
+                   help="where the ES methods' rollouts run (PPO: one process) (default: the config's, process)")
+    b.add_argument("--workers", type=int, help="worker count (default: all cores)")
+    b.add_argument("--address", help="ray: 'auto' or HOST:PORT of a running cluster (default: a private "
+                   "local Ray)")
     b.add_argument("--sparse-waypoints", action="store_true",
                    help="ablation: waypoint_spacing x 10 (paper: planner resolution / 10)")
-    b.add_argument("--alpha", type=float, help="ablation: es.alpha, Guided-ES isotropic share (paper 0.6)")
-    b.add_argument("--eta", type=float, help="ablation: shaping.eta, surrogate normalization (paper 0.01)")
+    b.add_argument("--alpha", type=float, help="ablation: es.alpha, Guided-ES isotropic share (paper 0.6; "
+                   "default: the config's, 0.9)")
+    b.add_argument("--eta", type=float, help="ablation: shaping.eta, surrogate normalization (default: the "
+                   "config's, 0.01 as the paper)")
     add_threshold(b)
+    b.add_argument("--stop-at", type=float, metavar="R",
+                   help="end each run, as finished, once a test reward reaches R (default: every generation; "
+                   "final rewards are then the first ones reaching R)")
+    b.add_argument("--wandb", action="store_true",
+                   help="log every run to Weights & Biases, grouped by the benchmark's directory name")
+    b.add_argument("--no-estimate", action="store_true",
+                   help="start without first timing each method for the cost estimate")
+    b.add_argument("--estimate-only", action="store_true",
+                   help="print what the benchmark would cost (a short timing per method) and stop, writing nothing")
     b.add_argument("--quiet", action="store_true", help="no per-run progress display")
     b.set_defaults(fn=cmd_benchmark)
     return b
@@ -78,8 +95,12 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     if a.seeds <= 0 or a.first_seed < 0:
         raise ConfigError("--seeds must be positive and --first-seed non-negative")
     base = read_yaml(a.config) if a.config else {}
-    overrides = {k: v for k, v in {"executor": a.executor, "workers": a.workers,
-                                   "address": a.address}.items() if v is not None}
+    overrides = {k: v for k, v in {"executor": a.executor, "workers": a.workers, "address": a.address,
+                                   "stop_at": a.stop_at}.items() if v is not None}
+    if a.wandb:
+        from pathlib import Path
+
+        overrides.update({"wandb.enabled": True, "wandb.group": Path(a.out).resolve().name})
     if a.preset is not None:
         overrides["env_kwargs.preset"] = a.preset
     overrides.update(parse_set(a.set))
@@ -97,6 +118,8 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
         overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
         threshold=a.threshold, variants=variants,
     )
-    res = run_benchmark(spec, a.out, progress=not a.quiet)
-    print(json.dumps({k: res.get(k) for k in ("report", "summary", "fig4", "profile", "fig5")}))
+    res = run_benchmark(spec, a.out, progress=not a.quiet, estimate=not a.no_estimate,
+                        estimate_only=a.estimate_only)
+    keys = ("estimate_s",) if a.estimate_only else ("report", "summary", "fig4", "profile", "fig5")
+    print(json.dumps({k: res.get(k) for k in keys}))
     return 0

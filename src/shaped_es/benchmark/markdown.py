@@ -12,7 +12,7 @@ import math
 from dataclasses import asdict
 from pathlib import Path
 
-from shaped_es.benchmark.summary import load_runs, method_settings, summarize
+from shaped_es.benchmark.summary import load_runs, method_settings, plain, summarize
 from shaped_es.config import RunConfig
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
 from shaped_es.report.style import figure_title
@@ -68,8 +68,11 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
             "improvement.", ""]
     out += ["## Fig. 4: test reward vs generation, env steps, CPU time and wall time", "",
             "Mean across seeds of the test reward (ES: the generation's best member over the test episodes; "
-            "PPO: the deterministic policy on the same test seeds), band: confidence interval; on the cost "
-            "panels a seed that finished sooner keeps its final reward up to the longest seed's end.", "",
+            "PPO: the deterministic policy on the same test seeds), band: confidence interval. Each seed's "
+            "curve is a step function (held between its evaluations) on a common grid, and the mean is drawn "
+            "only where every seed has data: from the last seed's first evaluation on (so one seed alone is "
+            "never averaged in as if it were all); on the cost panels a seed that finished sooner keeps its "
+            "final reward up to the longest seed's end.", "",
             f"![Fig. 4]({figures['fig4']})", ""]
     out += ["## Performance profile of the final test reward", "",
             "Fraction of seeds whose final test reward exceeds tau, per method (band: pointwise bootstrap "
@@ -134,11 +137,11 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
                 "concurrently, such as M_phi training during the rollouts, overlap).", ""]
         out += [*_table(["method", *phases], [[k, *[_num(s["time_split_s"].get(p), 1) for p in phases]]
                                               for k, s in methods.items()]), ""]
-    out += ["## Settings", "", *_table(["method", *next(iter(settings.values()), {}).keys()],
-                                       [[k, *[f"`{json.dumps(v)}`" for v in st.values()]]
-                                        for k, st in settings.items()]), ""]
+    out += ["## Settings", "", "Per method, the settings it uses (a method never reads the others).", "",
+            *_table(["method", "settings"], [[k, "; ".join(f"{name} {plain(v)}" for name, v in st.items())]
+                                             for k, st in settings.items()]), ""]
     if summary.get("ppo_settings"):
-        ppo = ", ".join(f"{k} {v}" for k, v in summary["ppo_settings"].items())
+        ppo = ", ".join(f"{k} {plain(v)}" for k, v in summary["ppo_settings"].items())
         out += [f"PPO (Stable-Baselines3, one torch thread): {ppo}; a generation = the whole number of PPO "
                 "iterations nearest to one ES generation's largest env-step budget (`gen_env_steps`).", ""]
     out += ["## Runs", ""] + [f"- {k}: " + ", ".join(f"`{r}`" for r in rs) for k, rs in runs.items()] + [""]

@@ -36,6 +36,8 @@ import yaml
 
 from shaped_es.config import ConfigError, RunConfig, build_config, dump_config, merge
 from shaped_es.methods import METHODS, resolve
+from shaped_es.run_loop import run_finished
+from shaped_es.run_meta import RUNTIME_FIELDS
 from shaped_es.store import RunStore, StoreError, atomic_write_text
 
 SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
@@ -128,12 +130,6 @@ def run_configs(spec: BenchmarkSpec) -> dict[str, RunConfig]:
     return {run_name(m, s): one(m, s) for s in spec.seeds for m in spec.methods}
 
 
-def finished_generations(store: RunStore) -> int:
-    """Generations covered by the run's newest complete checkpoint (0 without one), whatever
-    ``latest.json`` says (the store's own rule, as resume uses it)."""
-    return store.newest_generation()
-
-
 def _first_difference(a: RunConfig, b: RunConfig) -> str:
     da, db = _flat(_relevant(a)), _flat(_relevant(b))
     diff = sorted(k for k in set(da) | set(db) if da.get(k) != db.get(k))
@@ -147,10 +143,6 @@ def _flat(d: dict, prefix: str = "") -> dict:
     return out
 
 
-# Fields that do not change a run's results, carried over from this invocation into a reused run (as
-# ``trainer.config_digest`` leaves them out).
-EXECUTION_FIELDS = ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
-                    "eval_overlap", "eval_workers", "checkpoint_every", "keep_checkpoints", "tensorboard")
 # ``es`` fields a method never reads (trainer.build_strategy / build_guide, ppo_settings.horizon);
 # anything not listed here counts, so a new field is compared until it is known to be irrelevant.
 def _relevant(cfg: RunConfig) -> dict:
@@ -178,7 +170,7 @@ def _reuse(old: RunConfig, new: RunConfig) -> RunConfig:
     execution settings (generations, executor, workers, ...)."""
     d = old.model_dump(mode="json")
     nd = new.model_dump(mode="json")
-    return build_config({**d, **{k: nd[k] for k in EXECUTION_FIELDS if k in nd}})
+    return build_config({**d, **{k: nd[k] for k in RUNTIME_FIELDS if k in nd}})
 
 
 def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str, RunConfig]]:
@@ -214,7 +206,7 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
         action, cfg = plan_runs({root.name: cfg}, root.parent)[root.name]
     if action == "reuse":
         old = store.read_config()
-        if finished_generations(store) >= cfg.generations:
+        if run_finished(cfg, store):  # every generation done, or stopped at --stop-at
             return "skipped"
         if old != cfg:  # more generations, or another executor / worker count
             atomic_write_text(store.config_path, dump_config(cfg))
@@ -240,8 +232,11 @@ def _check_all(cfgs: dict[str, RunConfig]) -> None:
             check_run(cfg)
 
 
-def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None) -> dict:
-    """Run (or continue) every run of ``spec`` under ``out``, then write summary.json and report.md."""
+def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
+                  estimate: bool = True, estimate_only: bool = False) -> dict:
+    """Run (or continue) every run of ``spec`` under ``out``, then write summary.json and report.md;
+    ``estimate``: first print what the runs left will cost (``estimate.py``: a short probe per method);
+    ``estimate_only``: print it and stop, writing nothing."""
     from shaped_es.benchmark.markdown import write_report
 
     log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
@@ -251,6 +246,20 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     cfgs = run_configs(spec)
     _check_all(cfgs)
     plan = plan_runs(cfgs, out / "runs")
+    for name in plan:  # a run another process is writing: refused now, before the estimate's timing
+        store = RunStore(out / "runs" / name)
+        if store.root.is_dir():
+            with store.lock():
+                pass
+    if estimate or estimate_only:
+        from shaped_es.benchmark.estimate import benchmark_estimate, describe
+
+        labels = {run_name(m, s): m for s in spec.seeds for m in spec.methods}
+        est = benchmark_estimate(plan, out / "runs", labels.__getitem__)
+        for line in describe(est):
+            log(f"[benchmark] estimate: {line}")
+        if estimate_only:
+            return {"estimate_s": {k: round(e["seconds"], 1) for k, e in est.items()}}
     out.mkdir(parents=True, exist_ok=True)
     record = json.loads(json.dumps(asdict(spec)))  # tuples -> lists for YAML
     atomic_write_text(out / "benchmark.yaml", yaml.safe_dump(record, sort_keys=False))

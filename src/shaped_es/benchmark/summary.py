@@ -217,18 +217,49 @@ def summarize(groups: dict[str, list[Metrics]], level: float = 0.95, reference: 
                        "methods": methods, "probability_of_improvement": poi})
 
 
+# the settings a reader needs to tell the runs apart, each shown for the methods that read it
+KEY_SETTINGS = (("es.pairs", "pairs"), ("es.sigma", "sigma"), ("es.lr", "lr"), ("es.alpha", "alpha"),
+                ("shaping.eta", "eta"))
+SHOWN = {k for k, _ in KEY_SETTINGS} | {"rollout.episodes", "rollout.test_episodes"}
+
+
+def uses(cfg: RunConfig, key: str) -> bool:
+    """``cfg.method`` reads the config field ``key`` of a method-specific section (``Method.reads``)."""
+    reads = METHODS[cfg.method].reads
+    return key in reads or key.split(".")[0] in reads
+
+
 def method_settings(cfg: RunConfig) -> dict:
-    """The settings a reader needs to tell the runs apart (ablation switches included)."""
-    return {"env": cfg.env, "env_kwargs": cfg.env_kwargs, "pairs": cfg.es.pairs, "sigma": cfg.es.sigma,
-            "alpha": cfg.es.alpha, "eta": cfg.shaping.eta, "episodes": cfg.rollout.episodes,
-            "test_episodes": cfg.rollout.test_episodes, "executor": cfg.executor, "workers": cfg.workers,
-            "other non-defaults": non_defaults(cfg)}
+    """The settings a reader needs to tell the runs apart, only those ``cfg.method`` uses (the fields it
+    reads, ``Method.reads``; the executor only for ES methods: PPO runs in one process), as plain values."""
+    out: dict = {"env": cfg.env}
+    if cfg.env_kwargs:
+        out["env_kwargs"] = ", ".join(f"{k}={v}" for k, v in cfg.env_kwargs.items())
+    es = cfg.model_dump(mode="json")
+    for key, name in KEY_SETTINGS:
+        if uses(cfg, key):
+            section, field = key.split(".")
+            out[name] = es[section][field]
+    out["episodes"], out["test episodes"] = cfg.rollout.episodes, cfg.rollout.test_episodes
+    if METHODS[cfg.method].strategy is not None:  # ES: rollouts on the executor's workers
+        out["executor"] = cfg.executor
+        out["workers"] = cfg.workers if cfg.workers is not None else "all cores"
+    else:
+        out["executor"] = "none (one process)"
+    out["other non-defaults"] = non_defaults(cfg)
+    return out
+
+
+def plain(v) -> str:
+    """A setting as the report prints it: numbers with their significant digits, text as it is."""
+    if isinstance(v, float):
+        return f"{v:g}"
+    return "none" if v is None else str(v)
 
 
 def non_defaults(cfg: RunConfig) -> str:
-    """``key=value`` of the fields that differ from the defaults in the sections ``cfg.method`` reads
-    (what a benchmark ``--variant`` changed), besides the columns above."""
-    shown = {"es.pairs", "es.sigma", "es.alpha", "shaping.eta", "rollout.episodes", "rollout.test_episodes"}
+    """``key=value`` of the fields that differ from the defaults among those ``cfg.method`` uses (what a
+    benchmark ``--variant`` changed), besides the ones :func:`method_settings` names."""
     reads = METHODS[cfg.method].reads
     sections = ["es", "rollout", "policy"] + [s for s in ("shaping", "ppo") if s in reads]
     mine, base = cfg.model_dump(mode="json"), RunConfig().model_dump(mode="json")
@@ -240,8 +271,9 @@ def non_defaults(cfg: RunConfig) -> str:
     out = []
     for sec in sections:
         ref = dict(flat(base[sec], f"{sec}."))
-        out += [f"{k}={v}" for k, v in flat(mine[sec], f"{sec}.") if k not in shown and ref.get(k) != v]
-    return "; ".join(out) or "-"
+        out += [f"{k}={plain(v)}" for k, v in flat(mine[sec], f"{sec}.")
+                if k not in SHOWN and ref.get(k) != v and (sec != "es" or uses(cfg, k))]
+    return "; ".join(out) or "none"
 
 
 def clean_json(v):

@@ -41,8 +41,15 @@ class NoGuide:
         return None
 
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks: MapTasks) -> dict:
-        """Called after ``strategy.tell``; may call ``strategy.guide(G)``; returns extra metrics."""
+        """Called after ``strategy.tell``; may call ``strategy.guide(G)``; returns extra metrics (only
+        the columns :meth:`metric_keys` declares may hold a value)."""
         return {}
+
+    def metric_keys(self) -> tuple[str, ...]:
+        """The ``metrics.csv`` columns ``after_tell`` fills with this guide's config, beyond the run
+        loop's own (``run_loop.BASE_COLUMNS``): the header holds these and no column that always stays
+        empty."""
+        return ()
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {}

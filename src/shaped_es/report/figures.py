@@ -3,8 +3,9 @@
 
 - Fig. 4: test reward (the best member's mean over the test episodes; PPO: its deterministic policy) vs
   generation, vs env steps (the unit of the headline claims), vs CPU time, vs wall time. Each seed's
-  curve is held constant between evaluations; the line is the mean across seeds and the band its
-  t-interval, over the x range all seeds cover.
+  curve is held constant between evaluations (a step function on a common grid); the line is the mean
+  across seeds and the band its t-interval, drawn only where every seed has data (from the last seed's
+  first evaluation; on the cost axes a seed that finished sooner keeps its final reward to the end).
 - Fig. 5: the inverse-dynamics model's train loss (``mphi_train_loss``), the paper's test loss (labels vs
   a fully trained policy's actions, ``mphi_fig5_test_loss``, logged when ``shaping.reference_run`` is
   set) and the held-out fit on the next generation's own transitions (``mphi_fit_test_loss``; older
@@ -47,14 +48,18 @@ def _has(m: Metrics, key: str) -> bool:
 
 def _draw(ax, runs: list[Metrics], xkey: str, ykey: str, color: str, label: str, level: float,
           steps: bool = True, hold_end: bool = False, log: bool = False, ls: str = "-") -> bool:
-    """Mean and band across seeds; ``hold_end``: a run that finished early keeps its final value up to
-    the longest run's end (time axes: seeds of one method take different times)."""
+    """Mean and band across seeds, drawn only where every seed has data: each seed's curve is held
+    constant between its points on a common grid that starts where the last seed begins (a mean over the
+    seeds reported so far would jump as each seed enters); ``hold_end``: a run that finished early keeps
+    its final value up to the longest run's end (time axes: seeds of one method take different times)."""
     curves = [(_x(m, xkey), m[ykey]) for m in runs if _has(m, ykey) and xkey in m]
     grid = common_grid([c[0] for c in curves], points=400, integer=xkey in INTEGER_X, longest=hold_end,
-                       log=log)
+                       log=log, every=True)
     if not curves or grid.size == 0:
         return False
-    mean, lo, hi, _ = band(curves, grid, level, hold_end=hold_end)
+    mean, lo, hi, n = band(curves, grid, level, hold_end=hold_end)
+    partial = n < len(curves)  # (G,) a seed without a point yet (or no longer): no mean there
+    mean[partial], lo[partial], hi[partial] = np.nan, np.nan, np.nan
     style = {"drawstyle": "steps-post"} if steps and xkey == "generation" else {}  # held between tests
     ax.plot(grid, mean, color=color, label=label, ls=ls, **style)
     ax.fill_between(grid, lo, hi, color=color, alpha=0.2, linewidth=0, step="post" if style else None)

@@ -67,15 +67,16 @@ def band(curves: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray, level: f
 
 
 def common_grid(xs: list[np.ndarray], points: int = 200, integer: bool = False, longest: bool = False,
-                log: bool = False) -> np.ndarray:
-    """Grid from the first point of any curve to the end of the shortest (``longest``: of the longest);
-    ``log`` spaces it geometrically (a log axis) when it starts above 0."""
+                log: bool = False, every: bool = False) -> np.ndarray:
+    """Grid from the first point of any curve (``every``: from the point where every curve has begun) to
+    the end of the shortest (``longest``: of the longest); ``log`` spaces it geometrically (a log axis)
+    when it starts above 0."""
     xs = [x[np.isfinite(x)] for x in xs]
     xs = [x for x in xs if x.size]
     if not xs:
         return np.zeros(0)
-    ends = [x.max() for x in xs]
-    lo, hi = min(x.min() for x in xs), (max(ends) if longest else min(ends))
+    ends, starts = [x.max() for x in xs], [x.min() for x in xs]
+    lo, hi = (max(starts) if every else min(starts)), (max(ends) if longest else min(ends))
     if integer:
         return np.unique(np.concatenate([x[(x >= lo) & (x <= hi)] for x in xs]))
     if hi <= lo:

@@ -1,0 +1,56 @@
+"""Start a run from Python, as ``shaped-es train`` does, with callbacks (``shaped_es.train``).
+
+.. code-block:: python
+
+    from shaped_es import train
+
+    def report(row):                              # after every generation's metrics row
+        print(row["generation"], row["test_reward_mean"])
+        return row["test_reward_mean"] is None or row["test_reward_mean"] < 200   # False stops the run
+
+    rows = train({"env": "CarNav-v0", "method": "shaped", "generations": 60}, "runs/cb", callback=report)
+
+The config is a :class:`shaped_es.config.RunConfig`, a dict of its fields (dotted keys allowed, as
+``--set``) or the path of a YAML file; everything is checked before anything is written, as for
+``train``. ``callback``: a function or :class:`shaped_es.callbacks.Callback`, or a list of them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from shaped_es.config import RunConfig, build_config, merge, read_yaml
+from shaped_es.store import RunStore
+
+
+def as_config(config: RunConfig | dict[str, Any] | str | Path) -> RunConfig:
+    """``config`` as a validated :class:`RunConfig` (a dict may use dotted keys; a path is YAML)."""
+    if isinstance(config, RunConfig):
+        return config
+    if isinstance(config, (str, Path)):
+        config = read_yaml(config)
+    return build_config(merge({}, dict(config)))
+
+
+def prepare_run(cfg: RunConfig, out: str | Path):
+    """The new run's store and env probe, once every check has passed; nothing is written before.
+    Raises the one-line errors of ``shaped-es train`` (an ``out`` holding a run, a config that cannot start)."""
+    from shaped_es.preflight import check_run
+
+    store = RunStore(out)
+    if store.exists() or (store.root.exists() and not store.root.is_dir()):
+        store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
+    return store, check_run(cfg)  # everything is validated before anything is written
+
+
+def train(config: RunConfig | dict[str, Any] | str | Path, out: str | Path, *, callback=None,
+          progress: bool = False) -> list[dict]:
+    """Train a new run into ``out`` (see the module docstring); returns its metrics rows."""
+    from shaped_es.methods import METHODS, resolve
+
+    cfg = as_config(config)
+    store, probe = prepare_run(cfg, out)
+    with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
+        store.create(cfg)  # checks again, under the lock, that no other train got there first
+        return resolve(METHODS[cfg.method].train)(cfg, store, progress=progress, probe=probe, callback=callback)

@@ -1,0 +1,241 @@
+"""What an env needs to train here, checked by running it (``shaped-es check-env ID``, ``shaped-es envs``;
+the habit of Stable-Baselines3's ``check_env``).
+
+:func:`check_env` makes the env and runs a few episodes of random actions, reporting one :class:`Check`
+per requirement: Gymnasium's own API checker (a warning at most: training needs only what the checks
+below test), the spaces the policy needs (a flat ``Box`` observation; a
+flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is rescaled to, or
+``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
+the members of a generation face the same episodes), finiteness and fixed shapes of observations and
+rewards (a run stops at the first that is not), a time limit (PPO's budget needs one; without it an
+episode that never ends never returns), and the waypoint contract of ``--method shaped``
+(``info["position"]`` and ``info["waypoint"]``, equal ``(d,)`` shapes, finite, from ``reset`` and every
+``step``). A check's ``status`` is ``ok``, ``no`` (an optional capability the env lacks: only ``shaped``
+needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL`` (it cannot train).
+
+:func:`describe_env` is the short form ``shaped-es envs`` lists for every registered id.
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+from dataclasses import asdict, dataclass
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
+from shaped_es.rollout import make_env
+
+OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+@dataclass(frozen=True)
+class Check:
+    name: str  # what is checked, e.g. "spaces"
+    status: str  # OK / NO / WARN / FAIL
+    detail: str  # one line
+
+
+def trains_with(checks: list[Check]) -> list[str]:
+    """The methods the env trains with, given its checks (none if one failed)."""
+    from shaped_es.methods import METHODS
+
+    by = {c.name: c.status for c in checks}
+    if FAIL in by.values():
+        return []
+    out = [m for m in METHODS if m != "shaped" and (m != "ppo" or by.get("time limit") == OK)]
+    return out + (["shaped"] if by.get("waypoints") == OK else [])
+
+
+def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, max_steps: int = 200,
+              seed: int = 0) -> list[Check]:
+    """The checks of the module docstring on ``episodes`` episodes of at most ``max_steps`` random steps
+    each (``EnvSpecError`` if the env cannot be made at all)."""
+    import shaped_es  # noqa: F401 - registers the built-in envs
+
+    env = make_env(env_id, env_kwargs)
+    try:
+        checks = [_gym_api(env_id, env_kwargs), _spaces(env)]
+        if checks[-1].status == FAIL:
+            return checks
+        checks.append(_time_limit(env))
+        checks += _episodes(env, env_id, env_kwargs, episodes, max_steps, seed)
+        return checks
+    finally:
+        env.close()
+
+
+def _gym_api(env_id: str, env_kwargs: dict | None) -> Check:
+    """Gymnasium's ``env_checker.check_env`` on a fresh env (it steps and reseeds the env it gets)."""
+    from gymnasium.utils.env_checker import check_env as gym_check
+
+    env = make_env(env_id, env_kwargs)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                gym_check(env.unwrapped, skip_render_check=True, skip_close_check=True)
+            except Exception as exc:  # noqa: BLE001 - its verdict (what training needs is checked below)
+                return Check("gymnasium API", WARN, _line(f"its checker fails: {type(exc).__name__}: {exc}"))
+    finally:
+        env.close()
+    notes = list(dict.fromkeys(_line(str(w.message)).removeprefix("WARN: ") for w in caught))
+    if not notes:
+        return Check("gymnasium API", OK, "gymnasium.utils.env_checker.check_env passes")
+    more = f" (+{len(notes) - 1} more)" if len(notes) > 1 else ""
+    return Check("gymnasium API", WARN, f"{notes[0]}{more}")
+
+
+def _spaces(env: gym.Env) -> Check:
+    obs, act = env.observation_space, env.action_space
+    if not isinstance(obs, gym.spaces.Box) or len(obs.shape) != 1:
+        return Check("spaces", FAIL, f"the observation space must be a flat Box (the MLP's input), got {obs}")
+    if isinstance(act, gym.spaces.Discrete):
+        return Check("spaces", OK, f"observations {obs.shape[0]} floats; actions Discrete({act.n}) (argmax)")
+    if not isinstance(act, gym.spaces.Box) or len(act.shape) != 1:
+        return Check("spaces", FAIL, f"the action space must be a flat Box or Discrete, got {act}")
+    if not (np.isfinite(act.low).all() and np.isfinite(act.high).all()):
+        return Check("spaces", FAIL, f"the action Box needs finite bounds (the policy's [-1, 1] output is "
+                                     f"rescaled to them), got low {act.low}, high {act.high}")
+    return Check("spaces", OK, f"observations {obs.shape[0]} floats; actions Box({act.shape[0]}) in "
+                               f"[{_num(act.low.min())}, {_num(act.high.max())}] (the policy's [-1, 1] rescaled)")
+
+
+def _time_limit(env: gym.Env) -> Check:
+    limit = env.spec.max_episode_steps if env.spec is not None else None
+    core = get_batch_core(env)
+    limit = limit or (int(core.max_steps) if core is not None else None)
+    if limit:
+        return Check("time limit", OK, f"episodes end after at most {limit} steps")
+    return Check("time limit", WARN, "no time limit: PPO needs one (or rollout.max_steps), and an episode that "
+                                     "never ends never returns; set rollout.max_steps")
+
+
+def _episodes(env, env_id, env_kwargs, episodes: int, max_steps: int, seed: int) -> list[Check]:
+    """Seeding, finiteness and the waypoint contract from ``episodes`` seeded random-action episodes,
+    each run twice (on this env and on a second one made alike)."""
+    twin = make_env(env_id, env_kwargs)
+    try:
+        runs = [_episode(env, seed + e, max_steps) for e in range(episodes)]
+        again = [_episode(twin, seed + e, max_steps) for e in range(episodes)]
+    finally:
+        twin.close()
+    errors = [r["error"] for r in runs + again if r["error"]]
+    if errors:
+        return [Check("steps", FAIL, errors[0])]
+    steps = sum(len(r["rewards"]) for r in runs)
+    out = [Check("steps", OK, f"{steps} random steps over {episodes} episodes: observations keep their "
+                              f"shape, observations and rewards are finite")]
+    same = all(_same(a, b) for a, b in zip(runs, again))
+    out.append(Check("seeding", OK, "reset(seed=s) and the same actions give the same episode") if same else
+               Check("seeding", WARN, "reset(seed=s) with the same actions gave different episodes: runs do "
+                                      "not reproduce and a generation's members do not face the same episodes"))
+    out.append(_waypoints(runs))
+    return out
+
+
+def _episode(env: gym.Env, seed: int, max_steps: int) -> dict:
+    """One episode of random actions (the action space seeded with ``seed``); what came back, or the
+    first problem as ``error``."""
+    rec = {"obs": [], "rewards": [], "infos": [], "error": None}
+    try:
+        obs, info = env.reset(seed=seed)
+        env.action_space.seed(seed)
+        shape = np.shape(obs)
+        for t in range(max_steps + 1):
+            o = np.asarray(obs, dtype=np.float64)
+            if o.shape != shape:
+                rec["error"] = f"step {t}: observation shape {o.shape}, reset gave {shape}"
+                break
+            if not np.isfinite(o).all():
+                rec["error"] = f"step {t} (seed {seed}): non-finite observation"
+                break
+            rec["obs"].append(o)
+            rec["infos"].append(info)
+            if t == max_steps:
+                break
+            obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+            r = np.asarray(reward)
+            if r.shape != () or r.dtype.kind not in "biuf" or not np.isfinite(r):
+                rec["error"] = f"step {t + 1} (seed {seed}): reward {reward!r} is not a finite number"
+                break
+            rec["rewards"].append(float(r))
+            if terminated or truncated:
+                rec["obs"].append(np.asarray(obs, dtype=np.float64))
+                rec["infos"].append(info)
+                break
+    except Exception as exc:  # noqa: BLE001 - the env raised: reported as one line
+        rec["error"] = f"the env raised {type(exc).__name__}: {_line(str(exc))} (seed {seed})"
+    return rec
+
+
+def _same(a: dict, b: dict) -> bool:
+    return (len(a["obs"]) == len(b["obs"]) and all(np.array_equal(x, y) for x, y in zip(a["obs"], b["obs"]))
+            and a["rewards"] == b["rewards"])
+
+
+def _waypoints(runs: list[dict]) -> Check:
+    infos = [i for r in runs for i in r["infos"]]
+    have = [POSITION_KEY in i and WAYPOINT_KEY in i for i in infos]
+    if not any(have):
+        return Check("waypoints", NO, f"no info['{POSITION_KEY}'] / info['{WAYPOINT_KEY}']: every method but "
+                                      f"shaped trains on it (README: environment contract)")
+    if not all(have):
+        return Check("waypoints", FAIL, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] come from some "
+                                        f"reset/step calls only: shaped needs them from every one")
+    shapes = {(np.shape(i[POSITION_KEY]), np.shape(i[WAYPOINT_KEY])) for i in infos}
+    if len(shapes) != 1 or len({s for pair in shapes for s in pair}) != 1 or len(next(iter(shapes))[0]) != 1:
+        return Check("waypoints", FAIL, f"position and waypoint must both be (d,) arrays of one d, got "
+                                        f"{sorted(shapes)}")
+    if not all(np.isfinite(np.asarray(i[k], float)).all() for i in infos for k in (POSITION_KEY, WAYPOINT_KEY)):
+        return Check("waypoints", FAIL, "a position or waypoint is not finite")
+    d = next(iter(shapes))[0][0]
+    return Check("waypoints", OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d) from reset and "
+                                  f"every step: --method shaped can use it")
+
+
+def describe_env(env_id: str) -> dict:
+    """What ``shaped-es envs`` lists of a registered id: its presets (built-in envs), dims, time limit and
+    waypoint dimension (None: no contract), from one env made and reset; ``error`` if it cannot be made."""
+    from shaped_es.rollout import probe_env
+
+    out = {"id": env_id, "presets": _presets(env_id), "obs": None, "act": None, "time_limit": None,
+           "waypoints": None, "error": None}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            probe = probe_env(env_id, reset=True)
+    except Exception as exc:  # noqa: BLE001 - listed with its reason (EnvSpecError mostly)
+        out["error"] = _line(str(exc)).removeprefix(f"cannot make env {env_id!r}: ")
+        return out
+    info = probe.reset_info or {}
+    out.update(obs=probe.obs_dim, act=probe.act_dim, time_limit=probe.time_limit)
+    if POSITION_KEY in info and WAYPOINT_KEY in info:
+        out["waypoints"] = int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
+    return out
+
+
+def _presets(env_id: str) -> list[str]:
+    from shaped_es.envs import BUILTIN
+
+    if env_id not in BUILTIN:
+        return []
+    import importlib
+
+    module = importlib.import_module(BUILTIN[env_id][0].rsplit(".", 1)[0] + ".config")
+    return sorted(getattr(module, "PRESETS", {}))
+
+
+def _line(text: str) -> str:
+    return " ".join(_ANSI.sub("", text).split())
+
+
+def _num(x: float) -> str:
+    return f"{float(x):g}"
+
+
+def as_dicts(checks: list[Check]) -> list[dict]:
+    return [asdict(c) for c in checks]

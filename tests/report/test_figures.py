@@ -1,0 +1,38 @@
+"""The across-seed figures: a mean is drawn only where every seed has data (a mean over the seeds that have
+reported so far would jump as each seed enters, as it did on Fig. 4's wall-time panel)."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from shaped_es.report.figures import _draw, plot_reward_bands  # noqa: E402
+
+
+def _seed(x, y):
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    return {"wall_time_s": x, "test_reward_mean": y, "generation": np.arange(len(x), dtype=float)}
+
+
+def test_the_mean_starts_where_every_seed_has_begun():
+    early = _seed([10, 20, 30], [100, 200, 300])  # one seed reports first ...
+    late = _seed([25, 50], [0, 0])  # ... the other's first point comes at 25 s
+    fig, ax = plt.subplots()
+    assert _draw(ax, [early, late], "wall_time_s", "test_reward_mean", "k", "m", 0.95, hold_end=True)
+    x, y = ax.lines[0].get_xdata(), ax.lines[0].get_ydata()
+    ok = np.isfinite(y)
+    assert x[ok].min() >= 25 and x[ok].max() == 50  # from the last seed's start to the longest end
+    # at 25 s: (200 + 0) / 2; from 30 s on: (300, held to the end, + 0) / 2; never one seed alone
+    np.testing.assert_allclose(np.unique(y[ok]), [100.0, 150.0])
+    plt.close(fig)
+
+
+def test_generation_axis_uses_every_seed(tmp_path):
+    a, b = _seed([1, 2, 3], [1, 2, 3]), _seed([1, 2], [3, 4])
+    fig, ax = plt.subplots()
+    _draw(ax, [a, b], "generation", "test_reward_mean", "k", "m", 0.95)
+    y = ax.lines[0].get_ydata()
+    np.testing.assert_allclose(y[np.isfinite(y)], [2.0, 3.0])  # generations 1, 2 (both); 3 has one seed
+    plt.close(fig)
+    assert plot_reward_bands({"vanilla": [a, b]}, tmp_path / "f.png").stat().st_size > 10_000

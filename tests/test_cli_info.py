@@ -1,0 +1,106 @@
+"""``shaped-es config``, ``envs`` and ``check-env``: the commands that explain rather than run."""
+
+import json
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+import yaml
+
+from helpers import POINT_ENV_MODULE, SRC
+from shaped_es.cli import main
+from shaped_es.config import RunConfig
+
+
+def _out(capsys, argv, code=0):
+    assert main(argv) == code
+    return capsys.readouterr()
+
+
+def test_config_prints_every_field_as_a_loadable_config(capsys):
+    text = _out(capsys, ["config"]).out
+    assert yaml.safe_load(text) == RunConfig().model_dump(mode="json")  # a valid --config file
+    assert max(len(line) for line in text.splitlines()) <= 100
+    assert "sigma: 0.05  # number > 0, <= 10000. search std" in text
+    assert "optimizer: \"adam\"  # one of adam|sgd." in text
+    # every leaf field of the config is there, with its description
+    fields = [json.loads(line) for line in _out(capsys, ["config", "--json"]).out.splitlines()]
+    keys = {f["key"] for f in fields}
+    assert {"es.sigma", "shaping.cloning.steps", "ppo.n_steps", "stop_at", "wandb.mode"} <= keys
+    assert all(f["description"] for f in fields)
+
+
+def test_config_shows_values_and_their_defaults(capsys, tmp_path):
+    (tmp_path / "c.yaml").write_text("es:\n  pairs: 8\n")
+    text = _out(capsys, ["config", "es", "--config", str(tmp_path / "c.yaml"), "--set", "es.sigma=0.1"]).out
+    text = re.sub(r"\n *# ", " ", text)  # comments that wrapped onto the next line: one line each
+    assert "pairs: 8  # int > 0." in text and "(default: 32)" in text
+    assert "sigma: 0.1  #" in text and "(default: 0.05)" in text and "\nshaping:" not in text
+    assert yaml.safe_load(text)["es"]["lr"] == 0.03
+    sub = _out(capsys, ["config", "shaping.cloning"]).out
+    assert yaml.safe_load(sub) == {"shaping": {"cloning": RunConfig().shaping.cloning.model_dump(mode="json")}}
+    err = _out(capsys, ["config", "colour"], code=2).err.strip().splitlines()
+    assert len(err) == 1 and "no config field starts with 'colour'" in err[0]
+    with pytest.raises(SystemExit) as exc:  # the argument parser's error: one line too
+        main(["config", "--set", "es.sigma", "0.1"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert exc.value.code == 2 and len(err) == 1 and err[0].startswith("shaped-es: error: argument --set: "
+                                                                      "expects KEY=VALUE")
+
+
+def test_envs_lists_ids_presets_and_the_waypoint_contract(capsys):
+    text = _out(capsys, ["envs"]).out
+    lines = {line.split()[0]: line for line in text.splitlines() if line and not line[0].isspace()}
+    assert "default, paper" in lines["CarNav-v0"] and "yes (2-d)" in lines["CarNav-v0"]
+    assert "yes (3-d)" in lines["UR5Reach-v0"] and lines["CartPole-v1"].rstrip().endswith("no")
+    assert "Blackjack-v1" not in lines and "--all" in text  # a Tuple observation: not listed by default
+    rows = [json.loads(x) for x in _out(capsys, ["envs", "--all", "--json"]).out.splitlines()]
+    by = {r["id"]: r for r in rows}
+    assert by["Blackjack-v1"]["error"] and by["CarNav-v0"]["waypoints"] == 2
+
+
+INFOPOINT = POINT_ENV_MODULE + '''
+
+class InfoPoint(Point):
+    """Point with the waypoint contract: its position, and the origin as the waypoint."""
+
+    def _info(self):
+        return {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
+
+    def reset(self, *, seed=None, options=None):
+        return super().reset(seed=seed)[0], self._info()
+
+    def step(self, action):
+        return (*super().step(action)[:4], self._info())
+
+
+gym.register("InfoPoint-v0", entry_point=InfoPoint, max_episode_steps=20)
+gym.register("InfoPointNaN-v0", entry_point=lambda: gym.wrappers.TransformReward(InfoPoint(), lambda r: float("nan")),
+             max_episode_steps=20)
+'''
+
+
+def _cli(tmp_path, *argv):
+    (tmp_path / "infopoint.py").write_text(INFOPOINT)
+    env = {**os.environ, "PYTHONPATH": str(SRC)}  # this tree's package; the env's module from the cwd
+    return subprocess.run([sys.executable, "-m", "shaped_es", *argv], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=300, env=env)
+
+
+def test_envs_and_check_env_on_an_own_env(tmp_path):
+    res = _cli(tmp_path, "envs", "--import", "infopoint")
+    assert res.returncode == 0, res.stderr
+    assert any(line.startswith("InfoPoint-v0") and "yes (2-d)" in line for line in res.stdout.splitlines())
+    res = _cli(tmp_path, "check-env", "infopoint:InfoPoint-v0")
+    assert res.returncode == 0, res.stderr
+    lines = res.stdout.strip().splitlines()
+    assert [line.split()[0] for line in lines[:-1]] == ["ok"] * 6
+    assert lines[-1] == "infopoint:InfoPoint-v0 trains with: vanilla, guided, cmaes, ppo, shaped"
+    res = _cli(tmp_path, "check-env", "infopoint:InfoPointNaN-v0", "--json")
+    assert res.returncode == 1  # a FAIL: exit code 1
+    out = json.loads(res.stdout)
+    assert out["trains_with"] == [] and any(c["status"] == "FAIL" and c["name"] == "steps" for c in out["checks"])
+    res = _cli(tmp_path, "check-env", "NoSuchEnv-v0")
+    assert res.returncode == 2 and res.stderr.startswith("shaped-es: error: cannot make env")

@@ -1,0 +1,89 @@
+"""``env_check``: what an env needs to train here, one check per requirement, on envs that meet it and on
+envs that break one requirement each."""
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from shaped_es.env_check import FAIL, NO, OK, WARN, check_env, describe_env, trains_with
+
+
+class Point(gym.Env):
+    """A point pushed towards the origin; misbehaves as ``flaw`` says."""
+
+    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def __init__(self, flaw: str = "none"):
+        self.flaw = flaw
+        if flaw == "unbounded":
+            self.action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
+        self.calls = 0
+
+    def _info(self):
+        if self.flaw == "no_waypoints" or (self.flaw == "some_waypoints" and self.t % 2):
+            return {}
+        return {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=None if self.flaw == "unseeded" else seed)
+        self.x, self.t = self.np_random.uniform(-1, 1, 2).astype(np.float32), 0
+        return self.x.copy(), self._info()
+
+    def step(self, action):
+        self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32), -10, 10)
+        self.t += 1
+        reward = np.nan if self.flaw == "nan_reward" and self.t == 5 else -float(np.linalg.norm(self.x))
+        return self.x.copy(), reward, False, False, self._info()
+
+
+for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded"):
+    gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
+gym.register("CheckPoint-nolimit-v0", entry_point=Point)
+
+
+def _status(checks):
+    return {c.name: c.status for c in checks}
+
+
+def test_an_env_that_meets_everything_trains_with_every_method():
+    checks = check_env("CheckPoint-none-v0")
+    assert [c.name for c in checks] == ["gymnasium API", "spaces", "time limit", "steps", "seeding", "waypoints"]
+    assert set(_status(checks).values()) == {OK}
+    assert trains_with(checks) == ["vanilla", "guided", "cmaes", "ppo", "shaped"]
+    assert "(2-d)" in checks[-1].detail
+
+
+@pytest.mark.parametrize("env_id", ["CarNav-v0", "UR5Reach-v0"])
+def test_the_builtin_envs_meet_the_waypoint_contract(env_id):
+    checks = check_env(env_id, episodes=1, max_steps=50)
+    assert FAIL not in _status(checks).values() and "shaped" in trains_with(checks)
+
+
+ES_AND_PPO = ["vanilla", "guided", "cmaes", "ppo"]
+
+
+@pytest.mark.parametrize("flaw, name, status, methods", [
+    ("no_waypoints", "waypoints", NO, ES_AND_PPO),  # optional: every method but shaped
+    ("some_waypoints", "waypoints", FAIL, []),
+    ("unseeded", "seeding", WARN, ES_AND_PPO + ["shaped"]),  # trains, but does not reproduce
+    ("nan_reward", "steps", FAIL, []),
+    ("unbounded", "spaces", FAIL, []),
+])
+def test_each_flaw_is_named_on_its_line(flaw, name, status, methods):
+    checks = check_env(f"CheckPoint-{flaw}-v0")
+    assert _status(checks)[name] == status, checks
+    assert trains_with(checks) == methods
+
+
+def test_no_time_limit_rules_out_ppo():
+    checks = check_env("CheckPoint-nolimit-v0", max_steps=30)
+    assert _status(checks)["time limit"] == WARN and "ppo" not in trains_with(checks)
+    assert "vanilla" in trains_with(checks)
+
+
+def test_describe_env():
+    d = describe_env("CarNav-v0")
+    assert d["presets"] == ["default", "paper"] and d["waypoints"] == 2 and d["time_limit"] == 250
+    assert describe_env("CartPole-v1")["waypoints"] is None
+    assert describe_env("Blackjack-v1")["error"]  # a Tuple observation: no MLP input
