@@ -30,10 +30,12 @@ def _shaping(**over):
     return {**TINY["shaping"], **over}
 
 
-@pytest.mark.parametrize("mechanism,labels", [("candidate", "controller"), ("candidate", "mphi"),
-                                              ("pair", "controller"), ("candidate_pair", "mphi")])
-def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels):
-    sh = _shaping(mechanism=mechanism, labels=labels)
+@pytest.mark.parametrize("mechanism,labels,overlap", [
+    ("candidate", "controller", False), ("candidate", "mphi", False), ("candidate", "mphi", True),
+    ("pair", "controller", False), ("candidate_pair", "mphi", False)])
+def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, overlap):
+    sh = _shaping(mechanism=mechanism, labels=labels,
+                  mean_clone={**TINY["shaping"]["mean_clone"], "overlap": overlap})
     full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
     assert full[-1]["shaping_active"] == "1"
     if "candidate" in mechanism:
@@ -76,6 +78,18 @@ def test_master_and_worker_placement_give_the_same_candidate_run(tmp_path):
             mechanism="candidate", labels=labels, placement=p)}).read_metrics() for p in ("master", "workers")]
         a, b = (strip_time(r) for r in runs)
         assert a == b, labels
+
+
+def test_overlap_evaluates_the_clone_of_the_previous_mean_one_generation_later(tmp_path):
+    """overlap: the clone runs in the shaping thread during the next generation's rollouts, so its
+    candidate is first evaluated a generation later than without overlap; otherwise the same search."""
+    rows = {ov: train(tmp_path / str(ov), {**TINY, "generations": 5, "shaping": _shaping(
+        mechanism="candidate", labels="controller", mean_clone={**TINY["shaping"]["mean_clone"],
+                                                                "overlap": ov})}).read_metrics()
+            for ov in (False, True)}
+    first = {ov: min(int(r["generation"]) for r in rs if r["candidate_return"] != "") for ov, rs in rows.items()}
+    assert first[True] == first[False] + 1
+    assert rows[True][0]["train_reward_mean"] == rows[False][0]["train_reward_mean"]
 
 
 def test_controller_labels_need_the_hook(tmp_path):

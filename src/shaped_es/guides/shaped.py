@@ -260,12 +260,19 @@ class ShapedGuide(NoGuide):
         self._after_checkpoint()  # the previous generation's checkpoint is durable by now
         # shards a killed run left for this generation (maybe laid out by another placement) go first
         delete_generations(self.traj_root, [generation])
-        if self.mphi is None:  # oracle labels: no model to train
-            return
-        self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
-                             mphi_dataset_size=self.mphi.dataset_size)
-        if generation == 0:
-            return
+        if self.mphi is not None:
+            self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
+                                 mphi_dataset_size=self.mphi.dataset_size)
+        train = self.mphi is not None and generation > 0 and self._add_mphi_data(generation)
+        # the mechanism's work that may overlap the rollouts (after M_phi's training, in the same thread)
+        job = self.mechanism.background_job(generation)
+        if train or job is not None:
+            self._thread = threading.Thread(target=self._background, args=(train, job), name="shaping",
+                                            daemon=True)
+            self._thread.start()
+
+    def _add_mphi_data(self, generation: int) -> bool:
+        """M_phi's training pairs from generation ``generation - 1``'s recorded steps; True: train it."""
         data = [t for t in self._generation(generation - 1) if len(t)]
         blk = self._cache.get(generation - 1)
         if data:  # one Transitions for the generation: per-step work once, not per member
@@ -288,15 +295,18 @@ class ShapedGuide(NoGuide):
             self.parts.add(generation, rows)
         self._pending.update(mphi_dataset_size=stats["dataset_size"],
                              mphi_kept_fraction=stats["kept_fraction"])
-        self._thread = threading.Thread(target=self._train, name="mphi-train", daemon=True)
-        self._thread.start()
+        return True
 
-    def _train(self) -> None:
-        t0 = time.perf_counter()
-        losses = self.mphi.train()
-        self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
-        self._pending["mphi_iterations"] = self.mphi.iterations
-        self._pending["time_mphi_s"] = time.perf_counter() - t0
+    def _background(self, train: bool, job) -> None:
+        """The shaping thread: M_phi's training steps, then the mechanism's job (which may label with it)."""
+        if train:
+            t0 = time.perf_counter()
+            losses = self.mphi.train()
+            self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
+            self._pending["mphi_iterations"] = self.mphi.iterations
+            self._pending["time_mphi_s"] = time.perf_counter() - t0
+        if job is not None:
+            job()
 
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:

@@ -79,6 +79,8 @@ class MeanCloneConfig:
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
     #                       or the mean's own return on the same episodes ("mean")
+    overlap: bool = False  # candidate: clone in the shaping thread while the next rollouts run (the
+    #                        candidate is then evaluated one generation later)
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1:

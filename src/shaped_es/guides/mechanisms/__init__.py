@@ -18,9 +18,10 @@ mechanism       what it does with the labels
 ==============  ==========================================================================================
 
 A new mechanism is a :class:`Mechanism` subclass in its own file plus one entry in
-``methods.MECHANISMS``. The guide calls, per generation: :meth:`Mechanism.record_mask` (whose steps the
-rollouts keep), :meth:`Mechanism.extra_members` (policies evaluated beside the population),
-:meth:`Mechanism.after_tell` (after the ES update), and the state methods at every checkpoint.
+``methods.MECHANISMS``. The guide calls, per generation: :meth:`Mechanism.background_job` (work overlapping the rollouts,
+in the guide's shaping thread), :meth:`Mechanism.record_mask` (whose steps the rollouts keep),
+:meth:`Mechanism.extra_members` (policies evaluated beside the population), :meth:`Mechanism.after_tell`
+(after the ES update), and the state methods at every checkpoint.
 """
 
 from __future__ import annotations
@@ -43,6 +44,12 @@ class Mechanism:
 
     def extra_members(self, generation: int) -> np.ndarray | None:
         """Policies ``(k, n)`` evaluated beside generation ``generation``'s population on its episodes."""
+        return None
+
+    def background_job(self, generation: int):
+        """Work that may overlap generation ``generation``'s rollouts: a callable the guide runs in its
+        shaping thread after M_phi's training steps (joined before ``after_tell``), or None. Prepared
+        here, on the main thread: the job must read only what it is handed, not the guide's live data."""
         return None
 
     def after_tell(self, generation: int, params: np.ndarray, fitness: np.ndarray, extra_fitness: np.ndarray,

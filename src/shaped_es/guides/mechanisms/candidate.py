@@ -39,6 +39,22 @@ class MeanCandidate(Mechanism):
         super().__init__(host)
         self.cfg = host.mean_clone_cfg
         self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, then the mean
+        # overlap: the mean the next generation's shaping thread clones, and what that thread returned
+        self._mu: np.ndarray | None = None
+        self._bg: tuple | None = None
+
+    def background_job(self, generation: int):
+        """overlap: clone the mean of the last after_tell on the steps up to ``generation - 1`` while
+        generation ``generation`` rolls out (after M_phi's training steps in the same thread)."""
+        self._bg = None
+        if not self.cfg.overlap or self._mu is None or generation == 0:
+            return None
+        rows, mu = self.host.dagger_rows(generation - 1), self._mu.copy()  # handed over, not shared
+
+        def job():
+            if self.host.labels.ready:
+                self._bg = (mu, *clone_mean(self.host, generation - 1, mu, self.cfg, rows=rows))
+        return job
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
@@ -62,22 +78,32 @@ class MeanCandidate(Mechanism):
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
                 strategy.set_mean(self.extras[j])
         self.extras = None
-        if self.host.labels.ready:
-            mu = np.asarray(strategy.mean, np.float64)  # (n,)
-            theta_star, info = clone_mean(self.host, generation, mu, self.cfg)
-            out.update(info)
-            if info:
-                d = theta_star - mu  # (n,) the label direction
-                self.extras = np.stack([mu + s * d for s in self.cfg.scales] + [mu]).astype(np.float32)
+        mean = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
+        if self.cfg.overlap:  # the clone of mu_g the shaping thread made during this generation
+            bg, self._bg, self._mu = self._bg, None, mean.copy()
+            mu, theta_star, info = bg if bg is not None else (mean, mean, {})
+        else:
+            mu = mean
+            theta_star, info = clone_mean(self.host, generation, mu, self.cfg) if self.host.labels.ready \
+                else (mu, {})
+        out.update(info)
+        if info:
+            d = theta_star - mu  # (n,) the label direction
+            self.extras = np.stack([mu + s * d for s in self.cfg.scales] + [mean]).astype(np.float32)
         return out
 
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params
-        return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy()}
+        return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
+                "clone_from": np.zeros(0) if self._mu is None else self._mu.copy()}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
+        mu = np.asarray(state.get("clone_from", np.zeros(0)), np.float64).reshape(-1)
         k, n = len(self.cfg.scales) + 1, self.host.spec.num_params
         if x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
+        if mu.size and (mu.shape != (n,) or not np.isfinite(mu).all()):
+            raise ValueError(f"candidate clone_from has shape {mu.shape}, expected ({n},) and finite")
         self.extras = x if x.size else None
+        self._mu = mu if mu.size else None
