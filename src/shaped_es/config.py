@@ -133,6 +133,8 @@ class MeanCloneSettings(_Strict):
     accept: Literal[tuple(ACCEPT_RULES)] = Field(
         _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best) "
         "or the mean's own on the same episodes (mean)")
+    confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
+                          "generation, on new episodes, and becomes the mean only if it wins there too")
     overlap: Bool = Field(_MEAN.overlap, description="candidate: clone in the shaping thread while the next "
                           "generation rolls out (off the critical path; evaluated one generation later)")
 

@@ -30,12 +30,12 @@ def _shaping(**over):
     return {**TINY["shaping"], **over}
 
 
-@pytest.mark.parametrize("mechanism,labels,overlap", [
-    ("candidate", "controller", False), ("candidate", "mphi", False), ("candidate", "mphi", True),
-    ("pair", "controller", False), ("candidate_pair", "mphi", False)])
-def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, overlap):
-    sh = _shaping(mechanism=mechanism, labels=labels,
-                  mean_clone={**TINY["shaping"]["mean_clone"], "overlap": overlap})
+@pytest.mark.parametrize("mechanism,labels,option", [
+    ("candidate", "controller", None), ("candidate", "mphi", None), ("candidate", "mphi", "overlap"),
+    ("candidate", "controller", "confirm"), ("pair", "controller", None), ("candidate_pair", "mphi", None)])
+def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
+    opts = {} if option is None else {option: True}
+    sh = _shaping(mechanism=mechanism, labels=labels, mean_clone={**TINY["shaping"]["mean_clone"], **opts})
     full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
     assert full[-1]["shaping_active"] == "1"
     if "candidate" in mechanism:
@@ -162,3 +162,30 @@ def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, 
     else:  # 3.5 beats the mean's own 1.0: the candidate is the new mean
         assert out["candidate_accepted"] == 1
         np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star, rtol=1e-6)
+
+
+def test_confirm_jumps_only_to_a_winner_that_wins_again(monkeypatch):
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    n, P = 3, 4
+    host = _Host(n, "best")
+    host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), confirm=True)
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+    mech = MeanCandidate(host)
+    step = np.ones(n)
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + step, {"label_std": 0.1}))
+    es.ask(); es.tell(np.zeros(P))
+    mech.after_tell(0, None, np.zeros(P), np.zeros(0), [], np.zeros(n), es, None)
+    c0 = mech.extra_members(1)[0].copy()
+    # generation 1: the candidate wins (5 > 4): not accepted yet, carried as the pending row
+    es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+    out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([5.0, 0.0]), [], np.zeros(n), es, None)
+    assert out["candidate_accepted"] == 0 and mech.pending == 1
+    X = mech.extra_members(2)
+    assert X.shape == (3, n) and np.allclose(X[1], c0)  # new candidate, the pending winner, the mean
+    # generation 2: the pending one wins again (6 > 4): the mean jumps to it
+    es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+    out = mech.after_tell(2, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([0.0, 6.0, 0.0]), [], np.zeros(n),
+                          es, None)
+    assert out["candidate_accepted"] == 1 and mech.pending == 0
+    np.testing.assert_allclose(es.mean, c0, rtol=1e-6)

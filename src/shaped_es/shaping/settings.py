@@ -79,6 +79,8 @@ class MeanCloneConfig:
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
     #                       or the mean's own return on the same episodes ("mean")
+    confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
+    #                        becomes the mean only if it wins there too
     overlap: bool = False  # candidate: clone in the shaping thread while the next rollouts run (the
     #                        candidate is then evaluated one generation later)
 

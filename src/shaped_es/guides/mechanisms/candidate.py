@@ -7,7 +7,9 @@ Per generation ``g`` (the search's mean ``mu_g``):
    are rolled out beside the population, on the same episode seeds (common random numbers);
 2. the ES update gives ``mu_{g+1}``; the best ``c_g`` **replaces** it if its return beats every
    member's (``accept = best``; or the mean's own, ``accept = mean``) -- a jump no ES step of the
-   Adam-normalized size can make, taken only where the returns say it pays;
+   Adam-normalized size can make, taken only where the returns say it pays. With ``confirm`` the
+   winner is first evaluated again beside the next generation, on new episodes, and the jump is taken
+   only if it wins there too (a return on two episodes can be luck: UR5Reach-v0's targets);
 3. the new mean is cloned again for the next generation.
 
 Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
@@ -38,7 +40,8 @@ class MeanCandidate(Mechanism):
     def __init__(self, host):
         super().__init__(host)
         self.cfg = host.mean_clone_cfg
-        self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, then the mean
+        self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, [the pending one,] the mean
+        self.pending = 0  # 1: the row before the mean is last generation's winner, to be confirmed
         # overlap: the mean the next generation's shaping thread clones, and what that thread returned
         self._mu: np.ndarray | None = None
         self._bg: tuple | None = None
@@ -65,19 +68,25 @@ class MeanCandidate(Mechanism):
     def after_tell(self, generation, params, fitness, extra_fitness, results, old_mean, strategy,
                    map_tasks) -> dict:
         out: dict = {}
+        winner = None  # a candidate that won this generation, to be confirmed in the next one
         if self.extras is not None and extra_fitness.size == self.extras.shape[0]:
-            f_cand, f_mean = extra_fitness[:-1], float(extra_fitness[-1])  # (k-1,), the mean's
+            k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates
+            f_cand, f_mean = extra_fitness[:k], float(extra_fitness[-1])  # (k,), the mean's
             j = int(np.argmax(f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept == "best" else f_mean
-            accept = bool(f_cand[j] > bar)
+            won = bool(f_cand[j] > bar)
+            confirmed = bool(self.pending and extra_fitness[k] > bar)  # last generation's winner again
+            accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,
                        candidate_gain=float(f_cand[j]) - f_mean, candidate_accepted=int(accept),
                        candidate_scale=float(self.cfg.scales[j]),
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
-                strategy.set_mean(self.extras[j])
-        self.extras = None
+                strategy.set_mean(self.extras[k] if confirmed else self.extras[j])
+            elif won:  # confirm: evaluated again, on the next generation's episodes, before the jump
+                winner = self.extras[j].copy()
+        self.extras, self.pending = None, 0
         mean = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
         if self.cfg.overlap:  # the clone of mu_g the shaping thread made during this generation
             bg, self._bg, self._mu = self._bg, None, mean.copy()
@@ -89,21 +98,25 @@ class MeanCandidate(Mechanism):
         out.update(info)
         if info:
             d = theta_star - mu  # (n,) the label direction
-            self.extras = np.stack([mu + s * d for s in self.cfg.scales] + [mean]).astype(np.float32)
+            rows = [mu + s * d for s in self.cfg.scales] + ([winner] if winner is not None else []) + [mean]
+            self.extras, self.pending = np.stack(rows).astype(np.float32), int(winner is not None)
         return out
 
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params
         return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
-                "clone_from": np.zeros(0) if self._mu is None else self._mu.copy()}
+                "clone_from": np.zeros(0) if self._mu is None else self._mu.copy(),
+                "pending": np.array(self.pending, np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
         mu = np.asarray(state.get("clone_from", np.zeros(0)), np.float64).reshape(-1)
-        k, n = len(self.cfg.scales) + 1, self.host.spec.num_params
-        if x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
+        pending = int(np.asarray(state.get("pending", 0)))
+        k, n = len(self.cfg.scales) + 1 + pending, self.host.spec.num_params
+        if pending not in (0, 1) or x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
         if mu.size and (mu.shape != (n,) or not np.isfinite(mu).all()):
             raise ValueError(f"candidate clone_from has shape {mu.shape}, expected ({n},) and finite")
         self.extras = x if x.size else None
+        self.pending = pending if x.size else 0
         self._mu = mu if mu.size else None
