@@ -38,3 +38,66 @@ def test_unknown_env_one_line():
         with pytest.raises(EnvSpecError) as e:
             make_env(bad)
         assert "\n" not in str(e.value)
+
+
+def test_a_record_mask_keeps_those_members_and_the_rest_is_unchanged():
+    spec = MLPSpec(13, 5, (8,))
+    P = np.stack([spec.init(i) for i in range(3)])
+    seeds = np.array([[1, 2]] * 3)
+    full = run_task(RolloutTask("shaped_es:UR5Reach-v0", {}, spec, P, np.arange(3), seeds, record=True,
+                                max_steps=20))
+    part = run_task(RolloutTask("shaped_es:UR5Reach-v0", {}, spec, P, np.arange(3), seeds,
+                                record=np.array([True, False, True]), max_steps=20))
+    np.testing.assert_array_equal(part.returns, full.returns)
+    assert [t.member for t in part.transitions] == [0, 2]
+    for a, b in zip(part.transitions, [full.transitions[0], full.transitions[2]]):
+        np.testing.assert_array_equal(a.state, b.state)
+        np.testing.assert_array_equal(a.action, b.action)
+        assert a.expert is None  # not asked for
+
+
+def test_expert_actions_are_the_controllers_on_the_recorded_states():
+    from shaped_es.envs.ur5.config import make_config
+    from shaped_es.envs.ur5.controller import waypoint_controller
+
+    spec = MLPSpec(13, 5, (8,))
+    P = np.stack([spec.init(i) for i in range(2)])
+    res = run_task(RolloutTask("shaped_es:UR5Reach-v0", {}, spec, P, np.arange(2), np.array([[3, 4]] * 2),
+                               record=True, max_steps=15, expert=True))
+    for tr in res.transitions:  # UR5's controller reads only what a transition records
+        np.testing.assert_allclose(tr.expert, waypoint_controller(make_config(), tr.state, tr.position,
+                                                                  tr.waypoint), atol=1e-6)
+
+
+def test_expert_actions_of_a_plain_gym_env_are_mapped_to_the_policy_scale():
+    """A 1-D point with the waypoint contract, an action Box(-2, 2) and a controller (the gym path)."""
+    import gymnasium as gym
+
+    class Point(gym.Env):
+        observation_space = gym.spaces.Box(-10, 10, (1,), np.float32)
+        action_space = gym.spaces.Box(-2.0, 2.0, (1,), np.float32)
+
+        def reset(self, *, seed=None, options=None):
+            super().reset(seed=seed)
+            self.x, self.t = 0.0, 0
+            return np.array([self.x], np.float32), self._info()
+
+        def _info(self):
+            return {"position": np.array([self.x]), "waypoint": np.array([self.x + 1.0])}
+
+        def step(self, a):
+            self.x += float(a[0]) * 0.1
+            self.t += 1
+            return np.array([self.x], np.float32), -1.0, False, self.t >= 5, self._info()
+
+        def waypoint_controller(self, obs, info):
+            return np.array([1.0], np.float32)  # half of the action range up
+
+    gym.register("PointCtl-v0", entry_point=Point)
+    spec = MLPSpec(1, 1, (4,))
+    res = run_task(RolloutTask("PointCtl-v0", {}, spec, spec.init(0)[None], np.arange(1), np.array([[0]]),
+                               record=True, expert=True))
+    np.testing.assert_allclose(res.transitions[0].expert, 0.5)  # 1.0 in [-2, 2] is 0.5 in [-1, 1]
+    with pytest.raises(EnvSpecError, match="waypoint_controller"):
+        run_task(RolloutTask("CartPole-v1", {}, MLPSpec(4, 2, (4,)), MLPSpec(4, 2, (4,)).init(0)[None],
+                             np.arange(1), np.array([[0]]), record=True, expert=True))

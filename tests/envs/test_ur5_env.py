@@ -128,6 +128,27 @@ def test_hand_written_controller_beats_random_policy():
     assert rand.mean() < 0.0
 
 
+def test_the_controller_hook_is_the_hand_written_controller_on_core_and_env():
+    """The env's waypoint_controller hook (the ``controller`` label source): on the core, on the
+    Gymnasium env's single copy, and ``controller.waypoint_controller`` on the same obs and info."""
+    from shaped_es.envs.core import has_controller
+
+    env = gym.make("shaped_es:UR5Reach-v0")
+    assert has_controller(env)
+    core = env.unwrapped.batch_core
+    obs, info = env.reset(seed=5)
+    state, obs_b, info_b = core.reset(np.array([5]))
+    for _ in range(4):
+        a = env.unwrapped.waypoint_controller(obs, info)
+        ab = core.waypoint_controller(state, obs_b, info_b)
+        np.testing.assert_array_equal(a, ab[0])
+        np.testing.assert_array_equal(ab, waypoint_controller(core.config, obs_b, info_b["position"],
+                                                              info_b["waypoint"]))
+        assert ab.shape == (1, 5) and np.abs(ab).max() <= 1.0
+        obs, *_, info = env.step(a)
+        state, obs_b, _, _, _, info_b = core.step(state, ab)
+
+
 def test_ended_episodes_are_not_stepped_and_stay_unchanged():
     core = UR5Core(make_config())
     state, _, _ = core.reset(np.arange(3))
