@@ -133,6 +133,9 @@ class MeanCloneSettings(_Strict):
     accept: Literal[tuple(ACCEPT_RULES)] = Field(
         _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best) "
         "or the mean's own on the same episodes (mean)")
+    extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "
+                                "and the mean also run this many more episodes (none of the population's), on "
+                                "which a winner must beat the mean too")
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it wins there too")
     overlap: Bool = Field(_MEAN.overlap, description="candidate: clone in the shaping thread while the next "

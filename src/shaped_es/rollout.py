@@ -96,6 +96,12 @@ class RolloutResult:
     transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
 
 
+def mean_returns(results: list[RolloutResult]) -> np.ndarray:
+    """Each member's mean return, ``(m,)`` in member order, from results whose returns are ``(m_i, E_i)``
+    (a guide's extra members may run more episodes than the population)."""
+    return np.concatenate([np.asarray(r.returns).mean(axis=1) for r in results])
+
+
 def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray,
                      workers: int, generation: int = 0, record: bool | np.ndarray = False,
                      max_steps: int | None = None, expert: bool = False) -> list[RolloutTask]:

@@ -34,8 +34,8 @@ from shaped_es.config import RunConfig, dump_config
 from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import (EnvProbe, policy_episode_tasks, policy_spec, population_tasks, probe_env,
-                               run_task)
+from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
+                               probe_env, run_task)
 from shaped_es.run_loop import RunLoop
 from shaped_es.store import RunStore
 from shaped_es.strategies import Strategy
@@ -209,10 +209,10 @@ class Trainer(RunLoop):
         self.guide.begin_generation(g)
         extra = self.guide.extra_members(g)  # (k, n) evaluated beside the population, or None
         X_all = X if extra is None else np.concatenate([X, np.asarray(extra, np.float32)])  # (P + k, n)
-        results, rollout_time = self._roll_out(X_all, g)
-        done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
-        fitness = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P + k,) mean of (., E) returns
         P = X.shape[0]
+        results, rollout_time = self._roll_out(X_all, g, P)
+        done = self._drain()  # the previous generation's test episodes ran alongside these rollouts
+        fitness = mean_returns(results)  # (P + k,) each member's mean return
         item = self._start_row(g, X_all, fitness, P)  # the best member's test episodes start now
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness[:P])  # maximize
@@ -221,17 +221,27 @@ class Trainer(RunLoop):
             raise DivergedError(self._diverged(g, "the search mean"))
         return done + self._end_row(g, item, results, old_mean, extra, rollout_time, t0, cpu0)
 
-    def _roll_out(self, X: np.ndarray, g: int) -> tuple[list, float]:
-        """Every member of ``X`` ``(P, n)`` on generation ``g``'s training episode seeds; the results in
-        member order (their returns ``(P, E)``) and the time the rollouts took."""
+    def _roll_out(self, X: np.ndarray, g: int, P: int) -> tuple[list, float]:
+        """Every member of ``X`` ``(P + k, n)`` (the population, then the guide's extra members) on
+        generation ``g``'s training episode seeds; the results in member order (returns ``(m, E)``; the
+        extras ``(m, E + x)`` with ``x`` = the guide's ``extra_episodes``: their first E episodes are the
+        population's, with common seeds) and the time the rollouts took."""
         cfg = self.cfg
-        seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(X.shape[0]), cfg.rollout.episodes,
-                                      cfg.rollout.common_seeds)  # (P, E)
+        E, k = cfg.rollout.episodes, X.shape[0] - P
+        seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P), E, cfg.rollout.common_seeds)  # (P, E)
         fn = self.guide.rollout_fn() or run_task
         t_roll = time.perf_counter()
-        P = 2 * self.cfg.es.pairs
-        record = self.guide.record_mask(min(P, X.shape[0]), max(0, X.shape[0] - P))  # (P + k,)
-        results = self.executor.map(fn, self._tasks(X, seeds, g, record))
+        record = self.guide.record_mask(P, k)  # (P + k,)
+        tasks = self._tasks(X[:P], seeds, g, record[:P])
+        if k:  # the extras, with their extra episodes, in tasks of their own
+            x = self.guide.extra_episodes() if hasattr(self.guide, "extra_episodes") else 0
+            xs = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P, P + k), E + x,
+                                       cfg.rollout.common_seeds)  # (k, E + x)
+            extra = self._tasks(X[P:], xs, g, record[P:])
+            for t in extra:
+                t.members = t.members + P  # population indices P .. P + k - 1
+            tasks += extra
+        results = self.executor.map(fn, tasks)
         return results, time.perf_counter() - t_roll
 
     def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray, P: int) -> _Row:

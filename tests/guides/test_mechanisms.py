@@ -32,9 +32,10 @@ def _shaping(**over):
 
 @pytest.mark.parametrize("mechanism,labels,option", [
     ("candidate", "controller", None), ("candidate", "mphi", None), ("candidate", "mphi", "overlap"),
-    ("candidate", "controller", "confirm"), ("pair", "controller", None), ("candidate_pair", "mphi", None)])
+    ("candidate", "controller", "confirm"), ("candidate", "controller", "extra_episodes"),
+    ("pair", "controller", None), ("candidate_pair", "mphi", None)])
 def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
-    opts = {} if option is None else {option: True}
+    opts = {} if option is None else {option: 2 if option == "extra_episodes" else True}
     sh = _shaping(mechanism=mechanism, labels=labels, mean_clone={**TINY["shaping"]["mean_clone"], **opts})
     full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
     assert full[-1]["shaping_active"] == "1"
@@ -126,10 +127,11 @@ class _Labels:
 
 
 class _Host:
-    def __init__(self, n, accept):
-        self.mean_clone_cfg = MeanCloneConfig(accept=accept, scales=(0.5, 1.0))
+    def __init__(self, n, accept, **cfg):
+        self.mean_clone_cfg = MeanCloneConfig(accept=accept, scales=(0.5, 1.0), **cfg)
         self.labels = _Labels()
         self.spec = type("S", (), {"num_params": n})()
+        self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
 
 
 @pytest.mark.parametrize("accept", ["best", "mean"])
@@ -143,7 +145,7 @@ def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, 
     monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + theta_star, {"label_std": 0.1}))
     es.ask()
     es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-    mech.after_tell(0, None, np.zeros(P), np.zeros(0), [], np.zeros(n), es, None)
+    mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
     mu0 = np.array(es.mean)
     np.testing.assert_allclose(mech.extra_members(1), np.stack([mu0 + 0.5 * theta_star, mu0 + theta_star, mu0]),
                                rtol=1e-6)
@@ -153,7 +155,7 @@ def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, 
     assert X.shape == (P, n)
     es.tell(fitness)
     es_mean = np.array(es.mean)
-    out = mech.after_tell(1, None, fitness, np.array([3.5, 2.5, 1.0]), [], mu0, es, None)
+    out = mech.after_tell(1, None, fitness, np.array([[3.5], [2.5], [1.0]]), [], mu0, es, None)
     assert out["candidate_return"] == 3.5 and out["mean_return"] == 1.0 and out["candidate_gain"] == 2.5
     assert out["candidate_scale"] == 0.5
     if accept == "best":  # 3.5 does not beat the best member's 4.0: the ES update stands
@@ -169,23 +171,43 @@ def test_confirm_jumps_only_to_a_winner_that_wins_again(monkeypatch):
 
     n, P = 3, 4
     host = _Host(n, "best")
-    host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), confirm=True)
+    host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), confirm=True)  # one candidate a generation
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
     mech = MeanCandidate(host)
     step = np.ones(n)
     monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + step, {"label_std": 0.1}))
     es.ask(); es.tell(np.zeros(P))
-    mech.after_tell(0, None, np.zeros(P), np.zeros(0), [], np.zeros(n), es, None)
+    mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
     c0 = mech.extra_members(1)[0].copy()
     # generation 1: the candidate wins (5 > 4): not accepted yet, carried as the pending row
     es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-    out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([5.0, 0.0]), [], np.zeros(n), es, None)
+    out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([[5.0], [0.0]]), [], np.zeros(n), es,
+                          None)
     assert out["candidate_accepted"] == 0 and mech.pending == 1
     X = mech.extra_members(2)
     assert X.shape == (3, n) and np.allclose(X[1], c0)  # new candidate, the pending winner, the mean
     # generation 2: the pending one wins again (6 > 4): the mean jumps to it
     es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-    out = mech.after_tell(2, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([0.0, 6.0, 0.0]), [], np.zeros(n),
-                          es, None)
+    out = mech.after_tell(2, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([[0.0], [6.0], [0.0]]), [],
+                          np.zeros(n), es, None)
     assert out["candidate_accepted"] == 1 and mech.pending == 0
     np.testing.assert_allclose(es.mean, c0, rtol=1e-6)
+
+
+def test_extra_episodes_make_a_winner_beat_the_mean_where_nobody_was_chosen(monkeypatch):
+    """extra_episodes: the candidate wins on the common episode (5 > 4) but is accepted only if it also
+    beats the mean on the episodes the population did not run."""
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    n, P = 3, 4
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + 1.0, {"label_std": 0.1}))
+    for extra, accepted in (([[5.0, 1.0], [5.0, 1.0], [0.0, 2.0]], 0), ([[5.0, 3.0], [5.0, 3.0], [0.0, 2.0]], 1)):
+        host = _Host(n, "best", extra_episodes=1)
+        es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+        mech = MeanCandidate(host)
+        assert mech.extra_episodes == 1
+        es.ask(); es.tell(np.zeros(P))
+        mech.after_tell(0, None, np.zeros(P), np.zeros((0, 2)), [], np.zeros(n), es, None)
+        es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+        out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array(extra), [], np.zeros(n), es, None)
+        assert out["candidate_accepted"] == accepted

@@ -36,6 +36,10 @@ class NoGuide:
         results follow the population's in ``after_tell``'s ``results`` (members ``P .. P + k - 1``)."""
         return None
 
+    def extra_episodes(self) -> int:
+        """Episodes the extra members run beyond the population's (their first ones are the population's)."""
+        return 0
+
     def rollout_fn(self):
         """Worker-side function for training rollouts (None: the plain ``rollout.run_task``)."""
         return None

@@ -52,7 +52,7 @@ from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import EnvProbe
+from shaped_es.rollout import EnvProbe, mean_returns
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
@@ -148,6 +148,10 @@ class ShapedGuide(NoGuide):
     def extra_members(self, generation: int) -> np.ndarray | None:
         """Policies ``(k, n)`` the mechanism has evaluated beside the population (None: none)."""
         return self.mechanism.extra_members(generation)
+
+    def extra_episodes(self) -> int:
+        """Episodes the mechanism's extra members run beyond the population's."""
+        return self.mechanism.extra_episodes
 
     def rollout_fn(self):
         if self.placement == "workers":  # each worker writes its chunk's shard before it returns
@@ -335,9 +339,11 @@ class ShapedGuide(NoGuide):
             return out
         out["shaping_active"] = 1
         P = params.shape[0]
-        fit_all = np.concatenate([r.returns for r in results]).mean(axis=1)  # (P + k,) members, then extras
+        fitness = mean_returns([r for r in results if r.members[0] < P])  # (P,) the population's
+        extra = [np.asarray(r.returns) for r in results if r.members[0] >= P]  # the extras' (k_i, E + x)
+        extra_returns = np.concatenate(extra) if extra else np.zeros((0, self.cfg.rollout.episodes))
         t0 = time.perf_counter()
-        out.update(self.mechanism.after_tell(generation, params, fit_all[:P], fit_all[P:], results, old_mean,
+        out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
                                              strategy, map_tasks))
         out["time_cloning_s"] = time.perf_counter() - t0
         self._trim_cache(generation)

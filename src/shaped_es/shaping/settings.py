@@ -79,13 +79,16 @@ class MeanCloneConfig:
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
     #                       or the mean's own return on the same episodes ("mean")
+    extra_episodes: int = 0  # candidate: the candidates and the mean also run this many more episodes,
+    #                          on which a winner must beat the mean too
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it wins there too
     overlap: bool = False  # candidate: clone in the shaping thread while the next rollouts run (the
     #                        candidate is then evaluated one generation later)
 
     def __post_init__(self):
-        if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1:
+        if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
+                or self.extra_episodes < 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:

@@ -34,6 +34,7 @@ class Mechanism:
 
     name = ""
     metric_keys: tuple[str, ...] = ()  # the metrics columns its after_tell fills
+    extra_episodes = 0  # episodes its extra members run beyond the population's (after the common ones)
 
     def __init__(self, host):
         self.host = host  # the ShapedGuide: cfg, spec, settings, data, labels, M_phi
@@ -52,10 +53,11 @@ class Mechanism:
         here, on the main thread: the job must read only what it is handed, not the guide's live data."""
         return None
 
-    def after_tell(self, generation: int, params: np.ndarray, fitness: np.ndarray, extra_fitness: np.ndarray,
+    def after_tell(self, generation: int, params: np.ndarray, fitness: np.ndarray, extra_returns: np.ndarray,
                    results, old_mean: np.ndarray, strategy, map_tasks) -> dict:
         """After ``strategy.tell``: ``params`` ``(P, n)`` the population, ``fitness`` ``(P,)`` its mean
-        returns, ``extra_fitness`` ``(k,)`` those of :meth:`extra_members`; returns metrics."""
+        returns, ``extra_returns`` ``(k, E + x)`` the returns of :meth:`extra_members` on the
+        population's E episodes and ``extra_episodes`` more; returns metrics."""
         return {}
 
     def state_dict(self) -> dict[str, np.ndarray]:

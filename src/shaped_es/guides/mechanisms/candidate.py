@@ -7,9 +7,11 @@ Per generation ``g`` (the search's mean ``mu_g``):
    are rolled out beside the population, on the same episode seeds (common random numbers);
 2. the ES update gives ``mu_{g+1}``; the best ``c_g`` **replaces** it if its return beats every
    member's (``accept = best``; or the mean's own, ``accept = mean``) -- a jump no ES step of the
-   Adam-normalized size can make, taken only where the returns say it pays. With ``confirm`` the
+   Adam-normalized size can make, taken only where the returns say it pays. With ``extra_episodes``
+   the candidates and the mean also run that many episodes nobody was selected on, and a winner must
+   beat the mean there too (a return on two episodes can be luck). With ``confirm`` the
    winner is first evaluated again beside the next generation, on new episodes, and the jump is taken
-   only if it wins there too (a return on two episodes can be luck: UR5Reach-v0's targets);
+   only if it wins there too;
 3. the new mean is cloned again for the next generation.
 
 Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
@@ -40,6 +42,7 @@ class MeanCandidate(Mechanism):
     def __init__(self, host):
         super().__init__(host)
         self.cfg = host.mean_clone_cfg
+        self.extra_episodes = self.cfg.extra_episodes
         self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, [the pending one,] the mean
         self.pending = 0  # 1: the row before the mean is last generation's winner, to be confirmed
         # overlap: the mean the next generation's shaping thread clones, and what that thread returned
@@ -65,17 +68,24 @@ class MeanCandidate(Mechanism):
     def extra_members(self, generation: int) -> np.ndarray | None:
         return self.extras
 
-    def after_tell(self, generation, params, fitness, extra_fitness, results, old_mean, strategy,
+    def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks) -> dict:
         out: dict = {}
         winner = None  # a candidate that won this generation, to be confirmed in the next one
-        if self.extras is not None and extra_fitness.size == self.extras.shape[0]:
+        if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
+            E = self.host.cfg.rollout.episodes
+            common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
+            # with extra_episodes: the candidates must also beat the mean on episodes nobody was chosen on
+            more = extra_returns[:, E:].mean(axis=1) if extra_returns.shape[1] > E else None  # (k,)
             k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates
-            f_cand, f_mean = extra_fitness[:k], float(extra_fitness[-1])  # (k,), the mean's
+            f_cand, f_mean = common[:k], float(common[-1])  # (k,), the mean's
             j = int(np.argmax(f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept == "best" else f_mean
-            won = bool(f_cand[j] > bar)
-            confirmed = bool(self.pending and extra_fitness[k] > bar)  # last generation's winner again
+
+            def passes(i: int) -> bool:
+                return bool(common[i] > bar and (more is None or more[i] > more[-1]))
+            won = passes(j)
+            confirmed = bool(self.pending) and passes(k)  # last generation's winner, again
             accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,

@@ -17,10 +17,10 @@ class MeanCandidatePair(MeanCandidate):
     name = "candidate_pair"
     metric_keys = MeanCandidate.metric_keys + ("pair_return_diff",)
 
-    def after_tell(self, generation, params, fitness, extra_fitness, results, old_mean, strategy,
+    def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks) -> dict:
         paired = self.extras is not None  # this generation's first pair lay along the clone direction
-        out = super().after_tell(generation, params, fitness, extra_fitness, results, old_mean, strategy,
+        out = super().after_tell(generation, params, fitness, extra_returns, results, old_mean, strategy,
                                  map_tasks)
         if paired:
             P = fitness.shape[0] // 2

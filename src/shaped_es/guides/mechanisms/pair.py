@@ -30,7 +30,7 @@ class MeanPair(Mechanism):
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
 
-    def after_tell(self, generation, params, fitness, extra_fitness, results, old_mean, strategy,
+    def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks) -> dict:
         out: dict = {}
         P = fitness.shape[0] // 2

@@ -22,7 +22,7 @@ import numpy as np
 from shaped_es import seeding
 from shaped_es.guides.mechanisms import Mechanism
 from shaped_es.guides.shaped_tasks import CloneTask, label_and_clone
-from shaped_es.rollout import population_tasks, run_task
+from shaped_es.rollout import mean_returns, population_tasks, run_task
 from shaped_es.shaping.cloning import CloneResult, clone_sampled
 from shaped_es.shaping.surrogate import clone_steps_orthogonal, cosine, surrogate_gradients
 
@@ -35,7 +35,7 @@ class PaperSubspace(Mechanism):
                    "surrogate_update_alignment", "clone_step_update_cosine", "clone_return_gain",
                    "clone_improved_fraction")
 
-    def after_tell(self, generation, params, fitness, extra_fitness, results, old_mean, strategy,
+    def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks) -> dict:
         host, sh = self.host, self.host.sh
         if not host.labels.ready:
@@ -78,7 +78,7 @@ class PaperSubspace(Mechanism):
         tasks = population_tasks(c.env, c.env_kwargs, spec, theta_star, seeds, len(results), generation,
                                  max_steps=c.rollout.max_steps)
         after = np.concatenate([r.returns for r in map_tasks(run_task, tasks)]).mean(axis=1)  # (P,)
-        before = np.concatenate([r.returns for r in results]).mean(axis=1)[:P]  # (P,)
+        before = mean_returns(results)[:P]  # (P,)
         return {"clone_return_gain": float((after - before).mean()),
                 "clone_improved_fraction": float((after > before).mean())}
 
