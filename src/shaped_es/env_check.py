@@ -25,7 +25,7 @@ from dataclasses import asdict, dataclass
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
 from shaped_es.rollout import make_env
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
@@ -63,6 +63,7 @@ def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, ma
             return checks
         checks.append(_time_limit(env))
         checks += _episodes(env, env_id, env_kwargs, episodes, max_steps, seed)
+        checks.append(_controller(env))
         return checks
     finally:
         env.close()
@@ -195,6 +196,15 @@ def _waypoints(runs: list[dict]) -> Check:
     d = next(iter(shapes))[0][0]
     return Check("waypoints", OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d) from reset and "
                                   f"every step: --method shaped can use it")
+
+
+def _controller(env: gym.Env) -> Check:
+    """The optional scripted waypoint controller (the oracle label source, ``envs/core.py``)."""
+    if has_controller(env):
+        return Check("controller", OK, "waypoint_controller(obs, info): the oracle labels "
+                                       "(shaping.labels=controller) can use it")
+    return Check("controller", NO, "no waypoint_controller(obs, info) (optional: the oracle label source "
+                                   "shaping.labels=controller needs one)")
 
 
 def describe_env(env_id: str) -> dict:
