@@ -137,7 +137,8 @@ class MeanCloneSettings(_Strict):
                                 "and the mean also run this many more episodes (none of the population's), on "
                                 "which a winner must beat the mean too")
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
-                          "generation, on new episodes, and becomes the mean only if it wins there too")
+                          "generation, on new episodes, and becomes the mean only if it beats the mean's "
+                          "return there")
     overlap: Bool = Field(_MEAN.overlap, description="candidate: clone in the shaping thread while the next "
                           "generation rolls out (off the critical path; evaluated one generation later)")
 

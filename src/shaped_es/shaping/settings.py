@@ -82,7 +82,7 @@ class MeanCloneConfig:
     extra_episodes: int = 0  # candidate: the candidates and the mean also run this many more episodes,
     #                          on which a winner must beat the mean too
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
-    #                        becomes the mean only if it wins there too
+    #                        becomes the mean only if it beats the mean's return there
     overlap: bool = False  # candidate: clone in the shaping thread while the next rollouts run (the
     #                        candidate is then evaluated one generation later)
 

@@ -11,7 +11,9 @@ Per generation ``g`` (the search's mean ``mu_g``):
    the candidates and the mean also run that many episodes nobody was selected on, and a winner must
    beat the mean there too (a return on two episodes can be luck). With ``confirm`` the
    winner is first evaluated again beside the next generation, on new episodes, and the jump is taken
-   only if it wins there too;
+   only if it beats the mean's return there (UR5Reach-v0: winners on two lucky episodes, accepted at
+   once, led the mean into colliding regions; beating the next, improved, population again was too
+   strict on CarNav-v0);
 3. the new mean is cloned again for the next generation.
 
 Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
@@ -82,10 +84,11 @@ class MeanCandidate(Mechanism):
             j = int(np.argmax(f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept == "best" else f_mean
 
-            def passes(i: int) -> bool:
-                return bool(common[i] > bar and (more is None or more[i] > more[-1]))
-            won = passes(j)
-            confirmed = bool(self.pending) and passes(k)  # last generation's winner, again
+            def passes(i: int, over: float) -> bool:
+                return bool(common[i] > over and (more is None or more[i] > more[-1]))
+            won = passes(j, bar)
+            # last generation's winner, again: on new episodes it must beat the (new) mean's return
+            confirmed = bool(self.pending) and passes(k, f_mean)
             accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,
