@@ -34,7 +34,7 @@ class InverseDynamicsConfig:
     frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
     targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
     horizon: int = 8  # hindsight/matched: at most this many steps ahead
-    filter: str = "positive"  # which return min_return tests: positive (paper) | total | none
+    filter: str = "none"  # which return min_return tests: none (keep all) | positive (paper) | total
     query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
     seed: int = 0  # seeds weight init and minibatch sampling
 
@@ -75,7 +75,7 @@ class MeanCloneConfig:
     lr: float = 3e-3  # its step size
     batch_size: int = 256  # rows per step, drawn with replacement from the recent recorded steps
     max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
-    record_every: int = 8  # the rollouts keep the steps of every k-th member (and of every candidate)
+    record_every: int = 1  # the rollouts keep the steps of every k-th member (and of every candidate)
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
     #                       or the mean's own return on the same episodes ("mean")
@@ -83,6 +83,8 @@ class MeanCloneConfig:
     #                          on which a winner must beat the mean too
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
+    verify: bool = False  # candidate: after a jump, the ES mean it replaced is evaluated beside the next
+    #                       generation and the jump undone if that mean does better there
     overlap: bool = False  # candidate: clone in the shaping thread while the next rollouts run (the
     #                        candidate is then evaluated one generation later)
 
@@ -91,6 +93,8 @@ class MeanCloneConfig:
                 or self.extra_episodes < 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every}")
+        if self.confirm and self.verify:
+            raise ValueError("mean-clone confirm and verify exclude each other (one held row a generation)")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:
             raise ValueError(f"mean-clone scales must be positive and accept one of {ACCEPT_RULES}, got "
                              f"{self.scales!r}, {self.accept!r}")

@@ -11,9 +11,10 @@ Per generation ``g`` (the search's mean ``mu_g``):
    the candidates and the mean also run that many episodes nobody was selected on, and a winner must
    beat the mean there too (a return on two episodes can be luck). With ``confirm`` the
    winner is first evaluated again beside the next generation, on new episodes, and the jump is taken
-   only if it beats the mean's return there (UR5Reach-v0: winners on two lucky episodes, accepted at
-   once, led the mean into colliding regions; beating the next, improved, population again was too
-   strict on CarNav-v0);
+   only if it beats the mean's return there. With ``verify`` the jump is taken at once, and the ES
+   mean it replaced is evaluated beside the next generation: if it beats the mean jumped to, on those
+   new episodes, the jump is undone (UR5Reach-v0: winners on two lucky episodes, accepted at once, led
+   the mean into colliding regions; waiting a generation before each jump cost CarNav-v0 its speed);
 3. the new mean is cloned again for the next generation.
 
 Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
@@ -45,8 +46,11 @@ class MeanCandidate(Mechanism):
         super().__init__(host)
         self.cfg = host.mean_clone_cfg
         self.extra_episodes = self.cfg.extra_episodes
+        if self.cfg.verify:
+            self.metric_keys = type(self).metric_keys + ("candidate_rolled_back",)
         self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, [the pending one,] the mean
-        self.pending = 0  # 1: the row before the mean is last generation's winner, to be confirmed
+        self.pending = 0  # 1: the row before the mean is held from the last generation (confirm: its winner;
+        #                   verify: the ES mean its jump replaced)
         # overlap: the mean the next generation's shaping thread clones, and what that thread returned
         self._mu: np.ndarray | None = None
         self._bg: tuple | None = None
@@ -73,7 +77,7 @@ class MeanCandidate(Mechanism):
     def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks) -> dict:
         out: dict = {}
-        winner = None  # a candidate that won this generation, to be confirmed in the next one
+        held = None  # a row for the next generation: the winner to confirm, or the mean to verify against
         if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
             E = self.host.cfg.rollout.episodes
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
@@ -87,18 +91,26 @@ class MeanCandidate(Mechanism):
             def passes(i: int, over: float) -> bool:
                 return bool(common[i] > over and (more is None or more[i] > more[-1]))
             won = passes(j, bar)
-            # last generation's winner, again: on new episodes it must beat the (new) mean's return
-            confirmed = bool(self.pending) and passes(k, f_mean)
-            accept = confirmed or (won and not self.cfg.confirm)
+            # the held row (last generation's): confirm -- the winner must beat the new mean's return on
+            # new episodes; verify -- the ES mean the last jump left must not beat the mean jumped to
+            confirmed = bool(self.pending) and self.cfg.confirm and passes(k, f_mean)
+            rolled_back = bool(self.pending) and self.cfg.verify and bool(common[k] > f_mean)
+            accept = not rolled_back and (confirmed or (won and not self.cfg.confirm))
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,
                        candidate_gain=float(f_cand[j]) - f_mean, candidate_accepted=int(accept),
                        candidate_scale=float(self.cfg.scales[j]),
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
-            if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
+            if self.cfg.verify:
+                out["candidate_rolled_back"] = int(rolled_back)
+            if rolled_back:  # the last jump lost to the ES mean it replaced, on new episodes: undo it
+                strategy.set_mean(self.extras[k])
+            elif accept:  # selection prefers the label-made policy to anything ES sampled: jump there
+                if self.cfg.verify:  # keep the ES mean the jump replaces, to check it next generation
+                    held = np.asarray(strategy.mean, np.float32).copy()
                 strategy.set_mean(self.extras[k] if confirmed else self.extras[j])
-            elif won:  # confirm: evaluated again, on the next generation's episodes, before the jump
-                winner = self.extras[j].copy()
+            elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
+                held = self.extras[j].copy()
         self.extras, self.pending = None, 0
         mean = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
         if self.cfg.overlap:  # the clone of mu_g the shaping thread made during this generation
@@ -111,8 +123,8 @@ class MeanCandidate(Mechanism):
         out.update(info)
         if info:
             d = theta_star - mu  # (n,) the label direction
-            rows = [mu + s * d for s in self.cfg.scales] + ([winner] if winner is not None else []) + [mean]
-            self.extras, self.pending = np.stack(rows).astype(np.float32), int(winner is not None)
+            rows = [mu + s * d for s in self.cfg.scales] + ([held] if held is not None else []) + [mean]
+            self.extras, self.pending = np.stack(rows).astype(np.float32), int(held is not None)
         return out
 
     def state_dict(self) -> dict[str, np.ndarray]:
