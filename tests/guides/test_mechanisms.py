@@ -33,7 +33,7 @@ def _shaping(**over):
 @pytest.mark.parametrize("mechanism,labels,option", [
     ("candidate", "controller", None), ("candidate", "mphi", None), ("candidate", "mphi", "overlap"),
     ("candidate", "controller", "confirm"), ("candidate", "controller", "extra_episodes"),
-    ("candidate", "mphi", "verify"),
+    ("candidate", "mphi", "verify"), ("candidate", "mphi", "warm_start"),
     ("pair", "controller", None), ("candidate_pair", "mphi", None)])
 def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
     opts = {} if option is None else {option: 2 if option == "extra_episodes" else True}

@@ -3,8 +3,10 @@
 Per generation ``g`` (the search's mean ``mu_g``):
 
 1. ``c_g = mu_g + s (theta*_g - mu_g)`` for each scale ``s`` (``mean_clone.scales``; ``theta*_g`` the
-   mean's clone, ``mean_clone.py``, taken after the previous generation's update), and ``mu_g`` itself,
-   are rolled out beside the population, on the same episode seeds (common random numbers);
+   mean's clone, ``mean_clone.py``, taken after the previous generation's update; with ``warm_start``
+   the clone continues from the previous clone instead of starting at the mean: a DAgger learner kept
+   across generations, cheaper to keep fitted), and ``mu_g`` itself, are rolled out beside the
+   population, on the same episode seeds (common random numbers);
 2. the ES update gives ``mu_{g+1}``; the best ``c_g`` **replaces** it if its return beats every
    member's (``accept = best``; or the mean's own, ``accept = mean``) -- a jump no ES step of the
    Adam-normalized size can make, taken only where the returns say it pays. With ``extra_episodes``
@@ -54,6 +56,7 @@ class MeanCandidate(Mechanism):
         # overlap: the mean the next generation's shaping thread clones, and what that thread returned
         self._mu: np.ndarray | None = None
         self._bg: tuple | None = None
+        self.learner: np.ndarray | None = None  # warm_start: the last clone, where the next one starts
 
     def background_job(self, generation: int):
         """overlap: clone the mean of the last after_tell on the steps up to ``generation - 1`` while
@@ -62,10 +65,11 @@ class MeanCandidate(Mechanism):
         if not self.cfg.overlap or self._mu is None or generation == 0:
             return None
         rows, mu = self.host.dagger_rows(generation - 1), self._mu.copy()  # handed over, not shared
+        start = mu if not self.cfg.warm_start or self.learner is None else self.learner.copy()
 
         def job():
             if self.host.labels.ready:
-                self._bg = (mu, *clone_mean(self.host, generation - 1, mu, self.cfg, rows=rows))
+                self._bg = (mu, *clone_mean(self.host, generation - 1, start, self.cfg, rows=rows))
         return job
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
@@ -116,10 +120,15 @@ class MeanCandidate(Mechanism):
         if self.cfg.overlap:  # the clone of mu_g the shaping thread made during this generation
             bg, self._bg, self._mu = self._bg, None, mean.copy()
             mu, theta_star, info = bg if bg is not None else (mean, mean, {})
+            if info and self.cfg.warm_start:
+                self.learner = theta_star.copy()
         else:
             mu = mean
-            theta_star, info = clone_mean(self.host, generation, mu, self.cfg) if self.host.labels.ready \
+            start = mu if not self.cfg.warm_start or self.learner is None else self.learner
+            theta_star, info = clone_mean(self.host, generation, start, self.cfg) if self.host.labels.ready \
                 else (mu, {})
+            if info and self.cfg.warm_start:
+                self.learner = theta_star.copy()
         out.update(info)
         if info:
             d = theta_star - mu  # (n,) the label direction
@@ -131,7 +140,8 @@ class MeanCandidate(Mechanism):
         n = self.host.spec.num_params
         return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
                 "clone_from": np.zeros(0) if self._mu is None else self._mu.copy(),
-                "pending": np.array(self.pending, np.int64)}
+                "pending": np.array(self.pending, np.int64),
+                "learner": np.zeros(0) if self.learner is None else self.learner.copy()}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
@@ -142,6 +152,10 @@ class MeanCandidate(Mechanism):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
         if mu.size and (mu.shape != (n,) or not np.isfinite(mu).all()):
             raise ValueError(f"candidate clone_from has shape {mu.shape}, expected ({n},) and finite")
+        learner = np.asarray(state.get("learner", np.zeros(0)), np.float64).reshape(-1)
+        if learner.size and (learner.shape != (n,) or not np.isfinite(learner).all()):
+            raise ValueError(f"candidate learner has shape {learner.shape}, expected ({n},) and finite")
+        self.learner = learner if learner.size else None
         self.extras = x if x.size else None
         self.pending = pending if x.size else 0
         self._mu = mu if mu.size else None

@@ -24,9 +24,10 @@ CLONE_KEY = 1_000_003  # the seed key of the mean's clone (members use 0..P-1)
 
 def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
                rows=None) -> tuple[np.ndarray, dict]:
-    """``(theta*, metrics)``: the mean ``theta`` ``(n,)`` cloned toward the labels of the recorded steps of
-    generations up to ``generation`` (``rows``, else ``host.dagger_rows(generation)``); ``theta*`` is
-    ``theta`` itself (and the metrics empty) without data."""
+    """``(theta*, metrics)``: ``theta`` ``(n,)`` (the mean; with ``warm_start`` the previous clone)
+    cloned toward the labels of the recorded steps of generations up to ``generation`` (``rows``, else
+    ``host.dagger_rows(generation)``); ``theta*`` is ``theta`` itself (and the metrics empty) without
+    data."""
     rows = host.dagger_rows(generation) if rows is None else rows
     if int(rows.lengths().sum()) == 0 or cfg.steps == 0:
         return np.asarray(theta, np.float64), {}
