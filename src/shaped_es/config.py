@@ -60,7 +60,7 @@ class ESConfig(_Strict):
     weight_decay: Float = Field(0.005, ge=0, description="L2 decay on the mean (vanilla, guided, shaped)")
     fitness_shaping: Literal["rank", "none"] = Field("rank", description="ranks in [-1, 1] (paper) or raw")
     alpha: Float = Field(0.9, ge=0, le=1, description="Guided-ES isotropic share (paper 0.6: 6/10 CarNav-v0 "
-                         "seeds against 0.9's 9/10, docs/shaped-results.md)")
+                         "seeds against 0.9's 9/10 with the paper's mechanism, docs/paper-construction.md)")
     guided_k: Int = Field(1, gt=0, description="'guided' method: past ES gradients kept as surrogates")
     cmaes_mu: Int = Field(25, gt=0, description="CMA-ES parents M_best (paper 25)")
     cmaes_weight_decay: Float = Field(0.05, ge=0, description="CMA-ES fitness weight decay (paper 0.05)")
@@ -106,9 +106,10 @@ class InverseDynamicsSettings(_Strict):
         "the step the agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the "
         "heading)")
     filter: Literal["total", "positive", "none"] = Field(
-        _MPHI.filter, description="which return min_return tests: its positive (waypoint) part, as the "
-        "paper words it ('a cumulative positive reward of 5'; measured best, docs/shaped-results.md), the "
-        "whole return (before), or none (keep every transition)")
+        _MPHI.filter, description="which episodes' steps M_phi trains on: all (none: any step is dynamics "
+        "data; an env whose rewards are never positive trains too), those whose positive (waypoint) part of "
+        "the return reaches min_return (positive, the paper's words: 'a cumulative positive reward of 5'; "
+        "what made the paper's mechanism work, docs/paper-construction.md), or the whole return (total)")
 
 
 class CloningSettings(_Strict):
@@ -133,12 +134,17 @@ class MeanCloneSettings(_Strict):
     accept: Literal[tuple(ACCEPT_RULES)] = Field(
         _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best) "
         "or the mean's own on the same episodes (mean)")
+    warm_start: Bool = Field(_MEAN.warm_start, description="the clone starts from the previous generation's "
+                             "clone (a DAgger learner kept across generations) instead of the mean")
     extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "
                                 "and the mean also run this many more episodes (none of the population's), on "
                                 "which a winner must beat the mean too")
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it beats the mean's "
                           "return there")
+    verify: Bool = Field(_MEAN.verify, description="candidate: after a jump, the ES mean it replaced is "
+                         "evaluated beside the next generation and the jump undone if that mean does better "
+                         "on those episodes")
     overlap: Bool = Field(_MEAN.overlap, description="candidate: clone in the shaping thread while the next "
                           "generation rolls out (off the critical path; evaluated one generation later)")
 
@@ -146,6 +152,8 @@ class MeanCloneSettings(_Strict):
     def _positive(self):
         if any(not s > 0 for s in self.scales):
             raise ValueError("scales must be positive")
+        if self.confirm and self.verify:
+            raise ValueError("confirm and verify exclude each other")
         return self
 
 
@@ -155,7 +163,7 @@ class ShapingConfig(_Strict):
         "paper); reference, a finished run's policy (shaping.reference_run); controller, the env's scripted "
         "waypoint controller (oracles: what labels can give at most)")
     mechanism: Literal[tuple(MECHANISMS)] = Field(
-        "paper", description="how labels become search: paper (every member cloned, Delta = (theta* - "
+        "candidate", description="how labels become search: paper (every member cloned, Delta = (theta* - "
         "mu)/eta spans Guided ES's subspace), candidate (the mean's clone is evaluated beside the "
         "population and becomes the mean when it beats every member), pair (the mean's clone as the "
         "direction of one antithetic pair); guides/mechanisms/")

@@ -1,5 +1,6 @@
-"""The shaped method end to end on UR5Reach-v0 (tiny budgets): alpha=1 is Vanilla-ES, resume is exact,
-both placements of the shaping work give the same run."""
+"""The shaped method with the paper's mechanism end to end on UR5Reach-v0 (tiny budgets): alpha=1 is
+Vanilla-ES, resume is exact, both placements of the shaping work give the same run. The other mechanisms:
+test_mechanisms.py."""
 
 import numpy as np
 import pytest
@@ -17,7 +18,7 @@ TINY = {
     "es": {"pairs": 6},
     "policy": {"hidden": [8]},
     "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40},
-    "shaping": {"inverse_dynamics": {"steps_per_generation": 30, "min_return": -1e9},
+    "shaping": {"mechanism": "paper", "inverse_dynamics": {"steps_per_generation": 30, "min_return": -1e9},
                 "cloning": {"steps": 5}, "history": 2},
     "tensorboard": False,
 }

@@ -79,7 +79,7 @@ class MeanCloneConfig:
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
     #                       or the mean's own return on the same episodes ("mean")
-    warm_start: bool = False  # the clone starts from the previous generation's clone (a DAgger learner
+    warm_start: bool = True  # the clone starts from the previous generation's clone (a DAgger learner
     #                           kept across generations) instead of the mean
     extra_episodes: int = 0  # candidate: the candidates and the mean also run this many more episodes,
     #                          on which a winner must beat the mean too
