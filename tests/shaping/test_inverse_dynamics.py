@@ -49,13 +49,15 @@ def test_min_return_filter_keeps_good_episodes(make_transitions):
     rng = np.random.default_rng(0)
     trs = [make_transitions(rng, episodes=4, steps=10, returns=[10.0, 2.0, 6.0, -1.0]),
            make_transitions(rng, episodes=2, steps=10, returns=[4.9, 5.0])]
-    model = InverseDynamics(4, 2, 2, InverseDynamicsConfig(min_return=5.0))
+    model = InverseDynamics(4, 2, 2, InverseDynamicsConfig(min_return=5.0, filter="total"))
     stats = model.add(trs)
     assert stats["episodes"] == 6 and stats["kept_episodes"] == 3
     assert stats["kept_fraction"] == pytest.approx(0.5)
     assert stats["dataset_size"] == 3 * 9  # 9 steps with a successor per kept episode
-    bad = InverseDynamics(4, 2, 2, InverseDynamicsConfig(min_return=100.0))
+    bad = InverseDynamics(4, 2, 2, InverseDynamicsConfig(min_return=100.0, filter="total"))
     assert bad.add(trs)["dataset_size"] == 0 and bad.train(10) == []
+    every = InverseDynamics(4, 2, 2, InverseDynamicsConfig(min_return=100.0))  # the default keeps all
+    assert every.add(trs)["dataset_size"] == 6 * 9
 
 
 def test_dataset_is_capped_fifo(make_transitions):
