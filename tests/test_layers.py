@@ -24,7 +24,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("config", "rollout"),
     ("store_io",),  # the run directory's error type and atomic writes
-    ("run_lock",),  # one writer per run directory
+    ("run_lock", "metrics_csv"),  # one writer per run directory; RUN/metrics.csv
     ("store", "run_meta"),
     ("run_loop",),  # the run loop every method shares (lock, restore, rows, checkpoints)
     ("baselines",),  # PPO: knows nothing of ES

@@ -12,6 +12,7 @@ import subprocess
 import sys
 import traceback
 import warnings
+from pathlib import Path
 
 USAGE_ERROR = 2
 INTERNAL_ERROR = 1
@@ -41,38 +42,44 @@ def _run_dir(a: argparse.Namespace) -> str | None:
 
 
 def continue_hint(a: argparse.Namespace) -> str:
+    """How to continue the command's run, if it left one (a train that never started leaves none)."""
     run = _run_dir(a)
     if a.command == "benchmark":
         return "rerun the same command to continue (finished runs are skipped)"
-    return f"continue with: shaped-es resume {run}" if run and a.command in ("train", "resume") else ""
+    started = run and a.command in ("train", "resume") and os.path.isfile(os.path.join(run, "config.yaml"))
+    return f"continue with: shaped-es resume {run}" if started else ""
 
 
-def _log_detail(a: argparse.Namespace, text: str) -> str:
-    """Append a traceback to RUN/error.log (only if the run directory exists); returns a pointer."""
+def _log(a: argparse.Namespace, text: str):
+    """Append ``text`` to RUN/error.log (only if the run directory exists); its path, or None."""
     from shaped_es.store import RunStore
 
     run = _run_dir(a)
     if not run or not text.strip():
-        return ""
+        return None
     try:
-        path = RunStore(run).log_error(text)
+        return RunStore(run).log_error(text)
     except Exception:  # noqa: BLE001 - logging must never hide the error itself
-        path = None
+        return None
+
+
+def _log_detail(a: argparse.Namespace, text: str) -> str:
+    """Append a traceback to RUN/error.log (only if the run directory exists); returns a pointer."""
+    path = _log(a, text)
     return f" (traceback in {path})" if path else ""
 
 
 def error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[str, int]:
     """(the one line, exit code) for an exception that reached the command line."""
-    from shaped_es.rollout import EnvError
-
+    own = getattr(exc, "detail", "")  # an env's traceback (EnvError), Ray's output (ExecutorError)
     detail = "".join(traceback.format_exception(exc))
-    if isinstance(exc, EnvError) and exc.detail:
-        detail = exc.detail + "\n" + detail
+    if own:
+        detail = own + "\n" + detail
     if debug:
         print(detail, file=sys.stderr, end="")
     if isinstance(exc, _user_errors()):
         msg, code = str(exc), USAGE_ERROR
-        where = _log_detail(a, detail) if isinstance(exc, EnvError) and exc.detail else ""
+        where = _log_detail(a, detail) if own else ""
     elif isinstance(exc, MemoryError):
         msg = (f"out of memory ({_first(exc) or 'MemoryError'}); a smaller policy.hidden, es.pairs or "
                f"rollout.episodes needs less")
@@ -101,13 +108,43 @@ def _os_where(exc: OSError) -> str:
     return f": {exc.filename}" if exc.filename else ""
 
 
-def show_warning(message, category, filename, lineno, file=None, line=None, _orig=warnings.showwarning):
-    from shaped_es.executors import ExecutorWarning
+class WarningRoute:
+    """Where a command's warnings go (``warnings.showwarning`` while it runs): shaped-es's own (a
+    category defined in ``shaped_es``: executor and env settings, repairs) as one line each; every
+    other library's (Gymnasium's env checker, NumPy, Ray's output, ...) into ``RUN/error.log`` (and the
+    terminal with ``--debug``), with one line at the end saying how many there were and where."""
 
-    if issubclass(category, ExecutorWarning):
-        print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
-    else:
-        _orig(message, category, filename, lineno, file, line)
+    def __init__(self, debug: bool):
+        self.debug, self.held = debug, []
+
+    def show(self, message, category, filename, lineno, file=None, line=None) -> None:
+        if category.__module__.split(".")[0] == "shaped_es":  # ExecutorWarning, EnvWarning, StoreWarning
+            print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
+            return
+        text = warnings.formatwarning(message, category, filename, lineno, line)
+        self.held.append((_origin(filename), text))
+        if self.debug:
+            sys.stderr.write(text)
+
+    def flush(self, a: argparse.Namespace) -> None:
+        """One line for the held warnings (their text goes to RUN/error.log when the run exists)."""
+        if not self.held:
+            return
+        held, self.held = self.held, []
+        path = _log(a, "".join(text for _, text in held))
+        where = f"their text in {path}" if path else ("shown above" if self.debug else "--debug shows them")
+        origins = ", ".join(dict.fromkeys(origin for origin, _ in held))
+        n = len(held)
+        print(f"shaped-es: warning: {n} warning{'s' * (n > 1)} from {origins} ({where})", file=sys.stderr)
+
+
+def _origin(filename: str) -> str:
+    """The package a warning came from (``gymnasium`` for .../site-packages/gymnasium/...)."""
+    parts = Path(filename).parts
+    for i, part in enumerate(parts[:-1]):
+        if part in ("site-packages", "dist-packages"):
+            return parts[i + 1]
+    return Path(filename).stem
 
 
 def mpi_spawn_command(a: argparse.Namespace) -> bool:

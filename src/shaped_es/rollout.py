@@ -8,8 +8,11 @@ lock-step with one batched policy forward per step:
   vectorized call;
 - any other Gymnasium env is stepped one instance per episode (the policy forward is still batched).
 
-Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds, Discrete spaces
-take the argmax. Results depend only on the task's parameters and seeds, never on the process running it.
+Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds (which must be
+finite: an unbounded Box is refused before the first rollout), Discrete spaces take the argmax. An env
+without a time limit, with ``rollout.max_steps`` unset, has its episodes cut at :data:`DEFAULT_MAX_STEPS`
+(with a warning before the first rollout), so an env that never terminates cannot hang a run. Results
+depend only on the task's parameters and seeds, never on the process running it.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from __future__ import annotations
 import json
 import time
 import traceback
+import warnings
 from dataclasses import dataclass, field
 
 import gymnasium as gym
@@ -25,6 +29,15 @@ import numpy as np
 from shaped_es.data import Transitions
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec, forward
+
+
+# Episodes of an env without a time limit (no registered ``max_episode_steps``, no ``TimeLimit``), with
+# ``rollout.max_steps`` unset, end here: an env that never terminates would hang the run.
+DEFAULT_MAX_STEPS = 10_000
+
+
+class EnvWarning(UserWarning):
+    """Something about the env a run should know before its first rollout (printed as one line)."""
 
 
 class EnvSpecError(ValueError):
@@ -108,6 +121,9 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
         raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
     except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
         raise EnvError(f"cannot make env {env_id!r}: {_first_line(exc)}", traceback.format_exc()) from None
+    except SystemExit as exc:  # a module that exits on import would end the command without a word
+        raise EnvError(f"cannot make env {env_id!r}: importing or making it called sys.exit({exc.code!r})",
+                       traceback.format_exc()) from None
 
 
 def env_dims(env: gym.Env) -> tuple[int, int]:
@@ -126,20 +142,35 @@ def _env_key(env_id: str, env_kwargs: dict) -> str:
     return env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
 
 
+def env_time_limit(env: gym.Env) -> int | None:
+    """The env's own episode limit: its ``spec.max_episode_steps`` (the built-in envs register a
+    ``TimeLimit`` of their preset's horizon), else a ``TimeLimit`` among its wrappers, else the
+    ``max_steps`` of its batched core, else None."""
+    if env.spec is not None and env.spec.max_episode_steps:
+        return int(env.spec.max_episode_steps)
+    e = env
+    while isinstance(e, gym.Wrapper):
+        if isinstance(e, gym.wrappers.TimeLimit):
+            return int(e._max_episode_steps)
+        e = e.env
+    core = get_batch_core(env)
+    return int(core.max_steps) if core is not None else None
+
+
 @dataclass(frozen=True)
 class EnvProbe:
     """What a run needs of its env before the first rollout, from one env made, measured and closed."""
 
     obs_dim: int
     act_dim: int
-    # The env's own episode limit: the made env's ``spec.max_episode_steps`` (the built-in envs register a
-    # ``TimeLimit`` of their preset's horizon), else the ``max_steps`` of its batched core, else None.
-    time_limit: int | None
+    time_limit: int | None  # env_time_limit: the env's own episode limit (None: it has none)
     # Only when asked (``probe_env(..., reset=True)``: a method reading the env's info, ``methods.Method``):
     # the info of the same env's ``reset(seed=0)``, or the exception that reset raised, kept for the
     # caller to raise when its check comes (both None: not asked).
     reset_info: dict | None = field(default=None, compare=False, repr=False)
     reset_error: Exception | None = field(default=None, compare=False, repr=False)
+    # the action space, when it is a Box with an infinite bound (the policy cannot scale to it)
+    unbounded_action: str | None = None
 
 
 def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
@@ -148,16 +179,19 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
     env = make_env(env_id, env_kwargs)
     try:
         obs_dim, act_dim = env_dims(env)
-        limit = env.spec.max_episode_steps if env.spec is not None else None
-        core = get_batch_core(env)
-        limit = limit if limit else (int(core.max_steps) if core is not None else None)
+        space = env.action_space
+        unbounded = None
+        if isinstance(space, gym.spaces.Box) and not (np.isfinite(space.low).all() and
+                                                      np.isfinite(space.high).all()):
+            unbounded = str(space)
         info, error = None, None
         if reset:
             try:
                 _, info = env.reset(seed=0)
             except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info
                 error = exc
-        return EnvProbe(obs_dim, act_dim, limit, reset_info=info, reset_error=error)
+        return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
+                        unbounded_action=unbounded)
     finally:
         env.close()
 
@@ -172,7 +206,20 @@ def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
     """The MLP of a run config ``cfg`` (a ``config.RunConfig``) on its env: dims probed (or taken from
     ``probe``, the same env's), ``policy.hidden``."""
     probe = probe or probe_env(cfg.env, cfg.env_kwargs)
+    if probe.unbounded_action is not None:  # low + (a + 1) / 2 * (high - low) would be inf - inf = NaN
+        raise EnvSpecError(f"env {cfg.env!r} has an unbounded action space {probe.unbounded_action}: the "
+                           f"policy's tanh output in [-1, 1] is scaled to the box's bounds, so they must be "
+                           f"finite; give the env's action space the bounds its actions live in")
     return MLPSpec(probe.obs_dim, probe.act_dim, tuple(cfg.policy.hidden))
+
+
+def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None:
+    """Say, before the first rollout, that an env without a time limit has its episodes cut at
+    :data:`DEFAULT_MAX_STEPS` (``max_steps``: the run's ``rollout.max_steps``)."""
+    if max_steps is None and probe.time_limit is None:
+        warnings.warn(f"env {env_id!r} has no time limit and rollout.max_steps is unset: its episodes are "
+                      f"cut at {DEFAULT_MAX_STEPS:,} steps (set rollout.max_steps, or register the env with "
+                      f"max_episode_steps)", EnvWarning, stacklevel=2)
 
 
 def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:
@@ -297,7 +344,8 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
         rew = np.where(alive, rew, 0.0)
         if rec is not None:
             rec.add(obs, pos, wp, act, rew, alive)
-        returns += rew
+        with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
+            returns += rew
         lengths += alive
         alive &= ~(term | trunc)
         if nobs.shape != obs.shape:
@@ -310,7 +358,8 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     bad = ~np.isfinite(returns)
     if bad.any():
         b = int(np.flatnonzero(bad)[0])
-        raise _bad_output(task, "a non-finite reward (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
+        raise _bad_output(task, "a non-finite reward, or rewards whose sum overflows (inf/NaN)",
+                          task.seeds.reshape(B)[b], int(lengths[b]))
     if not np.isfinite(obs).all():
         b = int(np.flatnonzero(~np.isfinite(obs.reshape(B, -1)).all(axis=1))[0])
         raise _bad_output(task, "a non-finite observation (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
@@ -338,8 +387,11 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
     rec = _Recorder(task) if task.record else None
+    cap = task.max_steps
+    if cap is None and env_time_limit(envs[0]) is None:
+        cap = DEFAULT_MAX_STEPS  # an env that never terminates cannot hang the run (warn_if_endless)
     t = 0
-    while alive.any() and (task.max_steps is None or t < task.max_steps):
+    while alive.any() and (cap is None or t < cap):
         act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
         rew = np.zeros(B, dtype=np.float64)
         nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
@@ -360,8 +412,13 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
             _check_obs(task, nobs[b], shape, seeds[b], t + 1)
         if rec is not None:
             rec.add(obs, pos, wp, act, rew, stepped)
-        returns += rew
+        with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
+            returns += rew
         lengths += stepped
         obs, pos, wp = nobs, npos, nwp
         t += 1
+    if not np.isfinite(returns).all():  # finite rewards (checked each step) whose sum overflowed
+        b = int(np.flatnonzero(~np.isfinite(returns))[0])
+        raise _bad_output(task, f"rewards whose sum overflows (the episode return reached {returns[b]}; "
+                          f"rewards must stay far below 1e308)", seeds[b], int(lengths[b]))
     return _finish(task, returns, lengths, rec)
