@@ -71,7 +71,8 @@ class RolloutConfig(_Strict):
     episodes: Int = Field(2, gt=0, description="training episodes per member, mean return (paper: 2)")
     test_episodes: Int = Field(15, ge=0, description="test episodes of the best member (paper: 15)")
     test_every: Int = Field(1, gt=0, description="evaluate the best member every N generations")
-    max_steps: Int | None = Field(None, gt=0, description="cap on episode length (None: env's limit)")
+    max_steps: Int | None = Field(None, gt=0, description="cap on episode length (None: the env's limit; an env "
+                                  "without one is cut at 10,000 steps, with a warning: rollout.DEFAULT_MAX_STEPS)")
     common_seeds: Bool = Field(True, description="all members of a generation share episode seeds")
 
 

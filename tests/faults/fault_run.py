@@ -47,9 +47,20 @@ def env() -> dict:
     return {**os.environ, "PYTHONPATH": os.pathsep.join(path)}
 
 
-def run_cli(*args, timeout: float = 300, cwd=None, prefix=None) -> subprocess.CompletedProcess:
+def run_cli(*args, timeout: float = 300, cwd=None, prefix=None, memory_gib: float | None = None
+            ) -> subprocess.CompletedProcess:
+    """The command line in a process of its own (``memory_gib``: its address space is capped there, so
+    that a case that would blow up fails there rather than take the machine's memory)."""
     cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli"]), *map(str, args)]
-    return subprocess.run(cmd, env=env(), cwd=cwd or HERE, capture_output=True, text=True, timeout=timeout)
+
+    def cap() -> None:  # pragma: no cover - runs in the child
+        import resource
+
+        limit = int(memory_gib * 2**30)
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+    return subprocess.run(cmd, env=env(), cwd=cwd or HERE, capture_output=True, text=True, timeout=timeout,
+                          preexec_fn=cap if memory_gib else None)
 
 
 def popen_cli(*args, prefix=None, **kw) -> subprocess.Popen:

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from fault_run import (drop, edit_json, edit_npz, edit_text, leftovers, module, nothing, replace_with_file, snapshot,
-                        write)
+from fault_run import (drop, edit_json, edit_npz, edit_text, leftovers, module, nothing, replace_with_file,
+                        snapshot, write)
 
 from shaped_es.cli import main
 
@@ -117,7 +117,7 @@ CASES = [
      "fields"),
     ("metrics-header", edit_text("metrics.csv", lambda t: "x" + t), resume(), "header"),
     ("metrics-repeated-row", edit_text("metrics.csv", lambda t: t + t.splitlines(keepends=True)[-1]),
-     lambda run, tmp: ["report", str(run), "--out", str(tmp / "r.png")], "does not follow"),  # resume repairs it
+     lambda run, tmp: ["report", str(run), "--out", str(tmp / "r.png")], "does not follow"),  # resume: repaired
     ("config-yaml-binary", write("config.yaml", bytes(range(256))), resume(), "not a text"),
     ("config-yaml-invalid", write("config.yaml", "es: [unclosed\n"), resume(), "not valid YAML"),
     ("config-yaml-inf", edit_text("config.yaml", lambda t: t.replace("sigma: 0.05", "sigma: .inf")), resume(),
