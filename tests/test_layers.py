@@ -19,7 +19,8 @@ from shaped_es.methods import METHODS
 
 # Lowest first. "shaped_es" is the package's own __init__ (registers the envs, version, lazy load_policy).
 LAYERS: list[tuple[str, ...]] = [
-    ("seeding", "data", "progress", "tblog"),  # leaves: seeds, the Transitions record, display, TB tags
+    ("seeding", "data", "progress", "tblog", "warning_log"),  # leaves: seeds, the Transitions record,
+    # display, TB tags, other libraries' warnings in error.log
     ("envs", "policies", "strategies"),  # the independent blocks
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("config", "rollout"),

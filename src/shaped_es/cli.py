@@ -389,7 +389,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     a = parser.parse_args([x for x in argv if x != "--debug"])
     old_show = warnings.showwarning
-    route = WarningRoute(debug)
+    route = WarningRoute(a, debug)
     warnings.showwarning = route.show
     try:
         if mpi_spawn_command(a):
@@ -397,16 +397,16 @@ def main(argv: list[str] | None = None) -> int:
         return int(a.fn(a) or 0)
     except KeyboardInterrupt:
         hint = continue_hint(a)
-        route.flush(a)
+        route.flush()
         print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
         line, code = error_line(exc, a, debug)
-        route.flush(a)  # other libraries' warnings: one line before the error's (their text in error.log)
+        route.flush()  # other libraries' warnings: one line before the error's (their text in error.log)
         print(line, file=sys.stderr)
         return code
     finally:
-        route.flush(a)
+        route.close()
         warnings.showwarning = old_show
 
 

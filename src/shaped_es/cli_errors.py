@@ -14,6 +14,8 @@ import traceback
 import warnings
 from pathlib import Path
 
+from shaped_es import warning_log
+
 USAGE_ERROR = 2
 INTERNAL_ERROR = 1
 _SUPERVISED = "SHAPED_ES_SUPERVISED"  # set in the child process of an MPI-supervised command
@@ -111,40 +113,52 @@ def _os_where(exc: OSError) -> str:
 class WarningRoute:
     """Where a command's warnings go (``warnings.showwarning`` while it runs): shaped-es's own (a
     category defined in ``shaped_es``: executor and env settings, repairs) as one line each; every
-    other library's (Gymnasium's env checker, NumPy, Ray's output, ...) into ``RUN/error.log`` (and the
-    terminal with ``--debug``), with one line at the end saying how many there were and where."""
+    other library's (Gymnasium's env checker, NumPy, Ray's output, ...) into ``RUN/error.log``
+    (``warning_log.py``; the process executor's workers write theirs there too) and the terminal with
+    ``--debug``, with one line at the end saying how many there were and where."""
 
-    def __init__(self, debug: bool):
+    def __init__(self, a: argparse.Namespace, debug: bool):
+        from shaped_es.store import RunStore
+
+        run = _run_dir(a)
         self.debug, self.held = debug, []
+        self.log = Path(os.path.abspath(RunStore(run).error_log)) if run else None
+        self.offset = self.log.stat().st_size if self.log and self.log.is_file() else 0
+        self._env = os.environ.get(warning_log.ENV)
+        if self.log:
+            os.environ[warning_log.ENV] = str(self.log)
 
     def show(self, message, category, filename, lineno, file=None, line=None) -> None:
         if category.__module__.split(".")[0] == "shaped_es":  # ExecutorWarning, EnvWarning, StoreWarning
             print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
             return
         text = warnings.formatwarning(message, category, filename, lineno, line)
-        self.held.append((_origin(filename), text))
         if self.debug:
             sys.stderr.write(text)
+        source = warning_log.origin(filename)
+        if not (self.log and warning_log.append(self.log, source, text)):
+            self.held.append((source, text))  # no run directory yet: again at the end
 
-    def flush(self, a: argparse.Namespace) -> None:
-        """One line for the held warnings (their text goes to RUN/error.log when the run exists)."""
-        if not self.held:
-            return
+    def flush(self) -> None:
+        """One line for the warnings logged (or held) since the last flush."""
         held, self.held = self.held, []
-        path = _log(a, "".join(text for _, text in held))
-        where = f"their text in {path}" if path else ("shown above" if self.debug else "--debug shows them")
-        origins = ", ".join(dict.fromkeys(origin for origin, _ in held))
-        n = len(held)
-        print(f"shaped-es: warning: {n} warning{'s' * (n > 1)} from {origins} ({where})", file=sys.stderr)
+        unlogged = [src for src, text in held if not (self.log and warning_log.append(self.log, src, text))]
+        logged = warning_log.entries_since(self.log, self.offset) if self.log else []
+        if self.log and self.log.is_file():
+            self.offset = self.log.stat().st_size
+        sources = logged + unlogged
+        if not sources:
+            return
+        where = f"their text in {self.log}" if logged else ("shown above" if self.debug else "--debug shows them")
+        n, names = len(sources), ", ".join(dict.fromkeys(sources))
+        print(f"shaped-es: warning: {n} warning{'s' * (n > 1)} from {names} ({where})", file=sys.stderr)
 
-
-def _origin(filename: str) -> str:
-    """The package a warning came from (``gymnasium`` for .../site-packages/gymnasium/...)."""
-    parts = Path(filename).parts
-    for i, part in enumerate(parts[:-1]):
-        if part in ("site-packages", "dist-packages"):
-            return parts[i + 1]
-    return Path(filename).stem
+    def close(self) -> None:
+        self.flush()
+        if self._env is None:
+            os.environ.pop(warning_log.ENV, None)
+        else:
+            os.environ[warning_log.ENV] = self._env
 
 
 def mpi_spawn_command(a: argparse.Namespace) -> bool:
@@ -175,8 +189,9 @@ def supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
 
     With spawned MPI workers, a worker that dies makes Open MPI end the trainer's process itself (exit
     14, after a few lines of MPI's own output). The child's stderr is relayed: its ``shaped-es:`` and
-    progress lines as they come, the rest when it ends on its own, or into RUN/error.log when MPI ended
-    it; the child dies with this process."""
+    progress lines as they come (all with ``--debug``); the rest goes to RUN/error.log (with one line
+    saying so; to the terminal when there is no run directory), however the job ended; the child dies
+    with this process."""
     env = {**os.environ, _SUPERVISED: "1"}
 
     def die_with_parent() -> None:  # pragma: no cover - runs in the child
@@ -201,8 +216,13 @@ def supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
     finally:
         signal.signal(signal.SIGINT, old_int)
         signal.signal(signal.SIGTERM, old_term)
-    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):  # the child ended on its own: its other output too
-        sys.stderr.writelines(other)
+    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):  # the child ended on its own: its other output too,
+        path = _log(a, "".join(other)) if other else None  # into error.log (MPI's and its workers' lines)
+        if path:
+            print(f"shaped-es: warning: {len(other)} more lines of output from the MPI job (in {path})",
+                  file=sys.stderr)
+        else:
+            sys.stderr.writelines(other)
         return rc
     where = _log_detail(a, "".join(other)) if other else ""
     how = f"signal {-rc}" if rc < 0 else f"exit {rc}"

@@ -213,13 +213,16 @@ def test_an_import_raising_keyboardinterrupt_names_no_run_to_resume(tmp_path, ca
     assert not out.exists()
 
 
-def test_other_libraries_warnings_go_to_error_log_with_one_line(tmp_path, capsys, faults_path):
+@pytest.mark.parametrize("executor", ["inline", "process"])  # process: the workers' warnings too
+def test_other_libraries_warnings_go_to_error_log_with_one_line(executor, tmp_path, capfd, faults_path):
     run = tmp_path / "r"
-    assert main(["train", "--env", "fault_envs:Noisy-v0", *TRAIN, "--out", str(run)]) == 0
-    err = [l for l in capsys.readouterr().err.splitlines() if l.strip()]
+    argv = ["train", "--env", "fault_envs:Noisy-v0", *TRAIN, "--executor", executor, "--workers", "2"]
+    assert main([*argv, "--out", str(run)]) == 0
+    err = [line for line in capfd.readouterr().err.splitlines() if line.strip()]
     assert len(err) == 1 and err[0].startswith("shaped-es: warning: ") and "from gymnasium" in err[0], err
     assert f"their text in {run / 'error.log'}" in err[0]
-    assert "float64" in (run / "error.log").read_text()
+    log = (run / "error.log").read_text()
+    assert "float64" in log and log.count(": warning from gymnasium") == int(err[0].split()[2])
 
 
 def test_an_env_that_never_terminates_is_cut_with_a_warning_first(tmp_path, capsys, monkeypatch, faults_path):
