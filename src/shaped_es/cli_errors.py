@@ -125,7 +125,7 @@ class WarningRoute:
         self.log = Path(os.path.abspath(RunStore(run).error_log)) if run else None
         self.offset = self.log.stat().st_size if self.log and self.log.is_file() else 0
         self._env = os.environ.get(warning_log.ENV)
-        if self.log:
+        if self.log and not debug:  # with --debug the workers print theirs as they come
             os.environ[warning_log.ENV] = str(self.log)
 
     def show(self, message, category, filename, lineno, file=None, line=None) -> None:

@@ -18,7 +18,9 @@ its ``.npz`` then its ``.json``; a checkpoint is complete once both exist. A kil
 previous complete checkpoint in force. :meth:`RunStore.recover` (resume) deletes what a killed writer
 left (``.tmp`` files, an ``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
 ``latest.json`` says (it only names the newest one for people and other tools, and is rewritten), and
-drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included.
+drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included (repeated rows,
+which two writers at once leave, are reduced to the last of each generation; rows the checkpoint covers
+that are missing are an error: nothing is changed).
 
 One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``run_lock.py``: the run directory
 itself ``flock``-ed, so deleting ``RUN/.lock`` does not let a second writer in, and ``RUN/.lock`` naming
@@ -44,9 +46,9 @@ from typing import Any
 
 import numpy as np
 
+from shaped_es import metrics_csv
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
 from shaped_es.run_lock import HELD, LOCK_NAME, acquire, probe, release
-from shaped_es import metrics_csv
 from shaped_es.store_io import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
 
 ERROR_LOG = "error.log"

@@ -6,7 +6,7 @@ One Parquet shard per generation and writer: all members one writer holds, in me
 
 ``ROOT`` is one run's (:func:`run_root`): ``RUN/trajectories`` by default, or ``SHARED/run_{id}`` under a
 ``shaping.trajectory_root`` that several runs share, so that they never read each other's shards. A shard
-written under a ``run_{id}`` directory records that id, and reading it checks that it is still there.
+written under a ``run_{id}`` directory records that id, and a shard read there must carry the same one.
 
 On one machine the trainer writes one shard per generation (all 64 members, in a background thread);
 on a cluster each worker writes one shard for its chunk of members. Readers do not care which.
