@@ -4,15 +4,15 @@ and SIGKILLs at every checkpoint step, each as a command line in a process of it
     python tests/faults/campaign.py inputs [--src DIR] [--only ID,...]   # bad inputs, classified
     python tests/faults/campaign.py kills                                # kill, resume, compare
 
-``inputs`` runs each case of ``test_bad_inputs.CASES`` and ``test_error_promise.CASES`` on a copy of its
-base run (the bases are trained once, by the code under test), with a timeout and an address-space cap,
-and classifies it: *clear* (exit 2, or 130 for an interrupt; exactly one ``shaped-es: error:`` line, which
-holds the table's words; warnings are one line each), *internal* (exit 1 or a traceback), *silent* (exit
-0), *hang* (the timeout, or memory running out under the cap where the input asked for no memory: a
-blow-up), *noisy* (exit 2 with
-other lines besides), *unnamed* (one line, without the table's words); and, independently, *data
-changed* (a file of the run directory not byte-identical afterwards; error.log aside). ``--src`` runs
-another checkout's code (e.g. the main branch, for the numbers before a fix).
+``inputs`` runs each case of ``test_bad_inputs.CASES`` and ``test_error_promise.CASES`` (and an env that
+never terminates, which must run on after one warning line) on a copy of its base run (the bases are
+trained once, by the code under test), with a timeout and an address-space cap, and classifies it:
+*clear* (exit 2, or 130 for an interrupt; exactly one ``shaped-es: error:`` line, which holds the table's
+words; warnings are one line each), *internal* (exit 1 or a traceback), *silent* (exit 0), *hang* (the
+timeout, or memory running out under the cap where the input asked for no memory: a blow-up), *noisy*
+(exit 2 with other lines besides), *unnamed* (one line, without the table's words); and, independently,
+*data changed* (a file of the run directory not byte-identical afterwards; error.log aside). ``--src``
+runs another checkout's code (e.g. the main branch, for the numbers before a fix).
 
 ``kills`` SIGKILLs the trainer (``killer.py``) at each of the five steps of the checkpoint of generation 3
 for vanilla, cmaes, shaped, shaped with ``checkpoint_every=3`` and ppo, during the first checkpoint
@@ -40,6 +40,7 @@ import fault_run  # noqa: E402
 from fault_run import config, leftovers, run_cli, snapshot, write_config  # noqa: E402
 
 TIMEOUT_S, MEMORY_GIB = 120, 6
+WARNED = "warned: "  # a needle so marked: the command succeeds after one warning line holding the rest
 
 
 def _use_src(src: str | None) -> None:
@@ -55,7 +56,9 @@ def _cases() -> list[tuple[str, str | None, object, object, str]]:
     import test_bad_inputs
     import test_error_promise
 
-    return [(c[0], "finished", *c[1:]) for c in test_bad_inputs.CASES] + list(test_error_promise.CASES)
+    endless = ("endless-env", None, test_bad_inputs.nothing, test_error_promise.train(env="fault_envs:Endless-v0"),
+               WARNED + "cut at 10,000 steps")
+    return [(c[0], "finished", *c[1:]) for c in test_bad_inputs.CASES] + list(test_error_promise.CASES) + [endless]
 
 
 def _bases(root: Path) -> dict[str, Path]:
@@ -78,6 +81,9 @@ def _bases(root: Path) -> dict[str, Path]:
 def classify(code: int | None, err: str, needle: str) -> str:
     lines = [ln for ln in err.splitlines() if ln.strip()]
     other = [ln for ln in lines if not ln.startswith("shaped-es: warning:")]
+    if needle.startswith(WARNED) and code == 0:  # not an error: the run goes on after one warning line
+        return "clear" if lines and all(ln.startswith("shaped-es: warning:") for ln in lines) and \
+            needle[len(WARNED):] in lines[0] else "noisy"
     if code is None or (("out of memory" in err or "MemoryError" in err) and "GiB" not in needle):
         return "hang"
     if code == 1 or "Traceback" in err:
