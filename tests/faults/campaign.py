@@ -16,10 +16,12 @@ runs another checkout's code (e.g. the main branch, for the numbers before a fix
 
 ``kills`` SIGKILLs the trainer (``killer.py``) at each of the five steps of the checkpoint of generation 3
 for vanilla, cmaes, shaped, shaped with ``checkpoint_every=3`` and ppo, during the first checkpoint
-(vanilla), and during a resume (each method: train to 3, resume killed at generation 5's checkpoint);
+(vanilla), and during a resume (each method: train to 3, resume killed at generation 5's checkpoint, 6's
+with ``checkpoint_every=3``);
 each run is resumed and counts as *survived* when resume exits 0 and leaves a consistent directory
 (no temporaries, half checkpoints or lock; 6 rows), *exact* when its rows equal the uninterrupted run's
-(PPO restarts its training episodes on resume by design: exact up to the checkpoint it resumed from).
+(PPO restarts its training episodes on resume by design: exact up to the first checkpoint a resume
+continued from).
 """
 
 from __future__ import annotations
@@ -148,14 +150,15 @@ def _kill_resume(method: str, point: str, gen: int, tmp: Path, ref: list[dict], 
     res = run_cli("resume", run, "--generations", 6, "--quiet")
     rows = RunStore(run).read_metrics() if res.returncode == 0 else []
     survived = res.returncode == 0 and leftovers(run) == [] and len(rows) == 6
-    if method == "ppo":
-        exact = survived and strip_time(rows)[: gen - 1] == strip_time(ref)[: gen - 1]
+    if method == "ppo":  # up to the first checkpoint a resume continued from (generation 3 or gen - 1)
+        upto = 3 if during_resume else gen - 1
+        exact = survived and strip_time(rows)[:upto] == strip_time(ref)[:upto]
     else:
         exact = survived and strip_time(rows) == strip_time(ref)
     return {"injected": injected, "survived": survived, "exact": exact, "stderr": res.stderr.strip()[-300:]}
 
 
-def kills() -> dict:
+def kills(only: set[str]) -> dict:
     from killer import POINTS
 
     from shaped_es.store import RunStore
@@ -163,11 +166,13 @@ def kills() -> dict:
     methods = ("vanilla", "cmaes", "shaped", "shaped_ce3", "ppo")
     plan = [(m, p, 3, False) for m in methods for p in POINTS]
     plan += [("vanilla", p, 1, False) for p in ("npz_tmp", "json_rename", "metrics_append")]
-    plan += [(m, "json_rename", 5, True) for m in methods]
+    plan += [(m, "json_rename", 6 if m == "shaped_ce3" else 5, True) for m in methods]  # ce3: 3, 6
+    name = lambda m, p, g, r: f"{m}-{p}-gen{g}" + ("-during-resume" if r else "")  # noqa: E731
+    plan = [x for x in plan if not only or name(*x) in only]
     results = []
     with tempfile.TemporaryDirectory(prefix="kills") as tmp_root:
         refs = {}
-        for m in methods:
+        for m in sorted({x[0] for x in plan}):
             d = Path(tmp_root) / f"ref_{m}"
             d.mkdir()
             cfg = write_config(d / "cfg.yaml", config(m))
@@ -176,7 +181,7 @@ def kills() -> dict:
         for m, p, g, during_resume in plan:
             tmp = Path(tempfile.mkdtemp(dir=tmp_root))
             r = _kill_resume(m, p, g, tmp, refs[m], during_resume)
-            r["case"] = f"{m}-{p}-gen{g}" + ("-during-resume" if during_resume else "")
+            r["case"] = name(m, p, g, during_resume)
             results.append(r)
             print(f"{r['case']:40s} injected={r['injected']} survived={r['survived']} exact={r['exact']}",
                   flush=True)
@@ -188,11 +193,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("what", choices=("inputs", "kills"))
     ap.add_argument("--src", help="run this checkout's src/ instead of this tree's")
-    ap.add_argument("--only", default="", help="comma-separated case ids (inputs)")
+    ap.add_argument("--only", default="", help="comma-separated case ids")
     ap.add_argument("--json", help="write the results here")
     a = ap.parse_args()
     _use_src(a.src)
-    out = inputs({x for x in a.only.split(",") if x}) if a.what == "inputs" else kills()
+    only = {x for x in a.only.split(",") if x}
+    out = inputs(only) if a.what == "inputs" else kills(only)
     print(json.dumps(out["totals"]))
     if a.json:
         Path(a.json).write_text(json.dumps(out, indent=1))
