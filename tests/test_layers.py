@@ -23,6 +23,7 @@ LAYERS: list[tuple[str, ...]] = [
     # display, TB tags, other libraries' warnings in error.log
     ("envs", "policies", "strategies"),  # the independent blocks
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
+    ("env_probe",),  # an env before its first rollout: made, its spaces and time limit
     ("config", "rollout"),
     ("store_io",),  # the run directory's error type and atomic writes
     ("run_lock", "metrics_csv"),  # one writer per run directory; RUN/metrics.csv
