@@ -1,6 +1,7 @@
 import pytest
 
-from shaped_es.config import ConfigError, build_config, dump_config, load_config, merge
+from shaped_es.config import (ALIAS_BUDGET, ConfigError, build_config, dump_config, load_config, merge, parse_set,
+                              parse_yaml)
 
 
 def test_defaults_roundtrip(tmp_path):
@@ -44,6 +45,33 @@ def test_bad_files(tmp_path):
     lst.write_text("- 1\n- 2\n")
     with pytest.raises(ConfigError, match="mapping"):
         load_config(lst)
+
+
+def test_yaml_anchors_work_within_a_bound_and_bombs_or_recursion_are_one_line():
+    assert parse_yaml("a: &a {x: 1, y: [1, 2]}\nb: *a\nc: {<<: *a, z: 3}\n", "here") == {
+        "a": {"x": 1, "y": [1, 2]}, "b": {"x": 1, "y": [1, 2]}, "c": {"x": 1, "y": [1, 2], "z": 3}}
+    wide = "a: &a [" + ", ".join(["1"] * 100) + "]\nb: [" + ", ".join(["*a"] * (ALIAS_BUDGET // 101)) + "]\n"
+    assert len(parse_yaml(wide, "here")["b"]) == ALIAS_BUDGET // 101  # just within the bound
+    rows = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"] + [
+        f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]" for i in range(1, 9)]
+    with pytest.raises(ConfigError, match="config file c.yaml: its YAML aliases expand to 1,234,567,909 values"):
+        parse_yaml("\n".join(rows), "config file c.yaml")
+    with pytest.raises(ConfigError, match="refers to a value that contains it"):
+        parse_yaml("a: &a [1, *a]\n", "here")
+    with pytest.raises(ConfigError, match="nests too deeply"):
+        parse_yaml("a: " + "[" * 5000 + "]" * 5000, "here")
+
+
+@pytest.mark.parametrize("item, needle", [
+    ("es.sigma=[", "--set es.sigma=[ is not valid YAML"),
+    ("es.sigma=2001-02-30", "--set es.sigma=2001-02-30 holds a value YAML cannot read: day is out of range"),
+    ("x=[&a [1, 1, 1, 1, 1, 1, 1, 1, 1, 1], &b [*a, *a, *a, *a, *a, *a, *a, *a, *a, *a], "
+     "&c [*b, *b, *b, *b, *b, *b, *b, *b, *b, *b], &d [*c, *c, *c, *c, *c, *c, *c, *c, *c, *c]]", "alias bomb"),
+])
+def test_set_values_that_yaml_cannot_read_are_one_line(item, needle):
+    with pytest.raises(ConfigError) as e:
+        parse_set([item])
+    assert needle in str(e.value) and "\n" not in str(e.value)
 
 
 def test_settings_dataclasses_share_their_config_sections_defaults():

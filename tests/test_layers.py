@@ -19,13 +19,14 @@ from shaped_es.methods import METHODS
 
 # Lowest first. "shaped_es" is the package's own __init__ (registers the envs, version, lazy load_policy).
 LAYERS: list[tuple[str, ...]] = [
-    ("seeding", "data", "progress", "tblog", "callbacks"),  # leaves: seeds, the Transitions record, display,
-    # TB tags, the callback protocol
+    ("seeding", "data", "progress", "tblog", "callbacks", "warning_log"),  # leaves: seeds, the Transitions
+    # record, display, TB tags, the callback protocol, other libraries' warnings in error.log
     ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
+    ("env_probe",),  # an env before its first rollout: made, its spaces and time limit
     ("config", "rollout"),
     ("store_io",),  # the run directory's error type and atomic writes
-    ("run_lock", "wandb_log"),  # one writer per run directory; W&B logging (TB tags, its id file)
+    ("run_lock", "wandb_log", "metrics_csv"),  # one writer per run directory; W&B logging; RUN/metrics.csv
     ("store", "run_meta"),
     ("run_loop",),  # the run loop every method shares (lock, restore, rows, checkpoints)
     ("baselines",),  # PPO: knows nothing of ES

@@ -45,3 +45,30 @@ def test_store_rejects_bad_checkpoints(tmp_path):
     (store.ckpt_dir / "latest.json").write_text(json.dumps({"nope": 1}))
     with pytest.raises(StoreError):
         store.load_checkpoint()
+
+
+def test_a_run_gets_an_id_once_and_a_damaged_one_is_refused(tmp_path):
+    store = RunStore(tmp_path / "run")
+    assert store.run_id() is None  # no run (or one made before runs had ids)
+    store.create(build_config({"env": "CartPole-v1"}))
+    rid = store.run_id()
+    assert len(rid) == 16 and int(rid, 16) >= 0
+    assert RunStore(tmp_path / "run").run_id() == rid  # kept: read, never rewritten
+    other = RunStore(tmp_path / "other")
+    other.create(build_config({"env": "CartPole-v1"}))
+    assert other.run_id() != rid
+    store.run_json.write_text('{"run_id": "../../x"}')
+    with pytest.raises(StoreError, match="holds no run id"):
+        store.run_id()
+
+
+def test_save_config_writes_only_a_change(tmp_path):
+    store = RunStore(tmp_path / "run")
+    cfg = build_config({"env": "CartPole-v1"})
+    store.create(cfg)
+    store.config_path.write_text(store.config_path.read_text() + "\n# a comment the user wrote\n")
+    before = store.config_path.read_bytes()
+    store.save_config(cfg)
+    assert store.config_path.read_bytes() == before  # the same config: untouched
+    store.save_config(build_config({"env": "CartPole-v1", "generations": 60}))
+    assert store.read_config().generations == 60

@@ -19,7 +19,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from shaped_es.cli_errors import continue_hint, error_line, mpi_spawn_command, show_warning, supervise
+from shaped_es.cli_errors import WarningRoute, continue_hint, error_line, mpi_spawn_command, supervise
 
 
 
@@ -70,16 +70,10 @@ def cmd_resume(a: argparse.Namespace) -> int:
         if a.generations is not None and a.generations < done:
             raise ConfigError(f"{a.run_dir} has {done} generations done; --generations {a.generations} is "
                               f"fewer (a run cannot be shortened; evaluate it as it is, or train a new one)")
-        if a.generations is not None or a.executor is not None or a.workers is not None:
-            changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
-                                         "workers": a.workers}.items() if v is not None}
-            new = build_config(merge(cfg.model_dump(mode="json"), changes))
-            if new != cfg:
-                from shaped_es.config import dump_config
-                from shaped_es.store import atomic_write_text
-
-                atomic_write_text(store.config_path, dump_config(new))
-            cfg = new
+        changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
+                                     "workers": a.workers}.items() if v is not None}
+        # config.yaml takes the changes once the restore held up (the run loop writes it), not before
+        cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
         return _run(cfg, store, a)
 
 
@@ -386,7 +380,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     a = parser.parse_args([x for x in argv if x != "--debug"])
     old_show = warnings.showwarning
-    warnings.showwarning = show_warning
+    route = WarningRoute(a, debug)
+    warnings.showwarning = route.show
     try:
         if mpi_spawn_command(a):
             return supervise(a, argv, debug)
@@ -396,13 +391,16 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except KeyboardInterrupt:
         hint = continue_hint(a)
+        route.flush()
         print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)
         return 130
     except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
         line, code = error_line(exc, a, debug)
+        route.flush()  # other libraries' warnings: one line before the error's (their text in error.log)
         print(line, file=sys.stderr)
         return code
     finally:
+        route.close()
         warnings.showwarning = old_show
 
 

@@ -12,6 +12,9 @@ import subprocess
 import sys
 import traceback
 import warnings
+from pathlib import Path
+
+from shaped_es import warning_log
 
 USAGE_ERROR = 2
 INTERNAL_ERROR = 1
@@ -41,38 +44,44 @@ def _run_dir(a: argparse.Namespace) -> str | None:
 
 
 def continue_hint(a: argparse.Namespace) -> str:
+    """How to continue the command's run, if it left one (a train that never started leaves none)."""
     run = _run_dir(a)
     if a.command == "benchmark":
         return "rerun the same command to continue (finished runs are skipped)"
-    return f"continue with: shaped-es resume {run}" if run and a.command in ("train", "resume") else ""
+    started = run and a.command in ("train", "resume") and os.path.isfile(os.path.join(run, "config.yaml"))
+    return f"continue with: shaped-es resume {run}" if started else ""
 
 
-def _log_detail(a: argparse.Namespace, text: str) -> str:
-    """Append a traceback to RUN/error.log (only if the run directory exists); returns a pointer."""
+def _log(a: argparse.Namespace, text: str):
+    """Append ``text`` to RUN/error.log (only if the run directory exists); its path, or None."""
     from shaped_es.store import RunStore
 
     run = _run_dir(a)
     if not run or not text.strip():
-        return ""
+        return None
     try:
-        path = RunStore(run).log_error(text)
+        return RunStore(run).log_error(text)
     except Exception:  # noqa: BLE001 - logging must never hide the error itself
-        path = None
+        return None
+
+
+def _log_detail(a: argparse.Namespace, text: str) -> str:
+    """Append a traceback to RUN/error.log (only if the run directory exists); returns a pointer."""
+    path = _log(a, text)
     return f" (traceback in {path})" if path else ""
 
 
 def error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[str, int]:
     """(the one line, exit code) for an exception that reached the command line."""
-    from shaped_es.rollout import EnvError
-
+    own = getattr(exc, "detail", "")  # an env's traceback (EnvError), Ray's output (ExecutorError)
     detail = "".join(traceback.format_exception(exc))
-    if isinstance(exc, EnvError) and exc.detail:
-        detail = exc.detail + "\n" + detail
+    if own:
+        detail = own + "\n" + detail
     if debug:
         print(detail, file=sys.stderr, end="")
     if isinstance(exc, _user_errors()):
         msg, code = str(exc), USAGE_ERROR
-        where = _log_detail(a, detail) if isinstance(exc, EnvError) and exc.detail else ""
+        where = _log_detail(a, detail) if own else ""
         hint = continue_hint(a) if getattr(exc, "worker_fault", False) else ""  # a lost simulator server
         msg += f"; {hint}" if hint else ""
     elif isinstance(exc, MemoryError):
@@ -103,13 +112,55 @@ def _os_where(exc: OSError) -> str:
     return f": {exc.filename}" if exc.filename else ""
 
 
-def show_warning(message, category, filename, lineno, file=None, line=None, _orig=warnings.showwarning):
-    from shaped_es.executors import ExecutorWarning
+class WarningRoute:
+    """Where a command's warnings go (``warnings.showwarning`` while it runs): shaped-es's own (a
+    category defined in ``shaped_es``: executor and env settings, repairs) as one line each; every
+    other library's (Gymnasium's env checker, NumPy, Ray's output, ...) into ``RUN/error.log``
+    (``warning_log.py``; the process executor's workers write theirs there too) and the terminal with
+    ``--debug``, with one line at the end saying how many there were and where."""
 
-    if issubclass(category, ExecutorWarning):
-        print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
-    else:
-        _orig(message, category, filename, lineno, file, line)
+    def __init__(self, a: argparse.Namespace, debug: bool):
+        from shaped_es.store import RunStore
+
+        run = _run_dir(a)
+        self.debug, self.held = debug, []
+        self.log = Path(os.path.abspath(RunStore(run).error_log)) if run else None
+        self.offset = self.log.stat().st_size if self.log and self.log.is_file() else 0
+        self._env = os.environ.get(warning_log.ENV)
+        if self.log and not debug:  # with --debug the workers print theirs as they come
+            os.environ[warning_log.ENV] = str(self.log)
+
+    def show(self, message, category, filename, lineno, file=None, line=None) -> None:
+        if category.__module__.split(".")[0] == "shaped_es":  # ExecutorWarning, EnvWarning, StoreWarning
+            print(f"shaped-es: warning: {' '.join(str(message).split())}", file=sys.stderr)
+            return
+        text = warnings.formatwarning(message, category, filename, lineno, line)
+        if self.debug:
+            sys.stderr.write(text)
+        source = warning_log.origin(filename)
+        if not (self.log and warning_log.append(self.log, source, text)):
+            self.held.append((source, text))  # no run directory yet: again at the end
+
+    def flush(self) -> None:
+        """One line for the warnings logged (or held) since the last flush."""
+        held, self.held = self.held, []
+        unlogged = [src for src, text in held if not (self.log and warning_log.append(self.log, src, text))]
+        logged = warning_log.entries_since(self.log, self.offset) if self.log else []
+        if self.log and self.log.is_file():
+            self.offset = self.log.stat().st_size
+        sources = logged + unlogged
+        if not sources:
+            return
+        where = f"their text in {self.log}" if logged else ("shown above" if self.debug else "--debug shows them")
+        n, names = len(sources), ", ".join(dict.fromkeys(sources))
+        print(f"shaped-es: warning: {n} warning{'s' * (n > 1)} from {names} ({where})", file=sys.stderr)
+
+    def close(self) -> None:
+        self.flush()
+        if self._env is None:
+            os.environ.pop(warning_log.ENV, None)
+        else:
+            os.environ[warning_log.ENV] = self._env
 
 
 def mpi_spawn_command(a: argparse.Namespace) -> bool:
@@ -140,8 +191,9 @@ def supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
 
     With spawned MPI workers, a worker that dies makes Open MPI end the trainer's process itself (exit
     14, after a few lines of MPI's own output). The child's stderr is relayed: its ``shaped-es:`` and
-    progress lines as they come, the rest when it ends on its own, or into RUN/error.log when MPI ended
-    it; the child dies with this process."""
+    progress lines as they come (all with ``--debug``); the rest goes to RUN/error.log (with one line
+    saying so; to the terminal when there is no run directory), however the job ended; the child dies
+    with this process."""
     env = {**os.environ, _SUPERVISED: "1"}
 
     def die_with_parent() -> None:  # pragma: no cover - runs in the child
@@ -166,8 +218,13 @@ def supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
     finally:
         signal.signal(signal.SIGINT, old_int)
         signal.signal(signal.SIGTERM, old_term)
-    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):  # the child ended on its own: its other output too
-        sys.stderr.writelines(other)
+    if rc in (0, INTERNAL_ERROR, USAGE_ERROR, 130):  # the child ended on its own: its other output too,
+        path = _log(a, "".join(other)) if other else None  # into error.log (MPI's and its workers' lines)
+        if path:
+            print(f"shaped-es: warning: {len(other)} more lines of output from the MPI job (in {path})",
+                  file=sys.stderr)
+        else:
+            sys.stderr.writelines(other)
         return rc
     where = _log_detail(a, "".join(other)) if other else ""
     how = f"signal {-rc}" if rc < 0 else f"exit {rc}"

@@ -71,7 +71,8 @@ class RolloutConfig(_Strict):
     episodes: Int = Field(2, gt=0, description="training episodes per member, mean return (paper: 2)")
     test_episodes: Int = Field(15, ge=0, description="test episodes of the best member (paper: 15)")
     test_every: Int = Field(1, gt=0, description="evaluate the best member every N generations")
-    max_steps: Int | None = Field(None, gt=0, description="cap on episode length (None: env's limit)")
+    max_steps: Int | None = Field(None, gt=0, description="cap on episode length (None: the env's limit; an env "
+                                  "without one is cut at 10,000 steps, with a warning: rollout.DEFAULT_MAX_STEPS)")
     common_seeds: Bool = Field(True, description="all members of a generation share episode seeds")
 
 
@@ -289,22 +290,78 @@ def build_config(data: dict[str, Any]) -> RunConfig:
         raise ConfigError(f"invalid config: {first_error(exc)}") from None
 
 
+# Values the aliases of one YAML document may add to it, beyond the values written out: anchors that
+# spare repeating a section stay well inside it; a "billion laughs" document (700 bytes, 10**8 values)
+# does not, and would hang whatever walks it (validation, gym.make's error message, dump_config).
+ALIAS_BUDGET = 10_000
+
+
+class _AliasError(ValueError):
+    """A recursive alias, or aliases past :data:`ALIAS_BUDGET`."""
+
+
+class _Loader(yaml.SafeLoader):
+    """``yaml.SafeLoader`` that refuses recursive aliases and aliases past :data:`ALIAS_BUDGET`."""
+
+    def construct_document(self, node):
+        _check_aliases(node)
+        return super().construct_document(node)
+
+
+def _check_aliases(root: yaml.Node) -> None:
+    """``_AliasError`` if an alias refers to a node that contains it, or the aliases expand the document
+    by more than :data:`ALIAS_BUDGET` values (sizes counted once per node, so a bomb costs no time)."""
+    size: dict[int, int] = {}  # id(node) -> values under it, aliases expanded
+    open_: set[int] = set()  # nodes whose children are being counted (the path from the root)
+    stack: list[tuple[yaml.Node, bool]] = [(root, False)]
+    while stack:
+        node, closing = stack.pop()
+        key = id(node)
+        kids = [] if isinstance(node, yaml.ScalarNode) else (
+            [x for pair in node.value for x in pair] if isinstance(node, yaml.MappingNode) else node.value)
+        if closing:
+            open_.discard(key)
+            size[key] = 1 + sum(size[id(k)] for k in kids)
+        elif key in open_:
+            raise _AliasError(f"a YAML alias (line {node.start_mark.line + 1}) refers to a value that "
+                             f"contains it (a recursive alias)")
+        elif key not in size:
+            open_.add(key)
+            stack.append((node, True))
+            stack.extend((k, False) for k in kids)
+    if size[id(root)] - len(size) > ALIAS_BUDGET:
+        raise _AliasError(f"its YAML aliases expand to {size[id(root)]:,} values, more than {ALIAS_BUDGET:,} "
+                         f"beyond the {len(size):,} written (an alias bomb?); write the values out")
+
+
+def parse_yaml(text: str, where: str) -> Any:
+    """``text`` read as YAML (safe: plain data only, bounded aliases); ``ConfigError`` naming ``where``
+    (``config file X``, ``--set K=V``) if it cannot be read."""
+    try:
+        return yaml.load(text, Loader=_Loader)  # noqa: S506 - _Loader is a SafeLoader
+    except yaml.YAMLError as exc:
+        line = getattr(getattr(exc, "problem_mark", None), "line", None)
+        at = f" (line {line + 1})" if line is not None else ""
+        raise ConfigError(f"{where} is not valid YAML{at}") from None
+    except _AliasError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    except RecursionError:
+        raise ConfigError(f"{where} nests too deeply to be a config") from None
+    except (ValueError, TypeError, OverflowError) as exc:  # e.g. an impossible date; an alias bomb
+        raise ConfigError(f"{where} holds a value YAML cannot read: {str(exc).splitlines()[0]}") from None
+
+
 def read_yaml(path: str | Path) -> dict[str, Any]:
     p = Path(path)
     if not p.is_file():
         raise ConfigError(f"config file not found: {p}")
     try:
-        data = yaml.safe_load(p.read_bytes().decode("utf-8"))
+        text = p.read_bytes().decode("utf-8")
     except UnicodeDecodeError:
         raise ConfigError(f"config file {p} is not a text (UTF-8) file") from None
     except OSError as exc:
         raise ConfigError(f"cannot read config file {p}: {exc.strerror or exc}") from None
-    except yaml.YAMLError as exc:
-        line = getattr(getattr(exc, "problem_mark", None), "line", None)
-        at = f" (line {line + 1})" if line is not None else ""
-        raise ConfigError(f"config file {p} is not valid YAML{at}") from None
-    except (ValueError, TypeError, OverflowError) as exc:  # e.g. an impossible date or number
-        raise ConfigError(f"config file {p} holds a value YAML cannot read: {exc}") from None
+    data = parse_yaml(text, f"config file {p}")
     if data is None:
         return {}
     if not isinstance(data, dict):
@@ -351,7 +408,7 @@ def parse_set(items: list[str] | None) -> dict[str, Any]:
         if "=" not in item:
             raise ConfigError(f"--set expects KEY=VALUE, got {item!r}")
         k, v = item.split("=", 1)
-        out[k.strip()] = yaml.safe_load(v)
+        out[k.strip()] = parse_yaml(v, f"--set {item}")
     return out
 
 

@@ -11,8 +11,8 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import make_executor
-from shaped_es.load import policy_generation
-from shaped_es.rollout import policy_episode_tasks, policy_spec, run_task
+from shaped_es.load import es_params, policy_generation
+from shaped_es.rollout import policy_episode_tasks, policy_spec, probe_env, run_task, warn_if_endless
 from shaped_es.store import RunStore, StoreError
 
 
@@ -34,14 +34,10 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
         finally:
             runner.close()
         return _summary(store, which, meta, returns, seeds[0])
-    key = f"policy/{which}"
-    if key not in arrays:
-        raise StoreError(f"checkpoint of {run_dir} has no {which!r} policy")
-    spec = policy_spec(cfg)
-    theta = np.asarray(arrays[key], dtype=np.float32)
-    if theta.shape != (spec.num_params,):
-        raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
-                         f"{spec.num_params}")
+    probe = probe_env(cfg.env, cfg.env_kwargs)
+    spec = policy_spec(cfg, probe)
+    theta = es_params(arrays, which, spec.num_params, run_dir)
+    warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
     with make_executor(executor, workers=workers) as ex:
         tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds, ex.workers,
                                      max_steps=cfg.rollout.max_steps)

@@ -132,15 +132,22 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
         return Policy(**common, sb3_policy=load_sb3(cfg, arrays, which))
     from shaped_es.policies import MLPSpec
 
+    spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
+    return Policy(**common, theta=es_params(arrays, which, spec.num_params, run_dir), spec=spec)
+
+
+def es_params(arrays: dict[str, np.ndarray], which: str, num_params: int, run_dir) -> np.ndarray:
+    """The ``which`` ('best' or 'mean') policy's parameters ``(n,)`` in an ES checkpoint's ``arrays``,
+    checked: present, the config's ``num_params`` of them, finite (``StoreError`` naming the run)."""
     key = f"policy/{which}"
     if key not in arrays:
         raise StoreError(f"checkpoint of {run_dir} has no {which!r} policy")
-    spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
     theta = np.asarray(arrays[key], dtype=np.float32)
-    if theta.shape != (spec.num_params,):
-        raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs "
-                         f"{spec.num_params}")
-    return Policy(**common, theta=theta, spec=spec)
+    if theta.shape != (num_params,):
+        raise StoreError(f"policy in {run_dir} has {theta.shape} params, the config's policy needs {num_params}")
+    if not np.isfinite(theta).all():
+        raise StoreError(f"{key} in the checkpoint of {run_dir} holds non-finite values (inf/NaN)")
+    return theta
 
 
 def policy_generation(store: RunStore, meta: dict, which: str) -> int | None:

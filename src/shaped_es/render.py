@@ -18,7 +18,9 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.rollout import EnvSpecError, _to_env_action, make_env, policy_spec
+from shaped_es.load import es_params
+from shaped_es.rollout import (DEFAULT_MAX_STEPS, EnvSpecError, _to_env_action, env_time_limit, make_env,
+                               policy_spec)
 from shaped_es.store import RunStore, StoreError
 
 
@@ -33,14 +35,8 @@ def policy_fn(store: RunStore, which: str = "best"):
         return lambda obs: policy.predict(obs[None], deterministic=True)[0][0]
     from shaped_es.policies import forward
 
-    key = f"policy/{which}"
-    if key not in arrays:
-        raise StoreError(f"checkpoint of {store.root} has no {which!r} policy")
     spec = policy_spec(cfg)
-    theta = np.asarray(arrays[key], dtype=np.float32)[None]  # (1, n)
-    if theta.shape[1] != spec.num_params:
-        raise StoreError(f"policy in {store.root} has {theta.shape[1]} params, the config's policy needs "
-                         f"{spec.num_params}")
+    theta = es_params(arrays, which, spec.num_params, store.root)[None]  # (1, n)
     probe = make_env(cfg.env, cfg.env_kwargs)
     space = probe.action_space
     probe.close()
@@ -103,7 +99,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
     cfg = store.read_config()
     act = policy_fn(store, which)
     env = _rgb_env(cfg.env, cfg.env_kwargs)
-    cap = max_steps or cfg.rollout.max_steps
+    cap = max_steps or cfg.rollout.max_steps or (None if env_time_limit(env) else DEFAULT_MAX_STEPS)
     seeds = seeding.evaluation_seeds(episodes, seed)  # evaluate's episodes
     frames, returns = [], []
     try:

@@ -8,8 +8,12 @@ lock-step with one batched policy forward per step:
   vectorized call;
 - any other Gymnasium env is stepped one instance per episode (the policy forward is still batched).
 
-Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds, Discrete spaces
-take the argmax. Results depend only on the task's parameters and seeds, never on the process running it.
+Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds (which must be
+finite: an unbounded Box is refused before the first rollout), Discrete spaces take the argmax. An env
+without a time limit, with ``rollout.max_steps`` unset, has its episodes cut at :data:`DEFAULT_MAX_STEPS`
+(with a warning before the first rollout), so an env that never terminates cannot hang a run. Results
+depend only on the task's parameters and seeds, never on the process running it. Making and probing an
+env before its first rollout lives in ``env_probe.py`` (its names are re-exported here).
 
 Recording (``RolloutTask.record``: every member, or a mask of them) keeps each recorded member's steps as
 :class:`~shaped_es.data.Transitions`; with ``RolloutTask.expert`` the env's scripted waypoint controller
@@ -24,40 +28,37 @@ import dataclasses
 import json
 import time
 import traceback
+import warnings
 from dataclasses import dataclass, field, replace
 
 import gymnasium as gym
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.envs.core import (CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller,
-                                 runs_serially)
+from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of a rollout
+    EnvError,
+    EnvProbe,
+    EnvSpecError,
+    env_dims,
+    env_time_limit,
+    exception_line,
+    make_env,
+    policy_spec,
+    probe_dims,
+    probe_env,
+)
+from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, runs_serially
 from shaped_es.policies import MLPSpec, forward
 
-
-class EnvSpecError(ValueError):
-    """The environment cannot be created or does not fit the policy/contract."""
-
-
-class EnvError(EnvSpecError):
-    """The environment failed while running: it raised, returned a non-finite reward or observation, or
-    changed an observation's shape. The message is one line (the env's exception type and message);
-    ``detail`` holds the full traceback (for a log file), from whichever process ran the env;
-    ``worker_fault``: the env's exception marked its worker's resource as lost (a simulator server that
-    stopped answering), which executors may retry elsewhere (``executors.base.is_worker_fault``)."""
-
-    def __init__(self, message: str, detail: str = "", worker_fault: bool = False):
-        super().__init__(message)
-        self.detail = detail
-        self.worker_fault = worker_fault
-
-    def __reduce__(self):  # crosses process boundaries with its traceback text
-        return type(self), (str(self), self.detail, self.worker_fault)
+# Episodes of an env without a time limit (no registered ``max_episode_steps``, no ``TimeLimit``), with
+# ``rollout.max_steps`` unset, end here: an env that never terminates would hang the run.
+DEFAULT_MAX_STEPS = 10_000
 
 
-def _first_line(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
-    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+class EnvWarning(UserWarning):
+    """Something about the env a run should know before its first rollout (printed as one line)."""
+
+
 
 
 @dataclass
@@ -130,100 +131,17 @@ def policy_episode_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, theta: np
 _ENV_CACHE: dict[str, list[gym.Env]] = {}
 
 
-def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
-    """``gymnasium.make`` with one clear error for unknown ids (``module:Env-v0`` ids import the module)."""
-    try:
-        return gym.make(env_id, **(env_kwargs or {}))
-    except (gym.error.Error, ModuleNotFoundError) as exc:
-        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
-            msg = _missing_module(env_id.split(":", 1)[0], exc) or msg
-        raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
-    except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
-        raise EnvError(f"cannot make env {env_id!r}: {_first_line(exc)}", traceback.format_exc()) from None
-
-
-def _missing_module(module: str, exc: ModuleNotFoundError) -> str | None:
-    """Why ``module`` of a ``module:Env-v0`` id did not import: it is not on the path here (a run of an
-    env defined next to it, used from another folder), or it imports a package that is not installed."""
-    import os
-
-    cause = exc.__cause__ if isinstance(exc.__cause__, ModuleNotFoundError) else exc
-    missing = getattr(cause, "name", None)
-    if missing is None:
-        return None
-    if missing == module or module.startswith(missing + "."):
-        return (f"its module {module!r} cannot be imported from {os.getcwd()}: run from the folder that "
-                f"holds {module.split('.')[0]}, or add that folder to PYTHONPATH")
-    return f"its module {module!r} imports {missing!r}, which is not installed"
-
-
-def env_dims(env: gym.Env) -> tuple[int, int]:
-    """(obs_dim, act_dim) of a flat-Box-observation env with a Box or Discrete action space."""
-    obs_space, act_space = env.observation_space, env.action_space
-    if not isinstance(obs_space, gym.spaces.Box) or len(obs_space.shape) != 1:
-        raise EnvSpecError(f"observation space must be a flat Box, got {obs_space}")
-    if isinstance(act_space, gym.spaces.Box) and len(act_space.shape) == 1:
-        return int(obs_space.shape[0]), int(act_space.shape[0])
-    if isinstance(act_space, gym.spaces.Discrete):
-        return int(obs_space.shape[0]), int(act_space.n)
-    raise EnvSpecError(f"action space must be a flat Box or Discrete, got {act_space}")
-
-
 def _env_key(env_id: str, env_kwargs: dict) -> str:
     return env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
 
 
-@dataclass(frozen=True)
-class EnvProbe:
-    """What a run needs of its env before the first rollout, from one env made, measured and closed."""
-
-    obs_dim: int
-    act_dim: int
-    # The env's own episode limit: the made env's ``spec.max_episode_steps`` (the built-in envs register a
-    # ``TimeLimit`` of their preset's horizon), else the ``max_steps`` of its batched core, else None.
-    time_limit: int | None
-    # Only when asked (``probe_env(..., reset=True)``: a method reading the env's info, ``methods.Method``):
-    # the info of the same env's ``reset(seed=0)``, or the exception that reset raised, kept for the
-    # caller to raise when its check comes (both None: not asked).
-    reset_info: dict | None = field(default=None, compare=False, repr=False)
-    reset_error: Exception | None = field(default=None, compare=False, repr=False)
-    # Whether the env offers the optional scripted waypoint controller (envs/core.py hook)
-    controller: bool | None = field(default=None, compare=False)
-
-
-def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
-    """Make ``env_id`` once: its dims (after checking its spaces fit the contract) and its time limit;
-    with ``reset``, also its reset info (one ``reset(seed=0)``, only for the methods that read it)."""
-    env = make_env(env_id, env_kwargs)
-    try:
-        obs_dim, act_dim = env_dims(env)
-        limit = env.spec.max_episode_steps if env.spec is not None else None
-        core = get_batch_core(env)
-        limit = limit if limit else (int(core.max_steps) if core is not None else None)
-        info, error = None, None
-        if reset:
-            try:
-                _, info = env.reset(seed=0)
-            except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info
-                error = exc
-        return EnvProbe(obs_dim, act_dim, limit, reset_info=info, reset_error=error,
-                        controller=has_controller(env))
-    finally:
-        env.close()
-
-
-def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
-    """(obs_dim, act_dim) of ``env_id`` (an env made, measured and closed)."""
-    probe = probe_env(env_id, env_kwargs)
-    return probe.obs_dim, probe.act_dim
-
-
-def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
-    """The MLP of a run config ``cfg`` (a ``config.RunConfig``) on its env: dims probed (or taken from
-    ``probe``, the same env's), ``policy.hidden``."""
-    probe = probe or probe_env(cfg.env, cfg.env_kwargs)
-    return MLPSpec(probe.obs_dim, probe.act_dim, tuple(cfg.policy.hidden))
+def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None:
+    """Say, before the first rollout, that an env without a time limit has its episodes cut at
+    :data:`DEFAULT_MAX_STEPS` (``max_steps``: the run's ``rollout.max_steps``)."""
+    if max_steps is None and probe.time_limit is None:
+        warnings.warn(f"env {env_id!r} has no time limit and rollout.max_steps is unset: its episodes are "
+                      f"cut at {DEFAULT_MAX_STEPS:,} steps (set rollout.max_steps, or register the env with "
+                      f"max_episode_steps)", EnvWarning, stacklevel=2)
 
 
 def _envs(env_id: str, env_kwargs: dict, count: int) -> list[gym.Env]:
@@ -257,7 +175,7 @@ def run_task(task: RolloutTask) -> RolloutResult:
         _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)  # envs in an unknown state
         if isinstance(exc, EnvError):
             raise
-        raise EnvError(f"env {task.env_id!r} raised {_first_line(exc)} (generation {task.generation}, "
+        raise EnvError(f"env {task.env_id!r} raised {exception_line(exc)} (generation {task.generation}, "
                        f"episode seeds {_seed_text(task.seeds)})", traceback.format_exc(),
                        worker_fault=bool(getattr(exc, "worker_fault", False))) from None
     out.cpu_time_s = time.process_time() - t_cpu
@@ -383,7 +301,8 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
         rew = np.where(alive, rew, 0.0)
         if rec is not None:
             rec.add(obs, pos, wp, act, rew, alive, ex)
-        returns += rew
+        with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
+            returns += rew
         lengths += alive
         alive &= ~(term | trunc)
         if nobs.shape != obs.shape:
@@ -396,7 +315,8 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     bad = ~np.isfinite(returns)
     if bad.any():
         b = int(np.flatnonzero(bad)[0])
-        raise _bad_output(task, "a non-finite reward (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
+        raise _bad_output(task, "a non-finite reward, or rewards whose sum overflows (inf/NaN)",
+                          task.seeds.reshape(B)[b], int(lengths[b]))
     if not np.isfinite(obs).all():
         b = int(np.flatnonzero(~np.isfinite(obs.reshape(B, -1)).all(axis=1))[0])
         raise _bad_output(task, "a non-finite observation (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
@@ -451,8 +371,11 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     alive = np.ones(B, dtype=bool)
     rec = _Recorder(task) if task.recorded().any() else None
     hooks = [_controller(task, env.unwrapped) for env in envs] if rec is not None and task.expert else None
+    cap = task.max_steps
+    if cap is None and env_time_limit(envs[0]) is None:
+        cap = DEFAULT_MAX_STEPS  # an env that never terminates cannot hang the run (warn_if_endless)
     t = 0
-    while alive.any() and (task.max_steps is None or t < task.max_steps):
+    while alive.any() and (cap is None or t < cap):
         act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
         ex = None
         if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
@@ -478,8 +401,13 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
             _check_obs(task, nobs[b], shape, seeds[b], t + 1)
         if rec is not None:
             rec.add(obs, pos, wp, act, rew, stepped, ex)
-        returns += rew
+        with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
+            returns += rew
         lengths += stepped
         obs, pos, wp = nobs, npos, nwp
         t += 1
+    if not np.isfinite(returns).all():  # finite rewards (checked each step) whose sum overflowed
+        b = int(np.flatnonzero(~np.isfinite(returns))[0])
+        raise _bad_output(task, f"rewards whose sum overflows (the episode return reached {returns[b]}; "
+                          f"rewards must stay far below 1e308)", seeds[b], int(lengths[b]))
     return _finish(task, returns, lengths, rec)

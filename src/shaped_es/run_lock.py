@@ -1,7 +1,9 @@
-"""One writer per run directory: ``RUN/.lock`` holds the writer's pid, host and command and is
-``flock``-ed, so a killed holder's lock is free again; without ``flock`` a lock of a dead pid on this host
-is taken over. Re-entrant within a process (:data:`HELD`); :meth:`shaped_es.store.RunStore.lock` is the
-way in."""
+"""One writer per run directory: the writer ``flock``-s the run directory itself (a descriptor on it, which
+a stray ``rm RUN/.lock`` cannot take away from a live holder) and ``RUN/.lock``, which holds its pid, host
+and command for the message others get; a killed holder's locks are free again. Where the filesystem
+cannot ``flock`` a directory (NFS), the lock file alone is the lock; without ``flock`` at all, a lock of a
+dead pid on this host is taken over. Re-entrant within a process (:data:`HELD`);
+:meth:`shaped_es.store.RunStore.lock` is the way in."""
 
 from __future__ import annotations
 
@@ -24,9 +26,12 @@ except ImportError:  # pragma: no cover - not POSIX
 LOCK_NAME = ".lock"
 
 
+_NO_FLOCK = (errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL)
+
+
 class _Lock:
-    def __init__(self, path: Path, fd: int | None):
-        self.path, self.fd, self.count = path, fd, 0
+    def __init__(self, path: Path, fd: int | None, dir_fd: int | None = None):
+        self.path, self.fd, self.dir_fd, self.count = path, fd, dir_fd, 0
 
 
 HELD: dict[str, _Lock] = {}  # lock path -> this process's lock (re-entrant within the process)
@@ -51,6 +56,8 @@ def _read_owner(path: Path) -> dict:
 
 
 def _owner_text(owner: dict) -> str:
+    if not owner:
+        return "another process (its .lock file, which names it, was removed or is unreadable)"
     pid, host = owner.get("pid", "?"), owner.get("host", "?")
     cmd = f" ({owner['command']})" if owner.get("command") else ""
     return f"process {pid} on {host}{cmd}"
@@ -62,7 +69,48 @@ def _owner_record() -> bytes:
                        "since": time.strftime("%Y-%m-%dT%H:%M:%S")}).encode()
 
 
+def _lock_directory(root: Path) -> int | None:
+    """``flock`` a descriptor on the run directory itself; None where that is not supported (the lock
+    file alone then decides); ``StoreError`` naming the holder if another process has it."""
+    if fcntl is None:  # pragma: no cover - not POSIX
+        return None
+    fd = os.open(root, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise StoreError(_locked_message(root, _read_owner(root / LOCK_NAME))) from None
+    except OSError as exc:  # NFS emulates flock with POSIX locks, which a read-only descriptor cannot take
+        os.close(fd)
+        if exc.errno not in (*_NO_FLOCK, errno.EBADF):
+            raise
+        return None
+    return fd
+
+
 def acquire(root: Path) -> _Lock:
+    dir_fd = _lock_directory(root)
+    try:
+        lock = _acquire_file(root)
+    except BaseException:
+        if dir_fd is not None:
+            os.close(dir_fd)
+        raise
+    lock.dir_fd = dir_fd
+    return lock
+
+
+def probe(root: Path) -> None:
+    """``StoreError`` if another process holds the lock of ``root`` (nothing is created or changed)."""
+    fd = _lock_directory(root)
+    if fd is not None:
+        os.close(fd)  # closing the only descriptor drops the flock
+    path = root / LOCK_NAME
+    if path.exists():
+        release(_acquire_file(root))
+
+
+def _acquire_file(root: Path) -> _Lock:
     path = root / LOCK_NAME
     for _ in range(10):  # only loops when another process unlinked the file between our open and flock
         fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
@@ -73,7 +121,7 @@ def acquire(root: Path) -> _Lock:
                 except BlockingIOError:
                     raise StoreError(_locked_message(root, _read_owner(path))) from None
                 except OSError as exc:  # a filesystem without flock: fall back to the pid check
-                    if exc.errno not in (errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL):
+                    if exc.errno not in _NO_FLOCK:
                         raise
                     _check_pid_lock(root, path)
             else:  # pragma: no cover
@@ -113,6 +161,7 @@ def release(lock: _Lock) -> None:
     with contextlib.suppress(OSError):
         if lock.fd is not None and os.stat(lock.path).st_ino == os.fstat(lock.fd).st_ino:
             lock.path.unlink()
-    if lock.fd is not None:
-        with contextlib.suppress(OSError):
-            os.close(lock.fd)
+    for fd in (lock.fd, lock.dir_fd):  # the lock file first: the directory's lock guards its removal
+        if fd is not None:
+            with contextlib.suppress(OSError):
+                os.close(fd)

@@ -2,9 +2,11 @@
 
 :class:`RunLoop` owns what the ES trainer (``trainer.Trainer``) and PPO (``baselines.ppo.PPORun``) do
 alike: hold the run directory's lock, restore the newest checkpoint (check it belongs to this run, read
-the counters, ``RunStore.recover``), then generation after generation append the metrics rows a step
-completes (``metrics.csv``, TensorBoard, the progress bar) and checkpoint every ``checkpoint_every``
-generations and at the last one. A method supplies:
+the counters, ``RunStore.recover``), write the config it runs with once its first generation ran (a
+resume's new ``--generations`` / ``--executor`` / ``--workers``: a resume that fails changes no
+config), then generation after generation append the metrics rows a step completes (``metrics.csv``,
+TensorBoard, the progress bar) and checkpoint every ``checkpoint_every`` generations and at the last
+one. A method supplies:
 
 - ``step(g)``: run generation ``g``, return the metrics rows completed meanwhile (in generation order);
 - ``finish()``: the rows still pending after the last generation's step (default none);
@@ -99,9 +101,13 @@ class RunLoop:
             cb.on_start(self)
         bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress,
                               label=self.label)
+        saved = False
         try:
             for g in range(self.c.generation, self.cfg.generations):
                 done = self.step(g)
+                if not saved:  # the restore held up through a first generation: resume's changes stay
+                    self.store.save_config(self.cfg)
+                    saved = True
                 last = g + 1 == self.cfg.generations
                 if last:
                     done += self.finish()
@@ -114,6 +120,8 @@ class RunLoop:
                 if self.stopped:
                     self._say_stopped(rows)
                     break
+            if not saved:  # nothing left to run (a finished run resumed)
+                self.store.save_config(self.cfg)
         finally:
             bar.close()
             self.close()

@@ -3,6 +3,7 @@
 Layout::
 
     RUN/config.yaml              complete, validated, re-runnable config
+    RUN/run.json                 the run's id (random, written once when the run is created)
     RUN/metrics.csv              one row per generation (same columns for every method)
     RUN/tb/                      TensorBoard events of the same metrics
     RUN/checkpoints/gen_NNNNNN.npz + .json    arrays (never pickle) + JSON metadata
@@ -17,24 +18,27 @@ its ``.npz`` then its ``.json``; a checkpoint is complete once both exist. A kil
 previous complete checkpoint in force. :meth:`RunStore.recover` (resume) deletes what a killed writer
 left (``.tmp`` files, an ``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
 ``latest.json`` says (it only names the newest one for people and other tools, and is rewritten), and
-drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included.
+drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included (repeated rows,
+which two writers at once leave, are reduced to the last of each generation; rows the checkpoint covers
+that are missing are an error: nothing is changed).
 
-One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``RUN/.lock`` holding the pid,
-``flock``-ed, so a killed holder's lock is free again; without ``flock`` a lock of a dead pid on this
-host is taken over). Writes outside a held lock check that no other process holds it.
+One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``run_lock.py``: the run directory
+itself ``flock``-ed, so deleting ``RUN/.lock`` does not let a second writer in, and ``RUN/.lock`` naming
+the holder; a killed holder's lock is free again). Writes outside a held lock check that no other
+process holds it.
 """
 
 from __future__ import annotations
 
 import contextlib
-import csv
 import io
 import json
-import math
 import os
 import re
 import sys
 import time
+import uuid
+import warnings
 import zipfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -42,13 +46,14 @@ from typing import Any
 
 import numpy as np
 
+from shaped_es import metrics_csv
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
-from shaped_es.run_lock import HELD, LOCK_NAME, acquire, release
-from shaped_es.store_io import StoreError, atomic_write_bytes, atomic_write_text
+from shaped_es.run_lock import HELD, LOCK_NAME, acquire, probe, release
+from shaped_es.store_io import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
 
 ERROR_LOG = "error.log"
 _CKPT_RE = re.compile(r"gen_(\d{6,})")
-_NON_FLOAT = ("", "True", "False")  # empty: no value (None or NaN); booleans as csv writes them
+_RUN_ID_RE = re.compile(r"[0-9a-f]{16,64}")
 _TMP_RE = re.compile(r"\..+\.tmp")  # atomic_write_bytes' (and the trajectory store's) temporaries
 
 
@@ -72,6 +77,10 @@ class RunStore:
     @property
     def trajectories_dir(self) -> Path:
         return self.root / "trajectories"
+
+    @property
+    def run_json(self) -> Path:
+        return self.root / "run.json"
 
     @property
     def figures_dir(self) -> Path:
@@ -117,10 +126,9 @@ class RunStore:
 
     def _check_writable(self) -> None:
         """A write outside :meth:`lock`: refused while another live process holds the lock."""
-        if self.holds_lock() or not self.lock_path.exists():
+        if self.holds_lock() or not self.root.is_dir():
             return
-        with self.lock():
-            pass
+        probe(self.root)
 
     # -- config ------------------------------------------------------------------------------------
     def exists(self) -> bool:
@@ -138,6 +146,32 @@ class RunStore:
         except OSError as exc:
             raise StoreError(f"cannot create run directory {self.root}: {exc.strerror or exc}") from None
         self._check_writable()
+        atomic_write_text(self.run_json, json.dumps({"run_id": uuid.uuid4().hex[:16]}))  # before the config:
+        atomic_write_text(self.config_path, dump_config(cfg))  # a run directory has its id from the start
+
+    def run_id(self) -> str | None:
+        """The run's id: random, written once by :meth:`create` (``RUN/run.json``), kept by resume (a
+        shared ``shaping.trajectory_root`` keeps each run's shards under it); None for a run made before
+        runs had one."""
+        if not self.run_json.is_file():
+            return None
+        try:
+            data = json.loads(self.run_json.read_bytes().decode("utf-8"))
+        except (OSError, ValueError):
+            data = None
+        rid = data.get("run_id") if isinstance(data, dict) else None
+        if not isinstance(rid, str) or not _RUN_ID_RE.fullmatch(rid):
+            raise StoreError(f"{self.run_json} holds no run id (a 16-64 digit hex 'run_id'); it names the "
+                             f"run's trajectory shards, so restore it to resume")
+        return rid
+
+    def save_config(self, cfg: RunConfig) -> None:
+        """Make ``config.yaml`` say ``cfg`` (a no-op when it does): what ``resume`` (or a benchmark
+        rerun) changes, its generations, executor or workers, written by the run loop once the
+        restore held up, so a resume that fails leaves the config as it was."""
+        if self.exists() and self.read_config() == cfg:
+            return
+        self._check_writable()
         atomic_write_text(self.config_path, dump_config(cfg))
 
     def read_config(self) -> RunConfig:
@@ -149,92 +183,22 @@ class RunStore:
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         return build_config(read_yaml(self.config_path))
 
-    # -- metrics -----------------------------------------------------------------------------------
-    def _metrics_table(self) -> tuple[list[str], list[dict[str, str]]]:
-        """(header, complete rows) of metrics.csv; a torn last line (no newline: a write cut short) is
-        left out; anything else malformed is a ``StoreError``."""
-        path = self.metrics_path
-        if not path.exists():
-            return [], []
-        try:
-            text = path.read_bytes().decode("utf-8")
-        except UnicodeDecodeError:
-            raise StoreError(f"{path} is not a CSV text file (binary content)") from None
-        except OSError as exc:
-            raise StoreError(f"cannot read {path}: {exc.strerror or exc}") from None
-        if "\x00" in text:
-            raise StoreError(f"{path} is not a CSV text file (binary content)")
-        lines = text.splitlines(keepends=True)
-        if lines and not lines[-1].endswith(("\n", "\r")):
-            lines = lines[:-1]  # torn last row
-        if not lines:
-            return [], []
-        try:
-            table = list(csv.reader(lines))
-        except csv.Error as exc:
-            raise StoreError(f"{path} is not valid CSV: {exc}") from None
-        header, body = table[0], table[1:]
-        if not header or header[0] != "generation" or len(set(header)) != len(header):
-            raise StoreError(f"{path} has no valid header (its first column must be 'generation')")
-        rows, last = [], -1
-        for i, cells in enumerate(body, start=2):
-            if not cells:
-                continue
-            if len(cells) != len(header):
-                raise StoreError(f"{path} line {i} has {len(cells)} fields, the header has {len(header)}")
-            try:
-                g = int(cells[0])
-                for c in cells[1:]:
-                    if c not in _NON_FLOAT:
-                        float(c)
-            except ValueError:
-                raise StoreError(f"{path} line {i} holds a non-numeric value") from None
-            if g <= last:
-                raise StoreError(f"{path} line {i}: generation {g} does not follow generation {last}")
-            last = g
-            rows.append(dict(zip(header, cells)))
-        return header, rows
-
+    # -- metrics (metrics_csv.py) ------------------------------------------------------------------
     def read_metrics(self) -> list[dict[str, str]]:
         """Every complete row (a torn last row, left by a killed write, is not one)."""
-        return self._metrics_table()[1]
+        return metrics_csv.read_table(self.metrics_path)[1]
 
     def append_metrics(self, row: dict[str, Any]) -> None:
         """Append one row; the first row fixes the header (later rows may not add columns)."""
         self._check_writable()
-        new = not self.metrics_path.is_file() or self.metrics_path.stat().st_size == 0
-        if new:
-            fields = list(row)
-        else:
-            with self.metrics_path.open(newline="") as fh:
-                fields = next(csv.reader(fh))
-            extra = set(row) - set(fields)
-            if extra:
-                raise StoreError(f"metrics row has columns not in {self.metrics_path}: {sorted(extra)}")
-        with self.metrics_path.open("a", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=fields)
-            if new:
-                w.writeheader()
-            w.writerow({k: _fmt(row.get(k)) for k in fields})
-            fh.flush()
-            os.fsync(fh.fileno())
+        metrics_csv.append_row(self.metrics_path, row)
 
     def truncate_metrics(self, last_generation: int) -> None:
-        """Drop rows after ``last_generation`` (rows a killed run wrote past its last checkpoint) and a
-        torn last row; ``-1`` drops every row."""
-        if not self.metrics_path.exists():
-            return
-        header, rows = self._metrics_table()
-        keep = [r for r in rows if int(r["generation"]) <= last_generation]
-        buf = io.StringIO()
-        if header:
-            w = csv.DictWriter(buf, fieldnames=header)  # "\r\n", as append_metrics writes
-            w.writeheader()
-            w.writerows(keep)
-        if buf.getvalue().encode() == self.metrics_path.read_bytes():
-            return
+        """Drop rows after ``last_generation`` (rows a killed run wrote past its last checkpoint), a
+        torn last row and repeated rows (the last of each generation stays); ``-1`` drops every row."""
+        header, rows, _ = metrics_csv.rows_up_to(self.metrics_path, last_generation)
         self._check_writable()
-        atomic_write_text(self.metrics_path, buf.getvalue())
+        metrics_csv.write_rows(self.metrics_path, header, rows)
 
     # -- checkpoints -------------------------------------------------------------------------------
     def _check_ckpt_dir(self) -> bool:
@@ -331,7 +295,7 @@ class RunStore:
         except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
             why = type(exc).__name__
             raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable ({why}){older}") from None
-        if not isinstance(meta, dict) or meta.get("generation") != g or isinstance(meta.get("generation"), bool):
+        if not isinstance(meta, dict) or type(meta.get("generation")) is not int or meta["generation"] != g:
             raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable (its .json is not this "
                              f"checkpoint's metadata){older}")
         return arrays, meta
@@ -362,25 +326,34 @@ class RunStore:
     def recover(self, loaded: Any = ...) -> tuple[dict[str, np.ndarray], dict] | None:
         """Make the run directory consistent before a writer continues it (call with the lock held):
         delete what a killed writer left, load the newest complete checkpoint (``load_checkpoint``, or
-        take ``loaded``, what it returned), point ``latest.json`` at it and drop the metrics rows it does
-        not cover (every row without a checkpoint; the rows still waiting for test episodes when it was
-        written are written again)."""
+        take ``loaded``, what it returned), point ``latest.json`` at it and keep the metrics rows it
+        covers (every row without a checkpoint; the rows still waiting for test episodes when it was
+        written are written again), one per generation: repeated rows, which two writers at once leave,
+        are reduced to the last of each (with a warning). ``StoreError``, with nothing changed, if
+        rows it covers are missing (a deleted ``metrics.csv``)."""
         self._check_writable()
         if loaded is ...:
             loaded = self.load_checkpoint()  # validates before anything is changed
+        cut = _rows_covered(loaded) - 1
+        header, rows, repeats = metrics_csv.rows_up_to(self.metrics_path, cut)  # validates too
+        missing = sorted(set(range(cut + 1)) - {int(r["generation"]) for r in rows})
+        if missing:  # deleted or cut by hand: going on would lose them without a word
+            what = f"lacks the rows of generations {_span(missing)}" if self.metrics_path.exists() else \
+                "is missing"
+            raise StoreError(f"{self.metrics_path} {what} (checkpoint gen_{loaded[1]['generation']:06d} covers "
+                             f"generations {_span(list(range(cut + 1)))}); restore it to resume, which would go "
+                             f"on without those rows (evaluate and render work as the run is)")
         self.clean_temporaries()
         if loaded is None:
-            self.truncate_metrics(-1)
             if self.ckpt_dir.is_dir():
                 (self.ckpt_dir / "latest.json").unlink(missing_ok=True)
-            return None
-        _, meta = loaded
-        g = int(meta["generation"])
-        if self._latest_named() != g:
-            atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": f"gen_{g:06d}"}))
-        waiting = [r.get("generation") for r in meta.get("waiting_rows") or [] if isinstance(r, dict)]
-        waiting = [int(x) for x in waiting if isinstance(x, int)]
-        self.truncate_metrics((min(waiting) if waiting else g) - 1)
+        elif self._latest_named() != loaded[1]["generation"]:
+            name = f"gen_{loaded[1]['generation']:06d}"
+            atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
+        metrics_csv.write_rows(self.metrics_path, header, rows)
+        if repeats:
+            warnings.warn(f"{self.metrics_path} held {repeats} repeated rows (two writers at once?); kept the "
+                          f"last row of each generation", StoreWarning, stacklevel=2)
         return loaded
 
     # -- errors ------------------------------------------------------------------------------------
@@ -397,12 +370,19 @@ class RunStore:
         return self.error_log
 
 
-def _fmt(v: Any) -> Any:
-    if v is None:
-        return ""
-    if isinstance(v, (float, np.floating)):
-        f = float(v)
-        return "" if math.isnan(f) else repr(f)
-    if isinstance(v, np.integer):
-        return int(v)
-    return v
+def _rows_covered(loaded) -> int:
+    """Generations whose metrics rows a checkpoint (``load_checkpoint``'s answer) covers: all it ran,
+    less the rows that still waited for their test episodes (None: no checkpoint, no rows)."""
+    if loaded is None:
+        return 0
+    meta = loaded[1]
+    waiting = [r.get("generation") for r in meta.get("waiting_rows") or [] if isinstance(r, dict)]
+    waiting = [int(x) for x in waiting if isinstance(x, int)]
+    return min(waiting) if waiting else int(meta["generation"])
+
+
+def _span(gens: list[int]) -> str:
+    """``0-3`` for consecutive generations, else the first few listed."""
+    if gens == list(range(gens[0], gens[-1] + 1)):
+        return f"{gens[0]}-{gens[-1]}" if len(gens) > 1 else str(gens[0])
+    return ", ".join(map(str, gens[:5])) + (", ..." if len(gens) > 5 else "")

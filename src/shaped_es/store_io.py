@@ -12,6 +12,10 @@ class StoreError(RuntimeError):
     """The run directory is missing, foreign, locked, or holds a malformed file (message: one line)."""
 
 
+class StoreWarning(UserWarning):
+    """Something ``resume`` repaired in the run directory (printed as one line)."""
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")

@@ -35,7 +35,7 @@ from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
-                               probe_env, run_task)
+                               probe_env, run_task, warn_if_endless)
 from shaped_es.run_loop import RunLoop
 from shaped_es.store import RunStore
 from shaped_es.strategies import Strategy
@@ -98,6 +98,7 @@ class Trainer(RunLoop):
         # the env made once before the first rollout (dims; the reset info if the guide reads it)
         probe = probe or probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
         self.spec = policy_spec(cfg, probe)
+        warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
         x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store, probe)
@@ -119,8 +120,7 @@ class Trainer(RunLoop):
         for i, item in enumerate(self._waiting):
             if item.theta is not None:
                 arrays[f"waiting/{i}"] = item.theta
-        bad = [k for k, v in arrays.items() if k.startswith(("strategy/", "policy/", "waiting/"))
-               and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
+        bad = _non_finite(arrays)
         if bad:  # never save a state a resume could not continue from; the previous one stays
             raise DivergedError(self._diverged(self.c.generation - 1, f"the state to checkpoint ({bad[0]})"))
         return arrays, meta
@@ -139,6 +139,9 @@ class Trainer(RunLoop):
                 f"checkpoint ({kept}) is kept; lower {knobs}")
 
     def load_state(self, arrays: dict, meta: dict) -> None:
+        bad = _non_finite(arrays)
+        if bad:  # what checkpoint_state never saves: the run would blame its env for the NaN actions
+            raise ValueError(f"{bad[0]} holds non-finite values (inf/NaN)")
         waiting = meta.get("waiting_rows", [])
         if not isinstance(waiting, list) or not all(
                 isinstance(r, dict) and type(r.get("generation")) is int for r in waiting):
@@ -314,6 +317,12 @@ def _limit_torch_threads() -> None:
 def _jsonable(row: dict) -> dict:
     """A metrics row with plain Python numbers (numpy scalars are not JSON)."""
     return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in row.items()}
+
+
+def _non_finite(arrays: dict[str, np.ndarray]) -> list[str]:
+    """The search's and policies' float arrays holding inf/NaN (a checkpoint holds none)."""
+    return [k for k, v in arrays.items() if k.startswith(("strategy/", "policy/", "waiting/"))
+            and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
 
 
 def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:

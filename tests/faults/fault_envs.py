@@ -2,11 +2,16 @@
 ``fault_envs:Faulty-v0``, a point pushed to the origin that misbehaves on request (``env_kwargs``):
 
 ``fault``: none | raise_step | raise_reset | raise_init | nan_reward | nan_obs | shape | hang | exit |
-slow (every step sleeps 5 ms: a run that lasts)
+slow (every step sleeps 5 ms: a run that lasts) | huge_reward (1e308 a step from ``at_step`` on: finite
+rewards whose sum overflows)
 ``at_step``: the step of an episode at which it misbehaves (default 3)
 ``seeds``: only episodes reset with one of these seeds misbehave (default: every episode)
 ``marker``: only the first caller that creates this file misbehaves (it writes its pid there); later
 calls, retries included, behave
+
+Also ``Unbounded-v0`` (a ``Box(-inf, inf)`` action space), ``Endless-v0`` (never terminates, registered
+without a time limit), ``Kwargs-v0`` (takes any keyword arguments) and ``Noisy-v0`` (float64
+observations, which Gymnasium's env checker warns about).
 
 Importable by worker processes (``PYTHONPATH`` holds this directory).
 """
@@ -64,6 +69,8 @@ class Faulty(gym.Env):
             time.sleep(0.005)
         self.x = np.clip(self.x + 0.2 * np.asarray(action, np.float32), -10, 10)
         obs, reward = self._obs(), 1.0 - float(np.linalg.norm(self.x))
+        if self._armed and self.fault == "huge_reward" and self.t >= self.at_step:
+            reward = 1e308
         if self._armed and self.t == self.at_step:
             f = self.fault
             if f == "raise_step":
@@ -115,5 +122,32 @@ class Reach(gym.Env):
         return self._obs(), reward, False, False, self._info()
 
 
+class Unbounded(Faulty):
+    action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
+
+
+class Endless(Faulty):
+    """Never terminates or truncates (and is registered without a time limit)."""
+
+    def step(self, action):
+        obs, reward, _, _, info = super().step(action)
+        return obs, reward, False, False, info
+
+
+class Kwargs(Faulty):
+    def __init__(self, **kwargs):
+        super().__init__()
+        self.kwargs = kwargs
+
+
+class Noisy(Faulty):
+    def _obs(self):
+        return super()._obs().astype(np.float64)
+
+
 gym.register("Faulty-v0", entry_point=Faulty, max_episode_steps=20)
+gym.register("Unbounded-v0", entry_point=Unbounded, max_episode_steps=20)
+gym.register("Endless-v0", entry_point=Endless)
+gym.register("Kwargs-v0", entry_point=Kwargs, max_episode_steps=20)
+gym.register("Noisy-v0", entry_point=Noisy, max_episode_steps=20)
 gym.register("Reach-v0", entry_point=Reach, max_episode_steps=25)

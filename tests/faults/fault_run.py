@@ -5,11 +5,14 @@ conftest.py: ``from conftest import`` found whichever conftest pytest had loaded
 from __future__ import annotations
 
 import hashlib
+import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 HERE = Path(__file__).resolve().parent
@@ -44,9 +47,20 @@ def env() -> dict:
     return {**os.environ, "PYTHONPATH": os.pathsep.join(path)}
 
 
-def run_cli(*args, timeout: float = 300, cwd=None, prefix=None) -> subprocess.CompletedProcess:
+def run_cli(*args, timeout: float = 300, cwd=None, prefix=None, memory_gib: float | None = None
+            ) -> subprocess.CompletedProcess:
+    """The command line in a process of its own (``memory_gib``: its address space is capped there, so
+    that a case that would blow up fails there rather than take the machine's memory)."""
     cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli"]), *map(str, args)]
-    return subprocess.run(cmd, env=env(), cwd=cwd or HERE, capture_output=True, text=True, timeout=timeout)
+
+    def cap() -> None:  # pragma: no cover - runs in the child
+        import resource
+
+        limit = int(memory_gib * 2**30)
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+    return subprocess.run(cmd, env=env(), cwd=cwd or HERE, capture_output=True, text=True, timeout=timeout,
+                          preexec_fn=cap if memory_gib else None)
 
 
 def popen_cli(*args, prefix=None, **kw) -> subprocess.Popen:
@@ -87,3 +101,67 @@ def one_error_line(stderr: str) -> str:
     lines = [l for l in stderr.splitlines() if l.strip() and not l.startswith("shaped-es: warning:")]
     assert len(lines) == 1 and lines[0].startswith("shaped-es: error: "), stderr[-3000:]
     return lines[0]
+
+
+# -- damage to a saved run, as table entries: f(run, tmp) (run: the run directory, tmp: the test's) ------
+def newest(run: Path, suffix: str) -> Path:
+    """The newest checkpoint's ``.npz`` or ``.json`` of ``run``."""
+    return sorted((run / "checkpoints").glob(f"gen_*{suffix}"))[-1]
+
+
+def write(rel, data):
+    def f(run, tmp):
+        p = run / rel
+        p.write_bytes(data) if isinstance(data, bytes) else p.write_text(data)
+    return f
+
+
+def edit_json(rel, fn):
+    """``rel``: a path in the run, or None for the newest checkpoint's ``.json``."""
+    def f(run, tmp):
+        p = run / rel if rel else newest(run, ".json")
+        p.write_text(json.dumps(fn(json.loads(p.read_text()))))
+    return f
+
+
+def edit_text(rel, fn):
+    def f(run, tmp):
+        p = run / rel
+        p.write_text(fn(p.read_text()))
+    return f
+
+
+def edit_npz(fn):
+    """The newest checkpoint's arrays replaced by ``fn(arrays)``."""
+    def f(run, tmp):
+        p = newest(run, ".npz")
+        with np.load(p) as z:
+            arrays = {k: z[k] for k in z.files}
+        with open(p, "wb") as fh:
+            np.savez(fh, **fn(arrays))
+    return f
+
+
+def replace_with_file(rel):
+    def f(run, tmp):
+        shutil.rmtree(run / rel)
+        (run / rel).write_text("not a directory")
+    return f
+
+
+def module(name, text):
+    """An env module ``name`` in the test's ``mods`` directory (on ``sys.path`` in the test)."""
+    def f(run, tmp):
+        (tmp / "mods" / f"{name}.py").write_text(text)
+    return f
+
+
+def drop(key):
+    def fn(d):
+        d.pop(key)
+        return d
+    return fn
+
+
+def nothing(run, tmp):
+    pass

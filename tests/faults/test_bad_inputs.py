@@ -11,13 +11,13 @@ that goes non-finite have tests of their own below.
 from __future__ import annotations
 
 import errno
-import json
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from fault_run import leftovers, snapshot
+from fault_run import (drop, edit_json, edit_npz, edit_text, leftovers, module, nothing, replace_with_file,
+                        snapshot, write)
 
 from shaped_es.cli import main
 
@@ -45,62 +45,6 @@ def faulty(fault):
 
 def s(key_value):
     return train("--set", key_value)
-
-
-# -- damage to the saved run (run: the finished run directory, tmp: the test's directory) -------------
-def write(rel, data):
-    def f(run, tmp):
-        p = run / rel
-        p.write_bytes(data) if isinstance(data, bytes) else p.write_text(data)
-    return f
-
-
-def edit_json(rel, fn):
-    def f(run, tmp):
-        p = run / rel
-        p.write_text(json.dumps(fn(json.loads(p.read_text()))))
-    return f
-
-
-def edit_text(rel, fn):
-    def f(run, tmp):
-        p = run / rel
-        p.write_text(fn(p.read_text()))
-    return f
-
-
-def edit_npz(fn):
-    def f(run, tmp):
-        p = run / "checkpoints" / "gen_000002.npz"
-        with np.load(p) as z:
-            arrays = {k: z[k] for k in z.files}
-        with open(p, "wb") as fh:
-            np.savez(fh, **fn(arrays))
-    return f
-
-
-def replace_with_file(rel):
-    def f(run, tmp):
-        shutil.rmtree(run / rel)
-        (run / rel).write_text("not a directory")
-    return f
-
-
-def module(name, text):
-    def f(run, tmp):
-        (tmp / "mods" / f"{name}.py").write_text(text)
-    return f
-
-
-def drop(key):
-    def fn(d):
-        d.pop(key)
-        return d
-    return fn
-
-
-def nothing(run, tmp):
-    pass
 
 
 CKPT = "checkpoints/gen_000002"
@@ -173,7 +117,7 @@ CASES = [
      "fields"),
     ("metrics-header", edit_text("metrics.csv", lambda t: "x" + t), resume(), "header"),
     ("metrics-repeated-row", edit_text("metrics.csv", lambda t: t + t.splitlines(keepends=True)[-1]),
-     resume(), "does not follow"),
+     lambda run, tmp: ["report", str(run), "--out", str(tmp / "r.png")], "does not follow"),  # resume: repaired
     ("config-yaml-binary", write("config.yaml", bytes(range(256))), resume(), "not a text"),
     ("config-yaml-invalid", write("config.yaml", "es: [unclosed\n"), resume(), "not valid YAML"),
     ("config-yaml-inf", edit_text("config.yaml", lambda t: t.replace("sigma: 0.05", "sigma: .inf")), resume(),

@@ -9,7 +9,7 @@ import sys
 import time
 
 import pytest
-from fault_run import config, env, one_error_line, popen_cli, run_cli, write_config
+from fault_run import config, env, one_error_line, popen_cli, run_cli, snapshot, write_config
 
 from shaped_es.cli import main
 from shaped_es.store import RunStore, StoreError
@@ -116,3 +116,24 @@ def test_lock_is_reentrant_in_one_process_and_released(tmp_path):
         p.wait()
     store.append_metrics({"generation": 0})
     assert os.path.getsize(store.metrics_path) > 0
+
+
+def test_a_deleted_lock_file_lets_no_second_writer_in(tmp_path, capsys):
+    run = tmp_path / "r"
+    cfg = write_config(tmp_path / "c.yaml", config("vanilla", generations=1))
+    assert main(["train", "--config", str(cfg), "--out", str(run), "--quiet"]) == 0
+    before = snapshot(run)
+    holder = _holder(run)
+    try:
+        (run / ".lock").unlink()  # a stray rm while the holder runs
+        capsys.readouterr()
+        assert main(["resume", str(run), "--generations", "2", "--quiet"]) == 2
+        line = one_error_line(capsys.readouterr().err)
+        assert "is in use by another process (its .lock file, which names it, was removed" in line
+        with pytest.raises(StoreError, match="is in use"):  # a write outside the lock is refused too
+            RunStore(run).append_metrics({"generation": 1})
+    finally:
+        holder.kill()
+        holder.wait()
+    assert snapshot(run) == before
+    assert main(["resume", str(run), "--generations", "2", "--quiet"]) == 0  # the holder's lock died with it

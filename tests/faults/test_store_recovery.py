@@ -72,3 +72,34 @@ def test_a_damaged_newest_checkpoint_is_an_error_not_a_silent_fallback(tmp_path)
                                                        "gen_000003.json to resume from gen_000002"):
         store.recover()
     assert store.metrics_path.read_bytes() == before  # nothing changed
+
+
+def test_repeated_rows_of_two_writers_keep_the_last_of_each_generation(tmp_path):
+    store = _store(tmp_path, gens=(3,), rows=0)
+    # a second writer resumed from generation 1 while the first went on
+    for g, x in [(0, 0), (1, 1), (2, 2), (1, 11), (2, 12), (3, 13), (2, 22)]:
+        store.append_metrics({"generation": g, "x": x})
+    with pytest.raises(StoreError, match="does not follow"):
+        store.read_metrics()
+    with store.lock(), pytest.warns(UserWarning, match="held 3 repeated rows"):
+        store.recover()
+    rows = store.read_metrics()
+    assert [int(r["generation"]) for r in rows] == [0, 1, 2]
+    assert [int(r["x"]) for r in rows] == [0, 11, 22]  # the last written of each
+
+
+@pytest.mark.parametrize("damage", ["deleted", "cut"])
+def test_rows_the_checkpoint_covers_must_be_there_and_nothing_changes_if_not(tmp_path, damage):
+    store = _store(tmp_path, gens=(3,), rows=3)
+    (store.ckpt_dir / ".gen_000004.npz.x.tmp").write_bytes(b"half")
+    if damage == "deleted":
+        store.metrics_path.unlink()
+    else:
+        lines = store.metrics_path.read_text().splitlines(keepends=True)
+        store.metrics_path.write_text("".join(lines[:2]))  # header and generation 0
+    before = {p: p.read_bytes() for p in store.root.rglob("*") if p.is_file()}
+    what = "is missing" if damage == "deleted" else "lacks the rows of generations 1-2"
+    covers = "\\(checkpoint gen_000003 covers generations 0-2\\)"
+    with store.lock(), pytest.raises(StoreError, match=f"{what} {covers}"):
+        store.recover()
+    assert {p: p.read_bytes() for p in store.root.rglob("*") if p.is_file()} == before

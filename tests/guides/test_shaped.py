@@ -69,8 +69,8 @@ def test_trajectories_on_a_uri_root_give_the_same_run(tmp_path):
                   shaping={**TINY["shaping"], "trajectory_root": uri})
     assert _rewards(remote.read_metrics()) == _rewards(local.read_metrics())
     assert not (remote.root / "trajectories").exists()
-    assert sorted(p.name for p in (tmp_path / "shared").iterdir()) == ["gen_000000", "gen_000001",
-                                                                      "gen_000002"]
+    own = tmp_path / "shared" / f"run_{remote.run_id()}"  # each run under its own id in a shared root
+    assert sorted(p.name for p in own.iterdir()) == ["gen_000000", "gen_000001", "gen_000002"]
 
 
 def test_shaped_needs_the_waypoint_contract(tmp_path):

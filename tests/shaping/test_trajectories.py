@@ -12,12 +12,14 @@ import pytest
 from shaped_es.data import COLUMNS
 from shaped_es.shaping.trajectories import (
     TrajectoryStoreError,
+    TrajectoryStoreWarning,
     delete_generations,
     list_generations,
     read_generation,
     read_member_history,
     read_members,
     read_shard,
+    run_root,
     write_shard,
 )
 
@@ -168,3 +170,26 @@ def test_one_shard_holds_many_members_and_reads_split_them(make_transitions, tmp
     _assert_same(trs[3], got[3][0])
     with pytest.raises(TrajectoryStoreError, match="distinct members of one generation"):
         write_shard(tmp_path, [trs[2], trs[2]])
+
+
+def test_each_run_under_a_shared_root_has_its_own_directory_and_shards_know_their_run(tr, tmp_path):
+    shared = str(tmp_path / "shared")
+    own = str(tmp_path / "run" / "trajectories")
+    assert run_root(None, own, "ab" * 8) == own  # the default root is the run's own
+    a, b = run_root(shared, "unused", "a" * 16), run_root(shared, "unused", "b" * 16)
+    assert a == os.path.join(shared, "run_" + "a" * 16) and a != b
+    assert run_root(f"file://{shared}", "unused", "a" * 16) == f"file://{shared}/run_{'a' * 16}"
+    path = write_shard(a, tr)
+    assert pq.read_schema(path).metadata[b"run_id"] == b"a" * 16
+    _assert_same(tr, read_generation(a, 3)[0])
+    os.makedirs(os.path.join(b, "gen_000003"))
+    os.replace(path, os.path.join(b, "gen_000003", os.path.basename(path)))  # a shard moved to another run
+    with pytest.raises(TrajectoryStoreError, match=f"belongs to run {'a' * 16}, not to run {'b' * 16}"):
+        read_generation(b, 3)
+    legacy = write_shard(str(tmp_path / "plain"), tr)  # no run_<id> directory: no id, nothing to check
+    assert b"run_id" not in pq.read_schema(legacy).metadata and read_shard(legacy)
+
+
+def test_a_run_without_an_id_keeps_the_shared_root_with_a_warning(tmp_path):
+    with pytest.warns(TrajectoryStoreWarning, match="not kept apart from other runs"):
+        assert run_root(str(tmp_path), "unused", None) == str(tmp_path)

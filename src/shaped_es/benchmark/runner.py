@@ -34,7 +34,7 @@ from pathlib import Path
 
 import yaml
 
-from shaped_es.config import ConfigError, RunConfig, build_config, dump_config, merge
+from shaped_es.config import ConfigError, RunConfig, build_config, merge
 from shaped_es.methods import METHODS, resolve
 from shaped_es.run_loop import run_finished
 from shaped_es.run_meta import RUNTIME_FIELDS
@@ -205,12 +205,9 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
     if action is None:
         action, cfg = plan_runs({root.name: cfg}, root.parent)[root.name]
     if action == "reuse":
-        old = store.read_config()
         if run_finished(cfg, store):  # every generation done, or stopped at --stop-at
             return "skipped"
-        if old != cfg:  # more generations, or another executor / worker count
-            atomic_write_text(store.config_path, dump_config(cfg))
-        status = "resumed"
+        status = "resumed"  # more generations, or another executor: the run loop saves them once restored
     else:
         if action == "restart":  # a run directory without a checkpoint: nothing to keep
             shutil.rmtree(store.root)

@@ -15,7 +15,15 @@ from typing import Any
 
 
 class ExecutorError(RuntimeError):
-    """Tasks could not be completed (retries exhausted, or the backend is unavailable)."""
+    """Tasks could not be completed (retries exhausted, or the backend is unavailable). The message is
+    one line; ``detail`` holds what the backend printed meanwhile (for a log file)."""
+
+    def __init__(self, message: str = "", detail: str = ""):
+        super().__init__(message)
+        self.detail = detail
+
+    def __reduce__(self):  # crosses process boundaries with its detail
+        return type(self), (str(self), self.detail)
 
 
 class ExecutorWarning(UserWarning):

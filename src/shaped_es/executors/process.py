@@ -31,14 +31,16 @@ from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
+from shaped_es import warning_log
 from shaped_es.executors.base import WORKER_INDEX_ENV, Executor, ExecutorError, check_local_workers, pid_after
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
 
-def _init_worker(owner_pid: int | None = None, counter=None) -> None:
+def _init_worker(owner_pid: int | None = None, counter=None, warning_log_path: str | None = None) -> None:
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
+    warning_log.to_log(warning_log_path)  # other libraries' warnings: the run's error.log, not the terminal
     for var in _THREAD_VARS:
         os.environ[var] = "1"
     if counter is not None:  # the pool's shared counter: this worker's index (0..workers-1)
@@ -119,7 +121,8 @@ class ProcessExecutor(Executor):
                 os.environ.setdefault(var, "1")
             ctx = mp.get_context(self.start_method)
             self._pool = ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=_init_worker,
-                                             initargs=(os.getpid(), ctx.Value("i", self.first_index)))
+                                             initargs=(os.getpid(), ctx.Value("i", self.first_index),
+                                                       os.environ.get(warning_log.ENV)))
             self._warm_up(self._pool)
         return self._pool
 

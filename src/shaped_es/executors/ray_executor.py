@@ -35,7 +35,11 @@ from __future__ import annotations
 import logging
 import math
 import os
+import socket
+import sys
+import tempfile
 import time
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Future
 from contextlib import contextmanager, nullcontext
@@ -89,6 +93,43 @@ def _loopback_node_ip() -> Iterator[None]:
         rc.ENABLE_RAY_CLUSTER = old
 
 
+@contextmanager
+def _ray_output() -> Iterator[list[str]]:
+    """Catch what Ray's C++ core writes to file descriptor 2 while it connects to a cluster (a line a
+    second from ``gcs_client.cc`` while an address does not answer): the list gets the text at the end.
+    A failure carries it as its ``ExecutorError.detail`` (RUN/error.log); after a success it becomes one
+    warning, which the command line also sends there. (Not around a local start: the Ray processes it
+    spawns would inherit the descriptor.)"""
+    out: list[str] = []
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield out
+        finally:
+            sys.stderr.flush()
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            out.append(tmp.read().decode("utf-8", "replace"))
+
+
+def _init(what: str, **kwargs) -> None:
+    """``ray.init(**kwargs)`` with Ray's own output caught (``_ray_output``); ``what`` names the
+    address in the one-line ``ExecutorError`` a failure raises."""
+    caught: list[str] = []
+    try:
+        with _ray_output() as caught:
+            ray.init(**kwargs)
+    except (ConnectionError, RuntimeError, ValueError) as exc:
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ExecutorError(f"{what}: {msg}", detail="".join(caught)) from None
+    text = "".join(caught).strip()
+    if text:
+        warnings.warn_explicit(f"Ray's output while connecting: {text}", UserWarning, "ray", 0)
+
+
 def _start_local(workers: int) -> None:
     """Start a private, loopback-only, quiet local Ray with ``workers`` CPUs."""
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # no usage reports leave the machine
@@ -113,15 +154,26 @@ def _is_loopback(address: str) -> bool:
     return host == "localhost" or host == "::1" or host.startswith("127.")
 
 
+def _check_answers(address: str, timeout_s: float = 10.0) -> None:
+    """``ExecutorError`` at once if nothing accepts a connection at ``HOST:PORT`` (``ray.init`` would
+    retry a refused address for minutes); ``auto`` and other forms are left to Ray."""
+    host, _, port = address.split("://", 1)[-1].rpartition(":")
+    if not host or not port.isdigit():
+        return
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s).close()
+    except OSError as exc:
+        why = exc.strerror or type(exc).__name__
+        raise ExecutorError(f"cannot connect to Ray at {address!r}: nothing answers there ({why})") from None
+
+
 def _connect(address: str) -> None:
     """Attach to a running cluster (a loopback address keeps this driver on loopback too)."""
+    _check_answers(address)
     pin = _loopback_node_ip() if _is_loopback(address) else nullcontext()
-    try:
-        with pin:
-            ray.init(address=address, log_to_driver=False, logging_level=logging.ERROR)
-    except (ConnectionError, RuntimeError, ValueError) as exc:
-        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ExecutorError(f"cannot connect to Ray at {address!r}: {msg}") from None
+    with pin:
+        _init(f"cannot connect to Ray at {address!r}", address=address, log_to_driver=False,
+              logging_level=logging.ERROR)
 
 
 class RayExecutor(Executor):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import re
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -72,11 +73,15 @@ class DataParts:
             try:
                 with np.load(path, allow_pickle=False) as z:
                     x, y = z["x"], z["y"]
-            except (OSError, KeyError, ValueError) as exc:
+            except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
                 raise ValueError(f"M_phi data part {path} is missing or unreadable ({type(exc).__name__})") \
                     from None
-            if x.shape[0] != int(rows) or y.shape[0] != int(rows):
-                raise ValueError(f"M_phi data part {path} holds {x.shape[0]} rows, the checkpoint says {rows}")
+            if x.shape[:1] != (int(rows),) or y.shape[:1] != (int(rows),):
+                raise ValueError(f"M_phi data part {path} holds {x.shape[:1]} rows, the checkpoint says {rows}")
+            if x.shape != (int(rows), in_dim) or y.shape != (int(rows), act_dim) or \
+                    not (np.isfinite(x).all() and np.isfinite(y).all()):
+                raise ValueError(f"M_phi data part {path} is not this run's (shapes {x.shape}, {y.shape} or "
+                                 f"non-finite values)")
             xs.append(x)
             ys.append(y)
         x = np.concatenate(xs) if xs else np.zeros((0, in_dim), np.float32)

@@ -58,7 +58,8 @@ from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig
 from shaped_es.shaping.settings import MeanCloneConfig
-from shaped_es.shaping.trajectories import TrajectoryStoreError, delete_generations, list_generations
+from shaped_es.shaping.trajectories import (TrajectoryStoreError, delete_generations, list_generations,
+                                          run_root)
 from shaped_es.shaping.trajectories import read_generation, write_shard
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
@@ -89,7 +90,7 @@ class ShapedGuide(NoGuide):
 
     def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None):
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
-        self.traj_root = self.sh.trajectory_root or str(store.trajectories_dir)
+        self.traj_root = run_root(self.sh.trajectory_root, str(store.trajectories_dir), store.run_id())
         self.placement = placement(cfg, spec)
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)

@@ -9,7 +9,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import yaml  # noqa: E402
 
 from shaped_es.report.style import method_color  # noqa: E402
 
@@ -36,9 +35,11 @@ def load_metrics(run_dir: str | Path) -> dict[str, np.ndarray]:
 
 def run_identity(run_dir: str | Path) -> dict:
     """``method``, ``env`` and ``seed`` from the run's ``config.yaml`` (missing keys: absent)."""
+    from shaped_es.config import ConfigError, read_yaml
+
     try:
-        cfg = yaml.safe_load((Path(run_dir) / "config.yaml").read_text()) or {}
-    except (OSError, yaml.YAMLError):
+        cfg = read_yaml(Path(run_dir) / "config.yaml")
+    except ConfigError:
         return {}
     return {k: cfg[k] for k in ("method", "env", "seed") if isinstance(cfg, dict) and k in cfg}
 

@@ -2,7 +2,11 @@
 
 One Parquet shard per generation and writer: all members one writer holds, in member order::
 
-    ROOT/gen_{g:06d}/members_{first:04d}-{last:04d}.parquet     (ROOT = RUN/trajectories by convention)
+    ROOT/gen_{g:06d}/members_{first:04d}-{last:04d}.parquet
+
+``ROOT`` is one run's (:func:`run_root`): ``RUN/trajectories`` by default, or ``SHARED/run_{id}`` under a
+``shaping.trajectory_root`` that several runs share, so that they never read each other's shards. A shard
+written under a ``run_{id}`` directory records that id, and a shard read there must carry the same one.
 
 On one machine the trainer writes one shard per generation (all 64 members, in a background thread);
 on a cluster each worker writes one shard for its chunk of members. Readers do not care which.
@@ -36,6 +40,7 @@ from __future__ import annotations
 import os
 import re
 import uuid
+import warnings
 from collections.abc import Iterable, Sequence
 
 import numpy as np
@@ -49,12 +54,40 @@ INT_COLUMNS = ("generation", "member", "episode", "step")
 VECTOR_COLUMNS = ("state", "position", "waypoint", "action")
 EXPERT = "expert"  # optional vector column (data.Transitions.expert)
 FORMAT_KEY, FORMAT_VERSION = b"shaped_es.trajectories", b"1"
+RUN_KEY = b"run_id"
 _SHARD_RE = re.compile(r"^members_(\d{4,})-(\d{4,})\.parquet$")
 _GEN_RE = re.compile(r"^gen_(\d{6,})$")
 
 
+_RUN_DIR_RE = re.compile(r"^run_([0-9a-f]{16,64})$")
+
+
 class TrajectoryStoreError(RuntimeError):
     """A trajectory shard is missing, corrupt or malformed, or cannot be written (message: one line)."""
+
+
+class TrajectoryStoreWarning(UserWarning):
+    """The store cannot keep a run's shards apart from other runs' (printed as one line)."""
+
+
+def run_root(shared: str | None, default: str, run_id: str | None) -> str:
+    """Where one run's shards go: ``default`` (``RUN/trajectories``, the run's own) without a ``shared``
+    root; under one, ``shared/run_{run_id}``. A run made before runs had ids keeps ``shared`` itself (so
+    it stays resumable), with a warning that its shards are not kept apart from other runs'."""
+    if shared is None:
+        return default
+    if run_id is None:
+        warnings.warn(f"this run has no run id (it predates them), so its trajectory shards in {shared} are "
+                      f"not kept apart from other runs': run no other run on that trajectory_root",
+                      TrajectoryStoreWarning, stacklevel=2)
+        return shared
+    return _join(shared, f"run_{run_id}")
+
+
+def _owner(root_or_shard_dir: str) -> bytes | None:
+    """The run id a ``run_{id}`` directory name gives (None elsewhere)."""
+    m = _RUN_DIR_RE.match(os.path.basename(os.fspath(root_or_shard_dir).rstrip("/")))
+    return m.group(1).encode() if m else None
 
 
 def _resolve(where: str | os.PathLike) -> tuple[pafs.FileSystem, str]:
@@ -76,7 +109,8 @@ def shard_path(root: str | os.PathLike, generation: int, first: int, last: int |
     return _join(root, f"gen_{generation:06d}", f"members_{first:04d}-{last:04d}.parquet")
 
 
-def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None) -> pa.Table:
+def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None,
+              run_id: bytes | None = None) -> pa.Table:
     g = trs[0].generation
     T = sum(len(t) for t in trs)
     cols: dict[str, pa.Array] = {
@@ -108,6 +142,8 @@ def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None) ->
         names.append(EXPERT)
     members = ",".join(str(t.member) for t in trs)
     meta = {FORMAT_KEY: FORMAT_VERSION, b"generation": str(g).encode(), b"members": members.encode()}
+    if run_id is not None:
+        meta[RUN_KEY] = run_id
     return pa.table({c: cols[c] for c in names}).replace_schema_metadata(meta)
 
 
@@ -124,7 +160,7 @@ def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Tra
         raise TrajectoryStoreError("cannot write an empty shard (no members)")
     if len({t.generation for t in trs}) > 1 or len({t.member for t in trs}) < len(trs):
         raise TrajectoryStoreError("a shard holds distinct members of one generation")
-    table = _to_table(trs, stacked)
+    table = _to_table(trs, stacked, _owner(root))
     dest = shard_path(root, trs[0].generation, trs[0].member, trs[-1].member)
     fs, path = _resolve(dest)
     parent, name = path.rsplit("/", 1) if not isinstance(fs, pafs.LocalFileSystem) else os.path.split(path)
@@ -177,6 +213,12 @@ def _from_table(table: pa.Table, where: str) -> list[Transitions]:
     meta = table.schema.metadata or {}
     if meta.get(FORMAT_KEY) != FORMAT_VERSION:
         raise bad(f"not a shaped-es trajectory shard (format {meta.get(FORMAT_KEY)!r})")
+    owner = _owner(os.path.dirname(os.path.dirname(where.rstrip("/"))))  # ROOT of ROOT/gen_N/members_*
+    if owner is not None and meta.get(RUN_KEY) != owner:
+        theirs = meta.get(RUN_KEY)
+        theirs = f"run {theirs.decode(errors='replace')}" if theirs else "no run (it has no run id)"
+        raise TrajectoryStoreError(f"trajectory shard {where} belongs to {theirs}, not to run {owner.decode()} "
+                                   f"whose directory holds it (copied from another run?)")
     try:
         generation = int(meta[b"generation"])
         members = [int(m) for m in meta[b"members"].decode().split(",")]

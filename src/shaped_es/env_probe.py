@@ -1,0 +1,157 @@
+"""An env before its first rollout: made with one clear error (``make_env``: unknown ids, a module that
+raises or exits on import), its spaces checked against what the policy can use, its own time limit, and
+a run config's MLP on it (``policy_spec``), from one env made, measured and closed (``probe_env``).
+``rollout.py`` re-exports these names."""
+
+from __future__ import annotations
+
+import traceback
+from dataclasses import dataclass, field
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es.envs.core import get_batch_core, has_controller
+from shaped_es.policies import MLPSpec
+
+
+class EnvSpecError(ValueError):
+    """The environment cannot be created or does not fit the policy/contract."""
+
+
+class EnvError(EnvSpecError):
+    """The environment failed while running: it raised, returned a non-finite reward or observation, or
+    changed an observation's shape. The message is one line (the env's exception type and message);
+    ``detail`` holds the full traceback (for a log file), from whichever process ran the env;
+    ``worker_fault``: the env's exception marked its worker's resource as lost (a simulator server that
+    stopped answering), which executors may retry elsewhere (``executors.base.is_worker_fault``)."""
+
+    def __init__(self, message: str, detail: str = "", worker_fault: bool = False):
+        super().__init__(message)
+        self.detail = detail
+        self.worker_fault = worker_fault
+
+    def __reduce__(self):  # crosses process boundaries with its traceback text
+        return type(self), (str(self), self.detail, self.worker_fault)
+
+
+def exception_line(exc: BaseException) -> str:
+    """``Type: first line of the message`` of an exception (one line)."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+
+
+def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
+    """``gymnasium.make`` with one clear error for unknown ids (``module:Env-v0`` ids import the module)."""
+    try:
+        return gym.make(env_id, **(env_kwargs or {}))
+    except (gym.error.Error, ModuleNotFoundError) as exc:
+        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
+            msg = _missing_module(env_id.split(":", 1)[0], exc) or msg
+        raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
+    except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
+        raise EnvError(f"cannot make env {env_id!r}: {exception_line(exc)}", traceback.format_exc()) from None
+    except SystemExit as exc:  # a module that exits on import would end the command without a word
+        raise EnvError(f"cannot make env {env_id!r}: importing or making it called sys.exit({exc.code!r})",
+                       traceback.format_exc()) from None
+
+
+def _missing_module(module: str, exc: ModuleNotFoundError) -> str | None:
+    """Why ``module`` of a ``module:Env-v0`` id did not import: it is not on the path here (a run of an
+    env defined next to it, used from another folder), or it imports a package that is not installed."""
+    import os
+
+    cause = exc.__cause__ if isinstance(exc.__cause__, ModuleNotFoundError) else exc
+    missing = getattr(cause, "name", None)
+    if missing is None:
+        return None
+    if missing == module or module.startswith(missing + "."):
+        return (f"its module {module!r} cannot be imported from {os.getcwd()}: run from the folder that "
+                f"holds {module.split('.')[0]}, or add that folder to PYTHONPATH")
+    return f"its module {module!r} imports {missing!r}, which is not installed"
+
+
+def env_dims(env: gym.Env) -> tuple[int, int]:
+    """(obs_dim, act_dim) of a flat-Box-observation env with a Box or Discrete action space."""
+    obs_space, act_space = env.observation_space, env.action_space
+    if not isinstance(obs_space, gym.spaces.Box) or len(obs_space.shape) != 1:
+        raise EnvSpecError(f"observation space must be a flat Box, got {obs_space}")
+    if isinstance(act_space, gym.spaces.Box) and len(act_space.shape) == 1:
+        return int(obs_space.shape[0]), int(act_space.shape[0])
+    if isinstance(act_space, gym.spaces.Discrete):
+        return int(obs_space.shape[0]), int(act_space.n)
+    raise EnvSpecError(f"action space must be a flat Box or Discrete, got {act_space}")
+
+
+def env_time_limit(env: gym.Env) -> int | None:
+    """The env's own episode limit: its ``spec.max_episode_steps`` (the built-in envs register a
+    ``TimeLimit`` of their preset's horizon), else a ``TimeLimit`` among its wrappers, else the
+    ``max_steps`` of its batched core, else None."""
+    if env.spec is not None and env.spec.max_episode_steps:
+        return int(env.spec.max_episode_steps)
+    e = env
+    while isinstance(e, gym.Wrapper):
+        if isinstance(e, gym.wrappers.TimeLimit):
+            return int(e._max_episode_steps)
+        e = e.env
+    core = get_batch_core(env)
+    return int(core.max_steps) if core is not None else None
+
+
+@dataclass(frozen=True)
+class EnvProbe:
+    """What a run needs of its env before the first rollout, from one env made, measured and closed."""
+
+    obs_dim: int
+    act_dim: int
+    time_limit: int | None  # env_time_limit: the env's own episode limit (None: it has none)
+    # Only when asked (``probe_env(..., reset=True)``: a method reading the env's info, ``methods.Method``):
+    # the info of the same env's ``reset(seed=0)``, or the exception that reset raised, kept for the
+    # caller to raise when its check comes (both None: not asked).
+    reset_info: dict | None = field(default=None, compare=False, repr=False)
+    reset_error: Exception | None = field(default=None, compare=False, repr=False)
+    # the action space, when it is a Box with an infinite bound (the policy cannot scale to it)
+    unbounded_action: str | None = None
+    # Whether the env offers the optional scripted waypoint controller (envs/core.py hook)
+    controller: bool | None = field(default=None, compare=False)
+
+
+def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
+    """Make ``env_id`` once: its dims (after checking its spaces fit the contract) and its time limit;
+    with ``reset``, also its reset info (one ``reset(seed=0)``, only for the methods that read it)."""
+    env = make_env(env_id, env_kwargs)
+    try:
+        obs_dim, act_dim = env_dims(env)
+        space = env.action_space
+        unbounded = None
+        if isinstance(space, gym.spaces.Box) and not (np.isfinite(space.low).all() and
+                                                      np.isfinite(space.high).all()):
+            unbounded = str(space)
+        info, error = None, None
+        if reset:
+            try:
+                _, info = env.reset(seed=0)
+            except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info
+                error = exc
+        return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
+                        unbounded_action=unbounded, controller=has_controller(env))
+    finally:
+        env.close()
+
+
+def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
+    """(obs_dim, act_dim) of ``env_id`` (an env made, measured and closed)."""
+    probe = probe_env(env_id, env_kwargs)
+    return probe.obs_dim, probe.act_dim
+
+
+def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
+    """The MLP of a run config ``cfg`` (a ``config.RunConfig``) on its env: dims probed (or taken from
+    ``probe``, the same env's), ``policy.hidden``."""
+    probe = probe or probe_env(cfg.env, cfg.env_kwargs)
+    if probe.unbounded_action is not None:  # low + (a + 1) / 2 * (high - low) would be inf - inf = NaN
+        raise EnvSpecError(f"env {cfg.env!r} has an unbounded action space {probe.unbounded_action}: the "
+                           f"policy's tanh output in [-1, 1] is scaled to the box's bounds, so they must be "
+                           f"finite; give the env's action space the bounds its actions live in")
+    return MLPSpec(probe.obs_dim, probe.act_dim, tuple(cfg.policy.hidden))
