@@ -8,6 +8,8 @@ from shaped_es.rollout import EnvError
 
 def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_does_not(tmp_path):
     a = argparse.Namespace(command="train", out=str(tmp_path / "run"))
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "config.yaml").write_text("env: CarlaNav-v0\n")  # the hint names only a run that exists
     lost = EnvError("env 'CarlaNav-v0' raised CarlaServerLost: CarlaNav-v0: the CARLA server at localhost:2000 "
                     "stopped answering (time-out of 10000ms)", "Traceback ...", worker_fault=True)
     line, code = error_line(lost, a, debug=False)
