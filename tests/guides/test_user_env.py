@@ -20,7 +20,8 @@ def reacher(monkeypatch):
     sys.modules.pop("reacher_waypoints", None)
 
 
-def test_shaping_runs_by_default_where_rewards_are_never_positive(tmp_path, reacher):
+def test_shaping_runs_by_default_where_rewards_are_never_positive(tmp_path, reacher, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs Reacher-v5's model warnings to ./MUJOCO_LOG.TXT
     cfg = {"env": reacher, "method": "shaped", "executor": "inline", "generations": 3, "seed": 0,
            "es": {"pairs": 4}, "policy": {"hidden": [8]}, "rollout": {"episodes": 1, "test_episodes": 2},
            "tensorboard": False}
