@@ -1,6 +1,6 @@
-"""``shaped_es.load_policy``: a trained run's policy driving a ``gymnasium.make`` env returns what
-``shaped-es evaluate`` reports on the same episode seeds (ES and PPO runs), single and batched
-``predict`` agree, and ``to_torch`` gives the same actions."""
+"""``shaped_es.load_policy``: a trained run's policy driving a ``gymnasium.make`` env returns exactly what
+``shaped-es evaluate`` reports on the same episode seeds (ES and PPO runs; the same states and actions
+step for step), single and batched ``predict`` agree, and ``to_torch`` gives the same actions."""
 
 import gymnasium as gym
 import numpy as np
@@ -57,8 +57,8 @@ def test_load_policy_returns_what_evaluate_reports(runs, name, which):
     seeds = evaluation_seeds(EPISODES, SEED)  # the public function gives evaluate's seeds
     assert ev["episode_seeds"] == seeds == policy.evaluation_seeds(EPISODES, SEED)
     ours = _returns_with(policy, seeds)
-    np.testing.assert_allclose(ev["episode_returns"], ours, rtol=1e-6, atol=1e-6)
-    assert ev["reward_mean"] == pytest.approx(ours.mean(), rel=1e-6, abs=1e-6)
+    np.testing.assert_array_equal(ev["episode_returns"], ours)  # bit for bit (README)
+    assert ev["reward_mean"] == ours.mean()
     assert ev["policy_generation"] == policy.generation and ev["checkpoint_generations"] == 2
 
 
@@ -92,7 +92,10 @@ def test_predict_batches_and_torch_module(runs, name):
     batch = policy.predict(obs)
     assert len(batch) == 5
     for i in range(5):
-        np.testing.assert_allclose(policy.predict(obs[i]), batch[i], rtol=1e-5, atol=1e-6)
+        if name == "ppo":  # SB3's batched torch forward: the same up to float rounding
+            np.testing.assert_allclose(policy.predict(obs[i]), batch[i], rtol=1e-5, atol=1e-6)
+        else:  # ES: each row on its own, bit for bit
+            np.testing.assert_array_equal(policy.predict(obs[i]), batch[i])
     module = policy.to_torch()
     assert isinstance(module, torch.nn.Module)
     with torch.no_grad():
@@ -101,6 +104,59 @@ def test_predict_batches_and_torch_module(runs, name):
     if isinstance(policy.action_space, gym.spaces.Box):
         assert batch.shape == (5, policy.action_space.shape[0])
         assert all(policy.action_space.contains(a) for a in batch)
+
+
+def test_evaluate_steps_what_the_gymnasium_loop_steps(runs):
+    """evaluate's lock-step batch (the env's vectorized core, one policy forward for all episodes) sees
+    the same observations and takes the same actions, bit for bit, as load_policy(...).predict driving
+    a plain gymnasium.make env one observation at a time: on a chaotic task (a driving policy) any
+    difference in the last bits grows until an episode ends differently."""
+    from dataclasses import replace
+
+    from shaped_es.rollout import policy_episode_tasks, run_task
+
+    policy = load_policy(runs["es"])
+    seeds = evaluation_seeds(6, SEED)
+    (task,) = policy_episode_tasks(policy.env_id, policy.env_kwargs, policy.spec, policy.theta,
+                                   np.array(seeds), workers=1, max_steps=policy.max_steps)
+    res = run_task(replace(task, record=True))  # evaluate's rollout of the 6 episodes, recorded
+    tr = res.transitions[0]
+    env = policy.make_env()
+    for e, s in enumerate(seeds):
+        obs, _ = env.reset(seed=s)
+        states, actions, done = [], [], False
+        while not done:
+            action = policy.predict(obs)
+            states.append(obs)
+            actions.append(action)
+            obs, _, term, trunc, _ = env.step(action)
+            done = term or trunc
+        mine = tr.episode == e
+        np.testing.assert_array_equal(tr.state[mine], np.array(states, np.float32))
+        np.testing.assert_array_equal(tr.action[mine], np.array(actions))  # CarNav's Box is [-1, 1]
+    env.close()
+
+
+def test_ppo_test_episodes_run_one_observation_per_forward(runs):
+    """PPO's deterministic episodes (evaluate, test rewards) ask the policy one observation at a time, as
+    predict(obs) does: a batched torch forward rounds a row differently depending on the batch."""
+    from shaped_es.baselines.ppo_state import DeterministicEpisodes
+
+    policy = load_policy(runs["ppo"])
+    shapes = []
+
+    class Spy:
+        def predict(self, obs, deterministic):
+            shapes.append(np.shape(obs))
+            return policy.sb3_policy.predict(obs, deterministic=deterministic)
+
+    runner = DeterministicEpisodes(policy.env_id, policy.env_kwargs, policy.max_steps)
+    try:
+        returns, _ = runner.run(Spy(), np.array(evaluation_seeds(EPISODES, SEED)))
+    finally:
+        runner.close()
+    assert shapes and set(shapes) == {(1, policy.obs_dim)}
+    np.testing.assert_array_equal(returns, _returns_with(policy, evaluation_seeds(EPISODES, SEED)))
 
 
 def test_load_policy_errors(runs, tmp_path):

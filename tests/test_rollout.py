@@ -101,3 +101,23 @@ def test_expert_actions_of_a_plain_gym_env_are_mapped_to_the_policy_scale():
     with pytest.raises(EnvSpecError, match="waypoint_controller"):
         run_task(RolloutTask("CartPole-v1", {}, MLPSpec(4, 2, (4,)), MLPSpec(4, 2, (4,)).init(0)[None],
                              np.arange(1), np.array([[0]]), record=True, expert=True))
+
+
+def test_actions_map_to_the_space():
+    """Policy outputs in [-1, 1] map to a Box's bounds, exactly the output itself for a [-1, 1] Box (the
+    built-in envs: their batched cores take the raw output, their Gymnasium envs the mapped one);
+    Discrete takes the argmax, offset by the space's start."""
+    import gymnasium as gym
+
+    from shaped_es.rollout import _to_env_action, to_space
+
+    a = np.random.default_rng(0).uniform(-1, 1, (50, 2)).astype(np.float32)
+    a[0] = [1e-9, -3e-8]  # tiny outputs: (a + 1) - 1 would round them away
+    np.testing.assert_array_equal(to_space(gym.spaces.Box(-1.0, 1.0, (2,), np.float32), a), a)
+    box = gym.spaces.Box(np.array([-2.0, 0.0], np.float32), np.array([2.0, 10.0], np.float32))
+    got = to_space(box, np.array([[-1.0, -1.0], [0.0, 0.5], [1.0, 1.0]], np.float32))
+    np.testing.assert_allclose(got, [[-2.0, 0.0], [0.0, 7.5], [2.0, 10.0]])
+    np.testing.assert_array_equal(_to_env_action(box, a[3]), to_space(box, a[3:4])[0])
+    disc = gym.spaces.Discrete(3, start=-1)
+    assert _to_env_action(disc, np.array([0.1, 0.9, -0.2])) == 0
+    np.testing.assert_array_equal(to_space(disc, np.array([[0.1, 0.9, -0.2], [1.0, 0.0, 0.0]])), [0, -1])

@@ -89,9 +89,10 @@ class Policy:
             act = np.asarray(act)
         else:
             from shaped_es.policies import forward
+            from shaped_es.rollout import to_space
 
-            raw = forward(self.spec, self.theta[None], x[None])[0]  # (B, act) in [-1, 1]
-            act = _to_space(self.action_space, raw)
+            raw = forward(self.spec, self.theta[None], x[None])[0]  # (B, act) in [-1, 1], row by row
+            act = to_space(self.action_space, raw)  # as the rollouts map them
         if single:
             a = act[0]
             return int(a) if isinstance(self.action_space, gym.spaces.Discrete) else a
@@ -168,14 +169,6 @@ def policy_generation(store: RunStore, meta: dict, which: str) -> int | None:
     return None
 
 
-def _to_space(space: gym.Space, a: np.ndarray) -> np.ndarray:
-    """Policy outputs ``(B, act)`` in ``[-1, 1]`` -> actions of ``space`` (as the rollouts map them)."""
-    if isinstance(space, gym.spaces.Discrete):
-        return np.argmax(a, axis=-1).astype(np.int64) + int(space.start)  # (B,)
-    low, high = space.low, space.high
-    return (low + (a + 1.0) * 0.5 * (high - low)).astype(space.dtype)  # (B, act)
-
-
 def _torch_modules():
     import torch
     from torch import nn
@@ -195,14 +188,16 @@ def _torch_modules():
             if self.discrete:
                 self.start = int(space.start)
             else:
-                self.register_buffer("low", torch.as_tensor(space.low, dtype=torch.float32))
-                self.register_buffer("high", torch.as_tensor(space.high, dtype=torch.float32))
+                low = torch.as_tensor(space.low, dtype=torch.float32)
+                high = torch.as_tensor(space.high, dtype=torch.float32)
+                self.register_buffer("centre", (high + low) * 0.5)  # rollout.to_space's rescaling
+                self.register_buffer("half_width", (high - low) * 0.5)
 
         def forward(self, obs):
             a = self.net(obs)
             if self.discrete:
                 return a.argmax(dim=-1) + self.start
-            return self.low + (a + 1.0) * 0.5 * (self.high - self.low)
+            return self.centre + self.half_width * a
 
     class SB3Actor(nn.Module):
         def __init__(self, policy, space: gym.Space):

@@ -59,7 +59,8 @@ def actor_vector(policy) -> np.ndarray:
 
 
 class DeterministicEpisodes:
-    """Runs a deterministic SB3 policy on given episode seeds, all episodes in lock-step (one forward)."""
+    """Runs a deterministic SB3 policy on given episode seeds, all episodes in lock-step (one forward per
+    episode and step, so an episode's actions do not depend on the others')."""
 
     def __init__(self, env_id: str, env_kwargs: dict, max_steps: int | None):
         self.env_id, self.env_kwargs, self.max_steps = env_id, env_kwargs, max_steps
@@ -82,9 +83,12 @@ class DeterministicEpisodes:
         alive = np.ones(len(seeds), dtype=bool)
         steps, t = 0, 0
         while alive.any() and (self.max_steps is None or t < self.max_steps):
-            act, _ = policy.predict(obs, deterministic=True)  # (E, ...) clipped to the action bounds
             for b in np.flatnonzero(alive):
-                o, r, term, trunc, _ = envs[b].step(act[b])
+                # one observation per forward, as load_policy(...).predict(obs) runs it: a batched torch
+                # matrix product rounds a row differently depending on the batch, and a chaotic episode
+                # would then differ from the same policy driving a plain gymnasium loop
+                act, _ = policy.predict(obs[b : b + 1], deterministic=True)  # (1, ...) clipped to the bounds
+                o, r, term, trunc, _ = envs[b].step(act[0])
                 obs[b], returns[b] = o, returns[b] + float(r)
                 alive[b] = not (term or trunc)
                 steps += 1
