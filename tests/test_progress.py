@@ -51,3 +51,31 @@ def test_80_columns_keep_steps_per_second_and_the_eta():
     last = [x for x in file.getvalue().replace("\r", "\n").splitlines() if "gen 3/60" in x][-1]
     text = re.sub(r"\x1b\[[0-9;?]*[a-zA-Z]", "", last).rstrip()
     assert len(text) <= 80 and "steps/s" in text and "ETA" in text and "test 3.2" in text, text
+
+
+def test_rows_written_together_keep_their_own_pace():
+    """A generation's row waits for its test episodes, so a run's last two rows reach the display at
+    once: steps/s comes from the rows' own clock (wall_time_s), not from the milliseconds between the
+    two writes (a 2-generation CarNav run's last line said 2,359,153 steps/s)."""
+    clock, out = Clock(), io.StringIO()
+    bar = ProgressDisplay(2, enabled=True, clock=clock, stream=out, console=None)
+    clock.t = 5.0  # start-up, generation 0, then generation 1 and its test episodes: rows 0 and 1 together
+    bar.update(0, {**_row(0), "wall_time_s": 1.25, "gen_time_s": 1.25, "gen_env_steps": 1000})
+    clock.t += 0.001
+    bar.update(1, {**_row(1), "wall_time_s": 1.75, "gen_time_s": 0.5, "gen_env_steps": 1000})
+    first, last = out.getvalue().splitlines()
+    assert " 800 steps/s" in first  # generation 0's own: 1000 steps in 1.25 s (its start-up included)
+    assert " 2,000 steps/s" in last  # 1000 steps in generation 1's 0.5 s, not 1000 / 0.001 s
+    assert last.endswith("ETA 0s")
+
+
+def test_steps_per_second_follow_the_rows_clock_over_the_run():
+    clock, out = Clock(), io.StringIO()
+    bar = ProgressDisplay(10, enabled=True, clock=clock, stream=out, console=None)
+    wall = 0.0
+    for g in range(10):  # each generation 4 s of the run's clock; the display sees them at odd times
+        wall += 4.0
+        clock.t += 0.01 if g % 2 else 7.0
+        bar.update(g, {**_row(g), "wall_time_s": wall, "gen_time_s": 4.0, "gen_env_steps": 2000})
+    rates = [int(re.search(r"([\d,]+) steps/s", x).group(1).replace(",", "")) for x in out.getvalue().splitlines()]
+    assert rates and set(rates) == {500}

@@ -5,6 +5,13 @@ Off a terminal the first line comes with the first generation, the second with t
 first generation carries the start-up (worker processes, compiled kernels, imports), so the time to it
 would inflate every ETA; the first line therefore has no ETA yet. Below ~110 columns the terminal bar
 drops its bar graphic and keeps the generation count, the rewards, steps/s and the ETA (80 columns fit).
+
+Steps/s is timed by the rows' own clock (``wall_time_s``: the run's wall time when each generation was
+done, as ``metrics.csv`` has it), not by when a row reaches the display: rows can arrive together (a
+generation's row waits for its test episodes, so the last two rows of a run are written at once), and
+the display's clock would then divide a generation's steps by the milliseconds between two writes
+(millions of steps/s on a run's last line). The first line gives its own generation's rate
+(``gen_env_steps / gen_time_s``); rows without these clocks fall back on the display's.
 """
 
 from __future__ import annotations
@@ -27,6 +34,7 @@ class ProgressDisplay:
         self._clock, self._stream = clock, stream
         self._t0, self._start = clock(), start
         self._first: tuple[float, int, int] | None = None  # (time, generations done, steps) at the first line
+        self._first_wall: float | None = None  # the first line's row's wall_time_s (the run's clock)
         self._steps = 0
         self._live = enabled and (console is not None or sys.stderr.isatty())
         self._every = max(1, (total - start) // 20)
@@ -52,8 +60,16 @@ class ProgressDisplay:
             self._bar.start()
             self._task = self._bar.add_task(label, total=total, completed=start, info="")
 
-    def _rate(self, now: float) -> float:
-        """Env steps per second since the first line (before it: since the start)."""
+    def _rate(self, now: float, row: dict) -> float:
+        """Env steps per second since the first line, timed by the rows' ``wall_time_s`` (the first line:
+        its generation's ``gen_env_steps / gen_time_s``); the display's clock for rows without them."""
+        wall = _number(row.get("wall_time_s"))
+        if self._first is None:
+            gen_time, gen_steps = _number(row.get("gen_time_s")), _number(row.get("gen_env_steps"))
+            if gen_time and gen_time > 0 and gen_steps is not None:
+                return gen_steps / gen_time
+        elif wall is not None and self._first_wall is not None and wall > self._first_wall:
+            return (self._steps - self._first[2]) / (wall - self._first_wall)
         if self._first is None or now <= self._first[0]:
             return self._steps / max(now - self._t0, 1e-9)
         return (self._steps - self._first[2]) / (now - self._first[0])
@@ -69,7 +85,7 @@ class ProgressDisplay:
             return
         now, done = self._clock(), generation + 1
         self._steps += int(row.get("gen_env_steps", 0) or 0)
-        rate = self._rate(now)
+        rate = self._rate(now, row)
         test = row.get("test_reward_mean")
         if self._compact:
             test_s = "" if test in (None, "") else f" test {float(test):.1f}"
@@ -87,10 +103,19 @@ class ProgressDisplay:
                   file=self._stream or sys.stderr, flush=True)
         if self._first is None:
             self._first = (now, done, self._steps)
+            self._first_wall = _number(row.get("wall_time_s"))
 
     def close(self) -> None:
         if self._bar is not None:
             self._bar.stop()
+
+
+def _number(v) -> float | None:
+    """A row's value as a float (None for a missing, empty or non-numeric one)."""
+    try:
+        return None if v in (None, "") else float(v)
+    except (TypeError, ValueError):
+        return None
 
 
 def _si(x: float) -> str:
