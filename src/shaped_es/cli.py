@@ -156,7 +156,7 @@ def cmd_report(a: argparse.Namespace) -> int:
     """Fig. 4, the performance profile and Fig. 5 (or, for ``--out x.md``, the benchmark's report page)."""
     from shaped_es.benchmark.cli_commands import check_threshold
     from shaped_es.benchmark.markdown import draw_figures, write_report
-    from shaped_es.benchmark.summary import group_runs, load_runs, summarize
+    from shaped_es.benchmark.summary import group_runs, load_runs, report_env, summarize
     from shaped_es.config import ConfigError
 
     check_threshold(a.threshold)
@@ -176,11 +176,11 @@ def cmd_report(a: argparse.Namespace) -> int:
     if suffix not in FIGURE_SUFFIXES:
         raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
     metrics = {k: load_runs(dirs) for k, dirs in groups.items()}
-    first = next(iter(configs.values()))
-    summary = summarize(metrics, threshold=a.threshold, config=first)
+    env, scale = report_env(configs)
+    summary = summarize(metrics, threshold=a.threshold, config=scale)
     figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
                                            "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
-                        first.env, a.title or "")
+                        env, a.title or "")
     print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
     return 0
 

@@ -12,7 +12,7 @@ import math
 from dataclasses import asdict
 from pathlib import Path
 
-from shaped_es.benchmark.summary import load_runs, method_settings, plain, summarize
+from shaped_es.benchmark.summary import load_runs, method_settings, plain, report_env, summarize
 from shaped_es.config import RunConfig
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
 from shaped_es.report.style import figure_title
@@ -175,10 +175,9 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
     out_md = Path(out_md)
     root = out_md.parent
     metrics = {k: load_runs(dirs, generations) for k, dirs in groups.items()}
-    first = next(iter(configs.values()), None)
-    env = first.env if first else ""
+    env, scale = report_env(configs)  # scale: None when the groups' envs differ (no shared default threshold)
     title = title or f"Benchmark on {env}"
-    summary = {**(extra or {}), **summarize(metrics, level, threshold=threshold, budget=generations, config=first)}
+    summary = {**(extra or {}), **summarize(metrics, level, threshold=threshold, budget=generations, config=scale)}
     figs = draw_figures(metrics, summary, {"fig4": root / "figures" / FIG4, "fig5": root / "figures" / FIG5,
                                            "profile": root / "figures" / PROFILE}, env, title, level)
     rel = {k: f.relative_to(root).as_posix() if f else None for k, f in figs.items()}
@@ -186,10 +185,11 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
     summary["figures"] = rel
     summary["runs"] = runs
     summary["settings"] = {k: method_settings(c) for k, c in configs.items()}
-    if "ppo" in configs:
+    ppo = next((c for c in configs.values() if c.method == "ppo"), None)  # "ppo", or "ppo (<env>)" when split
+    if ppo is not None:
         from shaped_es.baselines.ppo_settings import ppo_settings
 
-        summary["ppo_settings"] = asdict(ppo_settings(configs["ppo"]))
+        summary["ppo_settings"] = asdict(ppo_settings(ppo))
     summary_path = Path(summary_path) if summary_path else root / "summary.json"
     atomic_write_text(summary_path, json.dumps(summary, indent=2))
     atomic_write_text(out_md, render_markdown(summary, rel, runs, summary["settings"], title))
