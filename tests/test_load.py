@@ -118,7 +118,7 @@ def test_evaluate_steps_what_the_gymnasium_loop_steps(runs):
     policy = load_policy(runs["es"])
     seeds = evaluation_seeds(6, SEED)
     (task,) = policy_episode_tasks(policy.env_id, policy.env_kwargs, policy.spec, policy.theta,
-                                   np.array(seeds), workers=1, max_steps=policy.max_steps)
+                                   np.array(seeds), workers=1, max_steps=policy.max_steps, rowwise=True)
     res = run_task(replace(task, record=True))  # evaluate's rollout of the 6 episodes, recorded
     tr = res.transitions[0]
     env = policy.make_env()

@@ -30,19 +30,23 @@ def test_forward_population_and_torch_twin():
     np.testing.assert_allclose(t, out, atol=1e-5)
 
 
-def test_forward_rows_do_not_depend_on_the_batch():
-    """A row's action is the same, bit for bit, whether it is computed alone or among other rows (one
-    BLAS matrix product over the batch rounds rows differently by batch size, so evaluate's chunk of
-    episodes acted differently from load_policy(...).predict(obs) on one observation)."""
+def test_rowwise_forward_rows_do_not_depend_on_the_batch():
+    """rowwise: a row's action is the same, bit for bit, whether it is computed alone or among other rows
+    (one BLAS matrix product over the batch rounds rows differently by batch size, so evaluate's chunk of
+    episodes acted differently from load_policy(...).predict(obs) on one observation); the default
+    batched product agrees to float rounding."""
     spec = MLPSpec(38, 2, (32, 32))  # CarNav-v0's observation and action sizes
     rng = np.random.default_rng(1)
     P = rng.normal(0, 0.3, (3, spec.num_params)).astype(np.float32)
     obs = rng.normal(size=(3, 40, 38)).astype(np.float32)
-    out = forward(spec, P, obs)  # (3, 40, 2)
+    out = forward(spec, P, obs, rowwise=True)  # (3, 40, 2)
+    np.testing.assert_allclose(forward(spec, P, obs), out, atol=1e-5)
     for p in range(3):
-        alone = np.stack([forward(spec, P[p : p + 1], obs[p : p + 1, b : b + 1])[0, 0] for b in range(40)])
+        alone = np.stack([forward(spec, P[p : p + 1], obs[p : p + 1, b : b + 1], rowwise=True)[0, 0]
+                          for b in range(40)])
         np.testing.assert_array_equal(alone, out[p])
         for k in (2, 7, 15):  # any chunk of the rows
-            np.testing.assert_array_equal(forward(spec, P[p : p + 1], obs[p : p + 1, :k])[0], out[p, :k])
+            np.testing.assert_array_equal(forward(spec, P[p : p + 1], obs[p : p + 1, :k], rowwise=True)[0],
+                                          out[p, :k])
     strided = np.asfortranarray(obs[0, ::2])[None]  # a non-contiguous batch takes the same path
-    np.testing.assert_array_equal(forward(spec, P[:1], strided)[0], out[0, ::2])
+    np.testing.assert_array_equal(forward(spec, P[:1], strided, rowwise=True)[0], out[0, ::2])

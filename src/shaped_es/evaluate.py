@@ -40,7 +40,7 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
     warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
     with make_executor(executor, workers=workers) as ex:
         tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds, ex.workers,
-                                     max_steps=cfg.rollout.max_steps)
+                                     max_steps=cfg.rollout.max_steps, rowwise=True)
         res = ex.map(run_task, tasks)
     returns = np.concatenate([r.returns[0] for r in res])  # (E,)
     return _summary(store, which, meta, returns, seeds[0])

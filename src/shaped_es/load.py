@@ -91,7 +91,7 @@ class Policy:
             from shaped_es.policies import forward
             from shaped_es.rollout import to_space
 
-            raw = forward(self.spec, self.theta[None], x[None])[0]  # (B, act) in [-1, 1], row by row
+            raw = forward(self.spec, self.theta[None], x[None], rowwise=True)[0]  # (B, act) in [-1, 1], row by row
             act = to_space(self.action_space, raw)  # as the rollouts map them
         if single:
             a = act[0]

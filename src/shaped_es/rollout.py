@@ -76,6 +76,7 @@ class RolloutTask:
     record: bool | np.ndarray = False
     max_steps: int | None = None  # cap on episode length (None: the env's own limit)
     expert: bool = False  # also record the env's waypoint controller's action (envs/core.py hook)
+    rowwise: bool = False  # each observation's action on its own, bit for bit (policies.forward; evaluate)
 
     def recorded(self) -> np.ndarray:
         """Mask ``(m,)`` of the members whose transitions are kept."""
@@ -118,13 +119,14 @@ def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.nd
 
 def policy_episode_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, theta: np.ndarray,
                          seeds: np.ndarray, workers: int, generation: int = 0,
-                         max_steps: int | None = None) -> list[RolloutTask]:
+                         max_steps: int | None = None, rowwise: bool = False) -> list[RolloutTask]:
     """One policy ``theta`` ``(n,)`` on episode seeds ``(E,)``, split into at most ``workers`` tasks
-    (test and evaluation episodes; each task is "member 0" of its own chunk of seeds)."""
+    (test and evaluation episodes; each task is "member 0" of its own chunk of seeds); ``rowwise``:
+    ``evaluate``'s episodes, whose actions equal ``load_policy(...).predict``'s bit for bit."""
     seeds = np.asarray(seeds).reshape(1, -1)  # (1, E)
     E = seeds.shape[1]
     return [RolloutTask(env_id, env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
-                        generation=generation, max_steps=max_steps)
+                        generation=generation, max_steps=max_steps, rowwise=rowwise)
             for c in np.array_split(np.arange(E), max(1, min(E, workers)))]
 
 
@@ -304,7 +306,7 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     rec = _Recorder(task, limit) if task.recorded().any() else None
     expert = _controller(task, core) if rec is not None and task.expert else None
     for _ in range(limit):
-        act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
+        act = forward(task.spec, task.params, obs.reshape(m, E, -1), task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
         pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
         ex = None if expert is None else expert(state, obs, info)  # (B, a) before the step, as act
         state, nobs, rew, term, trunc, info = core.step(state, act)
@@ -386,7 +388,7 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
         cap = DEFAULT_MAX_STEPS  # an env that never terminates cannot hang the run (warn_if_endless)
     t = 0
     while alive.any() and (cap is None or t < cap):
-        act = forward(task.spec, task.params, obs.reshape(m, E, -1)).reshape(B, -1)  # (m,E,a) -> (B,a)
+        act = forward(task.spec, task.params, obs.reshape(m, E, -1), task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
         ex = None
         if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
             ex = np.zeros_like(act)
