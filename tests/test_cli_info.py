@@ -104,3 +104,11 @@ def test_envs_and_check_env_on_an_own_env(tmp_path):
     assert out["trains_with"] == [] and any(c["status"] == "FAIL" and c["name"] == "steps" for c in out["checks"])
     res = _cli(tmp_path, "check-env", "NoSuchEnv-v0")
     assert res.returncode == 2 and res.stderr.startswith("shaped-es: error: cannot make env")
+
+
+def test_list_fields_name_their_item_type(capsys):
+    """``shaping.mean_clone.scales`` holds positive numbers (scales), ``policy.hidden`` integer widths."""
+    fields = {f["key"]: f for f in map(json.loads, _out(capsys, ["config", "--json"]).out.splitlines())}
+    assert fields["shaping.mean_clone.scales"]["type"] == "list of numbers"
+    assert "positive number" in fields["shaping.mean_clone.scales"]["description"]
+    assert fields["policy.hidden"]["type"] == "list of ints"

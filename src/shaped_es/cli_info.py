@@ -125,7 +125,10 @@ def type_text(field) -> str:
     if typing.get_origin(base) is typing.Literal:
         text = "one of " + "|".join(str(a) for a in typing.get_args(base))
     elif typing.get_origin(base) in (tuple, list):
-        text = "list of int"
+        item = next((a for a in typing.get_args(base) if a is not Ellipsis), None)
+        if typing.get_origin(item) is typing.Annotated:
+            item = typing.get_args(item)[0]
+        text = {int: "list of ints", float: "list of numbers"}.get(item, "list")
     elif typing.get_origin(base) is dict:
         text = "mapping"
     else:

@@ -22,6 +22,10 @@ class ConfigError(ValueError):
     """A config file or flag is malformed; the message is one line naming the field."""
 
 
+class ConfigWarning(UserWarning):
+    """A setting the run will not use (a ``shaping.*`` field with a method that is not shaped); one line."""
+
+
 def _not_bool(v: Any) -> Any:
     if isinstance(v, bool):
         raise ValueError(f"Input should be a number, not a boolean ({str(v).lower()})")
@@ -131,7 +135,7 @@ class MeanCloneSettings(_Strict):
     record_every: Int = Field(_MEAN.record_every, ge=1, description="the rollouts keep the steps of every k-th "
                               "member (and of every candidate): the clone's states and M_phi's data")
     scales: tuple[Float, ...] = Field(_MEAN.scales, min_length=1, description="candidate: mu + s (theta* - mu) "
-                                      "is evaluated for each s")
+                                      "is evaluated for each scale s, a positive number (e.g. [0.5, 1.0])")
     accept: Literal[tuple(ACCEPT_RULES)] = Field(
         _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best) "
         "or the mean's own on the same episodes (mean)")

@@ -1,10 +1,12 @@
 """Checks a run config can start, before anything is written to its run directory.
 
 ``train`` and ``benchmark`` call :func:`check_run` first, so bad input (an unknown env, spaces the
-policy cannot use, ``--method shaped`` on an env without the waypoint contract, PPO without a time
-limit, strategy settings the strategy refuses, a missing optional executor or wandb package, a policy or population
-that cannot fit in memory, more local workers than a machine runs) fails with one line and leaves no
-directory that would block the retry.
+policy cannot use, ``--method shaped`` on an env without the waypoint contract or with a label source
+that cannot serve (``shaping.labels=reference`` without a finished ``shaping.reference_run``,
+``controller`` on an env without the hook), PPO without a time limit, strategy settings the strategy
+refuses, a missing optional executor or wandb package, a policy or population that cannot fit in
+memory, more local workers than a machine runs) fails with one line and leaves no directory that would
+block the retry. Settings the method never reads (``shaping.*`` with vanilla) are one warning line.
 """
 
 from __future__ import annotations
@@ -18,15 +20,19 @@ if TYPE_CHECKING:
     from shaped_es.rollout import EnvProbe
 
 
-def check_run(cfg: RunConfig) -> EnvProbe:
+def check_run(cfg: RunConfig, warn: bool = True) -> EnvProbe:
     """Raise ``ConfigError`` / ``EnvSpecError`` / ``ExecutorError`` (one line) if ``cfg`` cannot start;
-    else the env probe the checks read (a train may take it: its env is not made again)."""
+    else the env probe the checks read (a train may take it: its env is not made again). ``warn``: say
+    which settings the method ignores (:func:`warn_ignored`; a benchmark's settings are shared by its
+    methods on purpose, so it does not)."""
     import shaped_es  # noqa: F401 - registers the built-in envs
     from shaped_es.methods import METHODS
     from shaped_es.rollout import policy_spec, probe_env
 
     # one env made for the dims, the time limit and (shaped) the reset info
     probe = probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
+    if warn:
+        warn_ignored(cfg)
     _check_executor(cfg.executor)
     _check_wandb(cfg)
     _check_workers(cfg)
@@ -48,10 +54,49 @@ def check_run(cfg: RunConfig) -> EnvProbe:
             raise
         raise ConfigError(f"{cfg.method}: {str(exc).splitlines()[0]}") from None
     if cfg.method == "shaped":
-        from shaped_es.guides.shaped_setup import waypoint_dim
+        from shaped_es.guides.reference import reference_actions
+        from shaped_es.guides.shaped_setup import check_labels, waypoint_dim
 
         waypoint_dim(cfg, probe)  # the env contract: info['position'] and info['waypoint']
+        check_labels(cfg, spec, probe)  # shaping.labels can serve: reference_run given, the env's controller
+        if cfg.shaping.reference_run:  # a run with a checkpoint, of this env's observation size
+            reference_actions(cfg.shaping.reference_run, spec)
     return probe
+
+
+def warn_ignored(cfg: RunConfig) -> None:
+    """One ``ConfigWarning`` line naming the settings changed from their defaults that ``cfg.method`` never
+    reads (``Method.reads``: ``shaping.*`` with vanilla, ``ppo.*`` with an ES method, ``es.alpha`` with
+    vanilla, ...), and which methods do read them."""
+    import warnings
+
+    from shaped_es.config import ConfigWarning
+    from shaped_es.methods import METHODS
+
+    def reads(method: str, key: str) -> bool:
+        return any(key == r or key.startswith(r + ".") for r in METHODS[method].reads)
+
+    values, defaults = cfg.model_dump(mode="json"), RunConfig().model_dump(mode="json")
+    groups: dict[tuple[str, ...], list[str]] = {}  # methods that read them -> keys
+    for section in ("es", "shaping", "ppo"):
+        for key in _changed(values[section], defaults[section], f"{section}."):
+            if not reads(cfg.method, key):
+                groups.setdefault(tuple(m for m in METHODS if reads(m, key)), []).append(key)
+    if groups:
+        parts = [f"{', '.join(keys)} (only --method {' / '.join(by)} {'uses' if len(by) == 1 else 'use'} "
+                 f"{'it' if len(keys) == 1 else 'them'})" if by else ", ".join(keys) for by, keys in groups.items()]
+        warnings.warn(f"--method {cfg.method} ignores {'; '.join(parts)}", ConfigWarning, stacklevel=2)
+
+
+def _changed(values: dict, defaults: dict, prefix: str) -> list[str]:
+    """Dotted keys under ``prefix`` whose value differs from the default (nested sections walked)."""
+    out = []
+    for k, v in values.items():
+        if isinstance(v, dict) and isinstance(defaults.get(k), dict):
+            out += _changed(v, defaults[k], f"{prefix}{k}.")
+        elif v != defaults.get(k):
+            out.append(f"{prefix}{k}")
+    return out
 
 
 def _physical_memory() -> int | None:

@@ -219,14 +219,17 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
 
 
 def _check_all(cfgs: dict[str, RunConfig]) -> None:
-    """``preflight.check_run`` once per method (the seed does not change what is checked)."""
+    """``preflight.check_run`` once per method or variant (the seed does not change what is checked; a
+    variant's settings may, e.g. its ``shaping.labels``). No warnings of settings a method ignores: a
+    benchmark's settings are shared by its methods on purpose."""
     from shaped_es.preflight import check_run
 
     seen = set()
     for cfg in cfgs.values():
-        if cfg.method not in seen:
-            seen.add(cfg.method)
-            check_run(cfg)
+        key = json.dumps({**cfg.model_dump(mode="json"), "seed": 0}, sort_keys=True)
+        if key not in seen:
+            seen.add(key)
+            check_run(cfg, warn=False)
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,

@@ -10,11 +10,19 @@ from shaped_es.policies import MLPSpec
 
 
 def reference_actions(run_dir: str, spec: MLPSpec):
-    """The reference policy's actions in ``[-1, 1]`` for states ``(..., obs)`` (the scale of M_phi's labels)."""
+    """The reference policy's actions in ``[-1, 1]`` for states ``(..., obs)`` (the scale of M_phi's labels);
+    one ``ConfigError`` naming ``shaping.reference_run`` if ``run_dir`` holds no run with a checkpoint, or
+    one of another observation size (preflight calls it before the run directory is written)."""
+    from shaped_es.env_probe import EnvSpecError
     from shaped_es.load import load_policy
     from shaped_es.policies import forward
+    from shaped_es.store import StoreError
 
-    pol = load_policy(run_dir)
+    try:
+        pol = load_policy(run_dir)
+    except (StoreError, EnvSpecError) as exc:  # no run there, no checkpoint yet, its env cannot be made
+        raise ConfigError(f"shaping.reference_run must name a finished run of this env: "
+                          f"{str(exc).splitlines()[0]}") from None
     if pol.obs_dim != spec.obs_dim:
         raise ConfigError(f"shaping.reference_run {run_dir} has {pol.obs_dim} observations, this env "
                           f"{spec.obs_dim}")

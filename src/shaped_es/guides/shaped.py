@@ -103,7 +103,7 @@ class ShapedGuide(NoGuide):
         self.mphi = (InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg)
                      if self.sh.labels == "mphi" else None)
         self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
-        self.labels = label_source(cfg, self.mphi, self.mphi_cfg, self.reference, self.placement, probe)
+        self.labels = label_source(cfg, spec, self.mphi, self.mphi_cfg, self.reference, probe)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None

@@ -1,6 +1,7 @@
 """What the shaped method resolves before its first generation: the env's waypoint-space dimension (the
-env contract, also checked by preflight), where its labels and cloning run (the size rule of
-``shaped.py``'s docstring), and its settings dataclasses from the config sections."""
+env contract) and its label source (both also checked by preflight, before the run directory is
+written), where its labels and cloning run (the size rule of ``shaped.py``'s docstring), and its settings
+dataclasses from the config sections."""
 
 from __future__ import annotations
 
@@ -46,27 +47,36 @@ def from_section(cls, section, **resolved):
     return cls(**{n: getattr(section, n) for n in names if n not in resolved}, **resolved)
 
 
-def label_source(cfg: RunConfig, mphi, mphi_cfg, reference, where: str, probe: EnvProbe | None = None):
-    """The run's label source (``shaping.labels``, ``shaping/labels.py``); one clear error when it cannot
-    serve: ``reference`` without ``shaping.reference_run``, ``controller`` on an env without the hook
-    (``where``: the resolved placement)."""
-    from shaped_es.shaping.labels import ControllerLabels, MphiLabels, ReferenceLabels
-
+def check_labels(cfg: RunConfig, spec: MLPSpec, probe: EnvProbe | None = None) -> None:
+    """One clear ``ConfigError`` if ``shaping.labels`` cannot serve this run: ``reference`` without
+    ``shaping.reference_run`` (or with mechanism ``paper`` on the workers), ``controller`` on an env without
+    the hook. ``preflight.check_run`` calls it before the run directory is written (a fixed config can
+    then be trained into the same ``--out``); :func:`label_source` again, as a guard."""
     sh = cfg.shaping
-    if sh.labels == "mphi":
-        return MphiLabels(mphi, mphi_cfg.frame, mphi_cfg.query_scale)
     if sh.labels == "reference":
-        if reference is None:
+        if not sh.reference_run:
             raise ConfigError("shaping.labels=reference needs shaping.reference_run (a finished run of this "
                               "env whose best policy gives the labels)")
-        if where == "workers" and sh.mechanism == "paper":
+        if sh.mechanism == "paper" and placement(cfg, spec) == "workers":
             raise ConfigError("shaping.labels=reference with mechanism 'paper' runs on the master "
                               "(shaping.placement=master)")
+    elif sh.labels == "controller":
+        if probe is None or probe.controller is None:
+            probe = probe_env(cfg.env, cfg.env_kwargs)
+        if not probe.controller:
+            raise ConfigError(f"shaping.labels=controller needs a scripted waypoint controller from {cfg.env} "
+                              f"(env.unwrapped.waypoint_controller(obs, info); see the README's environment "
+                              f"contract)")
+
+
+def label_source(cfg: RunConfig, spec: MLPSpec, mphi, mphi_cfg, reference, probe: EnvProbe | None = None):
+    """The run's label source (``shaping.labels``, ``shaping/labels.py``), once :func:`check_labels` passes
+    (``reference``: the reference run's policy, ``guides/reference.py``)."""
+    from shaped_es.shaping.labels import ControllerLabels, MphiLabels, ReferenceLabels
+
+    check_labels(cfg, spec, probe)
+    if cfg.shaping.labels == "mphi":
+        return MphiLabels(mphi, mphi_cfg.frame, mphi_cfg.query_scale)
+    if cfg.shaping.labels == "reference":
         return ReferenceLabels(reference)
-    if probe is None or probe.controller is None:
-        probe = probe_env(cfg.env, cfg.env_kwargs)
-    if not probe.controller:
-        raise ConfigError(f"shaping.labels=controller needs a scripted waypoint controller from {cfg.env} "
-                          f"(env.unwrapped.waypoint_controller(obs, info); see the README's environment "
-                          f"contract)")
     return ControllerLabels()
