@@ -243,3 +243,30 @@ def test_verify_undoes_a_jump_the_replaced_mean_beats_on_new_episodes(monkeypatc
         assert out["candidate_rolled_back"] == rolled and out["candidate_accepted"] == 0
         if rolled:  # it beat the mean jumped to (3 > 2): back to it
             np.testing.assert_allclose(es.mean, es_mean, rtol=1e-6)
+
+
+def test_babbling_policies_feed_m_phi_and_resume_exactly(tmp_path, monkeypatch):
+    """inverse_dynamics.babble: random policies roll out beside the population in the first generations;
+    their steps are M_phi's data (more rows than without), they change no ES step by their returns
+    (same population returns in generation 0), and a resumed run draws the same babblers."""
+    sh = _shaping(inverse_dynamics={**TINY["shaping"]["inverse_dynamics"], "babble": 3,
+                                    "babble_generations": 4})
+    base = train(tmp_path / "base", {**TINY, "shaping": _shaping(inverse_dynamics={
+        **TINY["shaping"]["inverse_dynamics"], "babble": 0})}).read_metrics()
+    full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
+    assert full[0]["train_reward_mean"] == base[0]["train_reward_mean"]  # the population is the same
+    assert int(full[0]["gen_env_steps"]) > int(base[0]["gen_env_steps"])  # ... the babblers ran beside it
+    assert float(full[1]["mphi_dataset_size"]) > float(base[1]["mphi_dataset_size"])
+    cfg, store = new_run(tmp_path / "crashed", {**TINY, "shaping": sh})
+    run_until_crash(monkeypatch, cfg, store, 3)
+    Trainer(cfg, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_babbling_is_off_without_m_phi(tmp_path):
+    """Babbling feeds M_phi: with the controller's labels (no M_phi) the run is the same without it."""
+    sh = _shaping(labels="controller", inverse_dynamics={**TINY["shaping"]["inverse_dynamics"], "babble": 3,
+                                                         "babble_generations": 1})
+    ctrl = train(tmp_path / "ctrl", {**TINY, "generations": 2, "shaping": sh}).read_metrics()
+    plain = train(tmp_path / "plain", {**TINY, "generations": 2, "shaping": _shaping(labels="controller")})
+    assert strip_time(ctrl) == strip_time(plain.read_metrics())

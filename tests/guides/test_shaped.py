@@ -104,10 +104,11 @@ def test_master_and_worker_placement_give_the_same_run(tmp_path, monkeypatch, wo
     a, b = strip_time(master.read_metrics()), strip_time(workers.read_metrics())
     assert float(a[-1]["mphi_iterations"]) > 0 and int(a[-1]["surrogate_rank"]) > 0
     _close(a, b)
+    # generation 3 still has the 16 babbling policies (members 12-27) of inverse_dynamics.babble
     assert sorted(p.name for p in (master.root / "trajectories" / "gen_000003").iterdir()) == [
-        "members_0000-0011.parquet"]  # the master writes one shard per generation
+        "members_0000-0027.parquet"]  # the master writes one shard per generation
     assert sorted(p.name for p in (workers.root / "trajectories" / "gen_000003").iterdir()) == [
-        "members_0000-0011.parquet"]  # inline: one task, one chunk
+        "members_0000-0011.parquet", "members_0012-0027.parquet"]  # inline: a task (a shard) each
 
 
 def test_resume_between_sparse_checkpoints_is_exact(tmp_path, monkeypatch):

@@ -71,6 +71,7 @@ MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_d
 COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active")
 DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
 FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
+BABBLE_KEY = 1_000_007  # the seed key of the babbling policies (members use 0..P-1, the clone 1_000_003)
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
 
@@ -124,6 +125,7 @@ class ShapedGuide(NoGuide):
         self.shared_rows = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
         self.population = 2 * cfg.es.pairs
         self._warned = False
+        self._babblers = 0  # babbling policies among this generation's extra members (the last rows)
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
@@ -143,12 +145,34 @@ class ShapedGuide(NoGuide):
         return tuple(dict.fromkeys(keys))
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
-        """Which members' steps the rollouts keep (the mechanism's choice), ``(population + extra,)``."""
-        return self.mechanism.record_mask(population, extra)
+        """Which members' steps the rollouts keep (the mechanism's choice; every babbler),
+        ``(population + extra,)``."""
+        mask = self.mechanism.record_mask(population, extra)
+        if self._babblers:
+            mask[population + extra - self._babblers:] = True
+        return mask
 
     def extra_members(self, generation: int) -> np.ndarray | None:
-        """Policies ``(k, n)`` the mechanism has evaluated beside the population (None: none)."""
-        return self.mechanism.extra_members(generation)
+        """Policies ``(k, n)`` evaluated beside the population (None: none): the mechanism's, then the
+        babbling policies of the first generations (``inverse_dynamics.babble``)."""
+        mech = self.mechanism.extra_members(generation)
+        bab = self._babbling(generation)
+        self._babblers = 0 if bab is None else bab.shape[0]
+        if bab is None:
+            return mech
+        return bab if mech is None else np.concatenate([np.asarray(mech, np.float32), bab])  # (k + b, n)
+
+    def _babbling(self, generation: int) -> np.ndarray | None:
+        """Motor babbling (inverse-dynamics models learn from exploratory data: Jordan & Rumelhart 1992;
+        Agrawal et al. 2016): ``b`` random policies ``(b, n)``, weights ~ N(0, babble_sigma^2), whose
+        saturated tanh outputs drive the agent through actions the first, near-still populations never
+        take. Their steps are M_phi's data and the clone's states; their returns steer no ES step.
+        Stateless: drawn from the run's seed and the generation (resume draws the same)."""
+        mp = self.sh.inverse_dynamics
+        if self.mphi is None or not mp.babble or generation >= mp.babble_generations:
+            return None
+        rng = np.random.default_rng(seeding.derive_seed(self.cfg.seed, seeding.SHAPING, generation, BABBLE_KEY))
+        return (rng.standard_normal((mp.babble, self.spec.num_params)) * mp.babble_sigma).astype(np.float32)
 
     def extra_episodes(self) -> int:
         """Episodes the mechanism's extra members run beyond the population's."""
@@ -343,6 +367,8 @@ class ShapedGuide(NoGuide):
         fitness = mean_returns([r for r in results if r.members[0] < P])  # (P,) the population's
         extra = [np.asarray(r.returns) for r in results if r.members[0] >= P]  # the extras' (k_i, E + x)
         extra_returns = np.concatenate(extra) if extra else np.zeros((0, self.cfg.rollout.episodes))
+        if self._babblers:  # the babblers come last; the mechanism judges only its own extras
+            extra_returns = extra_returns[: extra_returns.shape[0] - self._babblers]
         t0 = time.perf_counter()
         out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
                                              strategy, map_tasks))

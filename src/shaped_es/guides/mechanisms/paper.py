@@ -40,7 +40,8 @@ class PaperSubspace(Mechanism):
         host, sh = self.host, self.host.sh
         if not host.labels.ready:
             return {}
-        theta_star, res, worker_cpu = self._clone(generation, params, map_tasks, n_tasks=len(results))
+        n_tasks = sum(1 for r in results if r.members[0] < params.shape[0])  # the population's rollout tasks
+        theta_star, res, worker_cpu = self._clone(generation, params, map_tasks, n_tasks=n_tasks)
         out = {"clone_cpu_time_s": worker_cpu, "surrogate_rank": 0}  # on the workers (0: all on the master)
         mean = np.asarray(strategy.mean, dtype=np.float64)
         if sh.surrogate == "paper":
