@@ -110,10 +110,11 @@ class InverseDynamicsSettings(_Strict):
         _MPHI.query_scale, description="label queries: w_t - p_t (paper), or its direction at the length of "
         "the step the agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the "
         "heading)")
-    babble: Int = Field(16, ge=0, le=10_000, description="motor babbling: this many random policies (weights "
-                        "~ N(0, babble_sigma^2)) roll out beside the population in the first "
-                        "babble_generations generations; their steps are M_phi's data (and the clone's "
-                        "states), their returns select nothing")
+    babble: Int = Field(16, ge=0, le=10_000, description="motor babbling (labels=mphi only: M_phi's data): this many random "
+                        "policies (weights ~ N(0, babble_sigma^2)) roll out beside the population in the "
+                        "first babble_generations generations; their steps are M_phi's data (and the "
+                        "clone's states), their returns steer no ES step (a babbler can still be the "
+                        "generation's tested best member)")
     babble_generations: Int = Field(20, ge=0, description="generations with babbling policies")
     babble_sigma: Float = Field(1.0, gt=0, description="standard deviation of the babbling policies' weights")
     filter: Literal["total", "positive", "none"] = Field(
