@@ -175,3 +175,26 @@ def test_results_do_not_depend_on_thread_count():
             trace += [obs, rew[:, None]]
         outs.append(np.concatenate(trace, axis=1))
     np.testing.assert_array_equal(outs[0], outs[1])
+
+
+@pytest.mark.filterwarnings("ignore:.*Box observation space (minimum|maximum) value is")
+def test_observe_phase_appends_the_episodes_phase_and_changes_nothing_else():
+    """observe_phase (a diagnostic of the timed waypoint path): the observation gains the column
+    steps / max_steps; dynamics, rewards and the first 13 columns are the default env's."""
+    plain, phased = UR5Core(make_config()), UR5Core(make_config(observe_phase=True))
+    assert (plain.obs_dim, phased.obs_dim) == (13, 14)
+    env = gym.make("UR5Reach-v0", observe_phase=True)
+    assert env.observation_space.shape == (14,)
+    check_env(env.unwrapped, skip_render_check=True)
+    rng = np.random.default_rng(0)
+    s0, o0, _ = plain.reset(np.array([3, 4]))
+    s1, o1, _ = phased.reset(np.array([3, 4]))
+    np.testing.assert_array_equal(o1[:, :13], o0)
+    np.testing.assert_array_equal(o1[:, 13], 0.0)
+    for t in range(1, 6):
+        a = rng.uniform(-1, 1, (2, 5))
+        s0, o0, r0, *_ = plain.step(s0, a)
+        s1, o1, r1, *_ = phased.step(s1, a)
+        np.testing.assert_array_equal(o1[:, :13], o0)
+        np.testing.assert_array_equal(r1, r0)
+        np.testing.assert_allclose(o1[:, 13], t / plain.config.max_steps)

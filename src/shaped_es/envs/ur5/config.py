@@ -37,6 +37,10 @@ class UR5Config:
     collision_penalty: float = 50.0  # reward -collision_penalty on a collision
     terminate_on_collision: bool = True  # a collision ends the episode (paper)
     control_point: Vec3 = (0.75, 0.15, 0.45)  # P1 of the quadratic Bezier curve (paper)
+    # the waypoints form a timed path (at most one reached a step), which the 13-D observation does not
+    # show; True appends the episode's phase steps / max_steps (14-D): a diagnostic of what the labels
+    # of a schedule-following controller need (docs/shaped-results.md), not the paper's task
+    observe_phase: bool = False
 
     # --- start and target ---
     # Fixed start: the UR "home" pose (elbow up, tool down) panned +90 deg, end effector P0 at

@@ -18,8 +18,9 @@ and ends the episode. The reward is the sum of ``info["reward_waypoint"]``, ``["
 ``controller.py`` gets it); standing still earns about -4 (the ~6 waypoints within 0.1 of the start); the
 paper's -2.8 after 200 generations lies just above that.
 
-Observation ``(B, 13)`` float32: joint angles (5), joint velocities (5), target minus end effector (3).
-The policy never sees the waypoints; ``info["position"]`` is the end effector and ``info["waypoint"]``
+Observation ``(B, 13)`` float32: joint angles (5), joint velocities (5), target minus end effector (3)
+(with ``observe_phase``, ``(B, 14)``: and the phase ``steps / max_steps``). The policy never sees the
+waypoints; ``info["position"]`` is the end effector and ``info["waypoint"]``
 the next waypoint (both ``(B, 3)``, world frame), at reset and after every step.
 """
 
@@ -96,6 +97,7 @@ class UR5Core:
 
     def __init__(self, config: UR5Config | None = None):
         self.config = (config or UR5Config()).validate()
+        self.obs_dim = OBS_DIM + int(self.config.observe_phase)  # + the phase column
         self.max_steps = self.config.max_steps
         self.model = build_model(self.config)
         self._batches: dict[int, mj_batch.Batch] = {}
@@ -122,8 +124,11 @@ class UR5Core:
         t = waypoint_t(state.index, self.config.num_waypoints)  # (B,)
         return bezier_point(state.start, self._p1, state.target, t)  # (B, 3)
 
-    def _obs(self, qpos, qvel, target, ee) -> np.ndarray:
-        return np.concatenate([qpos, qvel, target - ee], axis=1).astype(np.float32)  # (B, 13)
+    def _obs(self, qpos, qvel, target, ee, steps) -> np.ndarray:
+        cols = [qpos, qvel, target - ee]  # (B, 5), (B, 5), (B, 3)
+        if self.config.observe_phase:
+            cols.append((steps / self.config.max_steps)[:, None])  # (B, 1) the episode's phase
+        return np.concatenate(cols, axis=1).astype(np.float32)  # (B, 13) or (B, 14)
 
     # ----------------------------------------------------------------------------------- protocol
     def reset(self, seeds: np.ndarray) -> tuple[UR5State, np.ndarray, dict[str, np.ndarray]]:
@@ -142,7 +147,7 @@ class UR5Core:
                          done=np.zeros(B, dtype=bool))
         info = {"position": ee.copy(), "waypoint": self.waypoint(state), "target": target.copy(),
                 "waypoint_index": state.index.copy()}
-        return state, self._obs(state.qpos, state.qvel, target, ee), info
+        return state, self._obs(state.qpos, state.qvel, target, ee, state.steps), info
 
     def step(self, state: UR5State, action: np.ndarray):
         cfg = self.config
@@ -179,7 +184,7 @@ class UR5Core:
                 "waypoint_index": new.index.copy(), "collision": collision,
                 "reward_waypoint": r_wp, "reward_step": r_step, "reward_collision": r_col}
         reward = r_wp + r_step + r_col
-        return new, self._obs(qpos, qvel, state.target, ee), reward, terminated, truncated, info
+        return new, self._obs(qpos, qvel, state.target, ee, steps), reward, terminated, truncated, info
 
     def waypoint_controller(self, state: UR5State, obs: np.ndarray, info: dict) -> np.ndarray:
         """The env's scripted waypoint follower (``envs/core.py`` hook): resolved-rate control toward
