@@ -237,7 +237,7 @@ class Trainer(RunLoop):
         record = self.guide.record_mask(P, k)  # (P + k,)
         tasks = self._tasks(X[:P], seeds, g, record[:P])
         if k:  # the extras, with their extra episodes, in tasks of their own
-            x = self.guide.extra_episodes() if hasattr(self.guide, "extra_episodes") else 0
+            x = self.guide.extra_episodes()
             xs = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P, P + k), E + x,
                                        cfg.rollout.common_seeds)  # (k, E + x)
             extra = self._tasks(X[P:], xs, g, record[P:])
