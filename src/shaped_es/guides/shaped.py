@@ -61,6 +61,7 @@ from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.shaping.trajectories import (TrajectoryStoreError, delete_generations, list_generations,
                                           run_root)
 from shaped_es.shaping.trajectories import read_generation, write_shard
+from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
@@ -71,7 +72,6 @@ MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_d
 COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active")
 DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
 FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
-BABBLE_KEY = 1_000_007  # the seed key of the babbling policies (members use 0..P-1, the clone 1_000_003)
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
 
@@ -154,25 +154,14 @@ class ShapedGuide(NoGuide):
 
     def extra_members(self, generation: int) -> np.ndarray | None:
         """Policies ``(k, n)`` evaluated beside the population (None: none): the mechanism's, then the
-        babbling policies of the first generations (``inverse_dynamics.babble``)."""
+        babbling policies of the first generations (``guides/babble.py``; M_phi's data only)."""
         mech = self.mechanism.extra_members(generation)
-        bab = self._babbling(generation)
+        bab = None if self.mphi is None else babbling_policies(self.sh.inverse_dynamics, self.cfg.seed,
+                                                                generation, self.spec.num_params)  # (b, n)
         self._babblers = 0 if bab is None else bab.shape[0]
         if bab is None:
             return mech
         return bab if mech is None else np.concatenate([np.asarray(mech, np.float32), bab])  # (k + b, n)
-
-    def _babbling(self, generation: int) -> np.ndarray | None:
-        """Motor babbling (inverse-dynamics models learn from exploratory data: Jordan & Rumelhart 1992;
-        Agrawal et al. 2016): ``b`` random policies ``(b, n)``, weights ~ N(0, babble_sigma^2), whose
-        saturated tanh outputs drive the agent through actions the first, near-still populations never
-        take. Their steps are M_phi's data and the clone's states; their returns steer no ES step.
-        Stateless: drawn from the run's seed and the generation (resume draws the same)."""
-        mp = self.sh.inverse_dynamics
-        if self.mphi is None or not mp.babble or generation >= mp.babble_generations:
-            return None
-        rng = np.random.default_rng(seeding.derive_seed(self.cfg.seed, seeding.SHAPING, generation, BABBLE_KEY))
-        return (rng.standard_normal((mp.babble, self.spec.num_params)) * mp.babble_sigma).astype(np.float32)
 
     def extra_episodes(self) -> int:
         """Episodes the mechanism's extra members run beyond the population's."""
