@@ -1,7 +1,7 @@
 import pytest
 
-from shaped_es.config import (ALIAS_BUDGET, ConfigError, build_config, dump_config, load_config, merge, parse_set,
-                              parse_yaml)
+from shaped_es.config import ConfigError, build_config, dump_config, load_config, merge, parse_set, parse_yaml
+from shaped_es.safe_yaml import ALIAS_BUDGET
 
 
 def test_defaults_roundtrip(tmp_path):

@@ -19,8 +19,9 @@ from shaped_es.methods import METHODS
 
 # Lowest first. "shaped_es" is the package's own __init__ (registers the envs, version, lazy load_policy).
 LAYERS: list[tuple[str, ...]] = [
-    ("seeding", "data", "progress", "tblog", "callbacks", "warning_log"),  # leaves: seeds, the Transitions
-    # record, display, TB tags, the callback protocol, other libraries' warnings in error.log
+    ("seeding", "data", "progress", "tblog", "callbacks", "warning_log", "safe_yaml"),  # leaves: seeds, the
+    # Transitions record, display, TB tags, the callback protocol, other libraries' warnings in error.log,
+    # YAML with bounded aliases
     ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("env_probe",),  # an env before its first rollout: made, its spaces and time limit

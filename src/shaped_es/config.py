@@ -13,6 +13,7 @@ from typing import Annotated, Any, Literal
 import yaml
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, Strict, ValidationError, model_validator
 
+from shaped_es import safe_yaml
 from shaped_es.executors import EXECUTORS
 from shaped_es.methods import MECHANISMS, METHODS
 from shaped_es.shaping.settings import ACCEPT_RULES, LABEL_SOURCES, CloningConfig, InverseDynamicsConfig, MeanCloneConfig
@@ -301,60 +302,16 @@ def build_config(data: dict[str, Any]) -> RunConfig:
         raise ConfigError(f"invalid config: {first_error(exc)}") from None
 
 
-# Values the aliases of one YAML document may add to it, beyond the values written out: anchors that
-# spare repeating a section stay well inside it; a "billion laughs" document (700 bytes, 10**8 values)
-# does not, and would hang whatever walks it (validation, gym.make's error message, dump_config).
-ALIAS_BUDGET = 10_000
-
-
-class _AliasError(ValueError):
-    """A recursive alias, or aliases past :data:`ALIAS_BUDGET`."""
-
-
-class _Loader(yaml.SafeLoader):
-    """``yaml.SafeLoader`` that refuses recursive aliases and aliases past :data:`ALIAS_BUDGET`."""
-
-    def construct_document(self, node):
-        _check_aliases(node)
-        return super().construct_document(node)
-
-
-def _check_aliases(root: yaml.Node) -> None:
-    """``_AliasError`` if an alias refers to a node that contains it, or the aliases expand the document
-    by more than :data:`ALIAS_BUDGET` values (sizes counted once per node, so a bomb costs no time)."""
-    size: dict[int, int] = {}  # id(node) -> values under it, aliases expanded
-    open_: set[int] = set()  # nodes whose children are being counted (the path from the root)
-    stack: list[tuple[yaml.Node, bool]] = [(root, False)]
-    while stack:
-        node, closing = stack.pop()
-        key = id(node)
-        kids = [] if isinstance(node, yaml.ScalarNode) else (
-            [x for pair in node.value for x in pair] if isinstance(node, yaml.MappingNode) else node.value)
-        if closing:
-            open_.discard(key)
-            size[key] = 1 + sum(size[id(k)] for k in kids)
-        elif key in open_:
-            raise _AliasError(f"a YAML alias (line {node.start_mark.line + 1}) refers to a value that "
-                             f"contains it (a recursive alias)")
-        elif key not in size:
-            open_.add(key)
-            stack.append((node, True))
-            stack.extend((k, False) for k in kids)
-    if size[id(root)] - len(size) > ALIAS_BUDGET:
-        raise _AliasError(f"its YAML aliases expand to {size[id(root)]:,} values, more than {ALIAS_BUDGET:,} "
-                         f"beyond the {len(size):,} written (an alias bomb?); write the values out")
-
-
 def parse_yaml(text: str, where: str) -> Any:
     """``text`` read as YAML (safe: plain data only, bounded aliases); ``ConfigError`` naming ``where``
     (``config file X``, ``--set K=V``) if it cannot be read."""
     try:
-        return yaml.load(text, Loader=_Loader)  # noqa: S506 - _Loader is a SafeLoader
+        return safe_yaml.load(text)
     except yaml.YAMLError as exc:
         line = getattr(getattr(exc, "problem_mark", None), "line", None)
         at = f" (line {line + 1})" if line is not None else ""
         raise ConfigError(f"{where} is not valid YAML{at}") from None
-    except _AliasError as exc:
+    except safe_yaml.AliasError as exc:
         raise ConfigError(f"{where}: {exc}") from None
     except RecursionError:
         raise ConfigError(f"{where} nests too deeply to be a config") from None
