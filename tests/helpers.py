@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from shaped_es.config import RunConfig, build_config
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 from shaped_es.trainer import TIME_COLUMNS, Trainer
 
 SRC = Path(__file__).resolve().parents[1] / "src"
@@ -107,9 +107,9 @@ def strip_time(rows: list[dict]) -> list[dict]:
 
 
 def popen_cli(*args, **kw) -> subprocess.Popen:
-    """``python -m shaped_es.cli *args`` as a child process (so that it can be SIGKILLed), text pipes."""
+    """``python -m shaped_es.cli.main *args`` as a child process (so that it can be SIGKILLed), text pipes."""
     env = {**os.environ, "PYTHONPATH": str(SRC)}
-    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *args], env=env,
+    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", *args], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
 

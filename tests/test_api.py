@@ -6,7 +6,7 @@ import pytest
 import shaped_es
 from helpers import CARTPOLE_TINY
 from shaped_es.config import ConfigError
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 
 def test_train_from_python_with_a_callback(tmp_path):

@@ -19,37 +19,33 @@ from shaped_es.methods import METHODS
 
 # Lowest first. "shaped_es" is the package's own __init__ (registers the envs, version, lazy load_policy).
 LAYERS: list[tuple[str, ...]] = [
-    ("seeding", "data", "progress", "tblog", "callbacks", "warning_log", "safe_yaml"),  # leaves: seeds, the
-    # Transitions record, display, TB tags, the callback protocol, other libraries' warnings in error.log,
-    # YAML with bounded aliases
+    ("seeding", "data", "monitor", "safe_yaml"),  # leaves: seeds, the Transitions record, what a run
+    # reports (progress, TensorBoard, W&B, warnings in error.log, callbacks), YAML with bounded aliases
     ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("env_probe",),  # an env before its first rollout: made, its spaces and time limit
     ("config", "rollout"),
-    ("store_io",),  # the run directory's error type and atomic writes
-    ("run_lock", "wandb_log", "metrics_csv"),  # one writer per run directory; W&B logging; RUN/metrics.csv
-    ("store", "run_meta"),
+    ("rundir",),  # the run directory: atomic writes, one writer, metrics.csv, checkpoints, run meta
     ("run_loop",),  # the run loop every method shares (lock, restore, rows, checkpoints)
     ("baselines",),  # PPO: knows nothing of ES
-    ("load",),  # a run's policy from Python (ES or PPO)
+    ("trained",),  # a saved policy: load_policy, evaluate, render (ES or PPO)
     ("guides",),  # per-method hooks of the generation loop (shaped: a reference run's policy via load)
     ("trainer",),
-    ("preflight", "env_check"),  # checks before a run; what an env needs (check-env, envs)
-    ("evaluate", "render", "report", "api"),  # api: shaped_es.train from Python
+    ("preflight",),  # checks before a run writes anything
+    ("report", "api"),  # api: shaped_es.train from Python
     ("benchmark", "speed"),
-    ("cli_errors", "cli_info"),  # how a command ends (one error line, exit codes, MPI supervision); the
-    # commands that explain (config, envs, check-env)
-    ("cli",),
+    ("cli",),  # the shaped-es command: its commands, how one ends, the commands that explain, check-env
     ("__main__",),
 ]
 LAYER = {unit: i for i, units in enumerate(LAYERS) for unit in units}
 # DESIGN.md's "knows nothing of" where the order above allows more.
 KNOWS_NOTHING_OF = {
     "rollout": {"strategies"},
-    "store": {"strategies", "shaping"},  # training logic
+    "rundir": {"strategies", "shaping"},  # training logic
     "run_loop": {"strategies", "shaping", "rollout", "executors"},  # any one method's work
     "baselines": {"strategies", "shaping"},  # ES
     "report": {"strategies", "shaping", "rollout", "executors", "baselines", "guides", "trainer"},  # training
+    "monitor": {"rundir", "config"},  # it writes what the run loop hands it
 }
 SRC = Path(shaped_es.__file__).parent
 
@@ -177,3 +173,21 @@ def test_the_rules_would_catch_a_bad_import(tmp_path):
                      "shaped_es.strategies.y"}
     assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
     assert _cycle({"a": {"b"}, "b": set()}) is None
+
+
+def test_the_top_level_shows_its_parts():
+    """A newcomer finds the run directory, the CLI and what a run reports by folder names: at most 14
+    modules sit directly under ``src/shaped_es/`` (``__init__`` and ``__main__`` included)."""
+    top = sorted(p.name for p in SRC.glob("*.py"))
+    assert len(top) <= 14, top
+
+
+def test_method_hooks_lie_below_their_callers():
+    """``methods.Method``'s hooks are resolved by preflight (checks), trained/ (policy_fields, evaluate)
+    and benchmark (report_extra): each must lie at or below its caller's layer."""
+    callers = {"checks": "preflight", "policy_fields": "trained", "evaluate": "trained", "report_extra": "benchmark"}
+    for name, m in METHODS.items():
+        for hook, caller in callers.items():
+            paths = getattr(m, hook)
+            for path in ([paths] if isinstance(paths, str) else list(paths or ())):
+                assert LAYER[unit(path.partition(":")[0])] <= LAYER[caller], (name, hook, path)

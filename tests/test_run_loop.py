@@ -6,7 +6,7 @@ import json
 import pytest
 
 from helpers import CARTPOLE_TINY, new_run, strip_time, train
-from shaped_es.callbacks import Callback
+from shaped_es.monitor.callbacks import Callback
 from shaped_es.config import build_config
 from shaped_es.run_loop import BASE_COLUMNS, CALLBACK, STOP_AT, run_finished
 from shaped_es.trainer import Trainer

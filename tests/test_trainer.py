@@ -3,7 +3,7 @@
 import pytest
 
 from helpers import CARTPOLE_TINY, kill_after_rows, new_run, popen_cli, run_until_crash, strip_time, train
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 from shaped_es.trainer import Trainer
 
 TINY = CARTPOLE_TINY

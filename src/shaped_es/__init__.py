@@ -2,7 +2,7 @@
 
 Importing the package registers the built-in environments with Gymnasium, so
 ``gymnasium.make("shaped_es:CarNav-v0")`` works. ``load_policy(run_dir)`` loads a trained policy
-(``shaped_es.load``), ``evaluation_seeds`` gives ``shaped-es evaluate``'s episode seeds, and
+(``shaped_es.trained.load``), ``evaluation_seeds`` gives ``shaped-es evaluate``'s episode seeds, and
 ``train(config, out, callback=...)`` starts a run from Python (``shaped_es.api``); all are imported on
 first use, so ``import shaped_es`` stays light for workers.
 """
@@ -13,8 +13,8 @@ __version__ = "0.1.0"
 
 _register_envs()
 
-_LAZY = {"load_policy": "shaped_es.load", "Policy": "shaped_es.load", "train": "shaped_es.api",
-         "RunConfig": "shaped_es.config", "Callback": "shaped_es.callbacks",
+_LAZY = {"load_policy": "shaped_es.trained.load", "Policy": "shaped_es.trained.load", "train": "shaped_es.api",
+         "RunConfig": "shaped_es.config", "Callback": "shaped_es.monitor.callbacks",
          "evaluation_seeds": "shaped_es.seeding"}
 __all__ = ["Callback", "Policy", "RunConfig", "__version__", "evaluation_seeds", "load_policy", "train"]
 

@@ -12,7 +12,7 @@
 
 The config is a :class:`shaped_es.config.RunConfig`, a dict of its fields (dotted keys allowed, as
 ``--set``) or the path of a YAML file; everything is checked before anything is written, as for
-``train``. ``callback``: a function or :class:`shaped_es.callbacks.Callback`, or a list of them.
+``train``. ``callback``: a function or :class:`shaped_es.monitor.callbacks.Callback`, or a list of them.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from shaped_es.config import RunConfig, build_config, merge, read_yaml
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 
 
 def as_config(config: RunConfig | dict[str, Any] | str | Path) -> RunConfig:

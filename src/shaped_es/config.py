@@ -155,18 +155,11 @@ class MeanCloneSettings(_Strict):
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it beats the mean's "
                           "return there")
-    verify: Bool = Field(_MEAN.verify, description="candidate: after a jump, the ES mean it replaced is "
-                         "evaluated beside the next generation and the jump undone if that mean does better "
-                         "on those episodes")
-    overlap: Bool = Field(_MEAN.overlap, description="candidate: clone in the shaping thread while the next "
-                          "generation rolls out (off the critical path; evaluated one generation later)")
 
     @model_validator(mode="after")
     def _positive(self):
         if any(not s > 0 for s in self.scales):
             raise ValueError("scales must be positive")
-        if self.confirm and self.verify:
-            raise ValueError("confirm and verify exclude each other")
         return self
 
 
@@ -181,10 +174,9 @@ class ShapingConfig(_Strict):
         "population and becomes the mean when it beats every member), pair (the mean's clone as the "
         "direction of one antithetic pair); guides/mechanisms/")
     eta: Float = Field(0.01, ge=1e-12, description="surrogate normalization eta (paper 0.01)")
-    surrogate: Literal["paper", "clone_step", "clone_mean", "clone_orth"] = Field(
-        "paper", description="Delta = (theta* - mu_{g+1})/eta (paper), theta* - theta (each clone step), "
-        "the mean clone step (k = 1), or each clone step minus its part in the span of the generation's "
-        "perturbations (what the labels add)")
+    surrogate: Literal["paper", "clone_orth"] = Field(
+        "paper", description="mechanism paper: Delta = (theta* - mu_{g+1})/eta (paper), or each clone step "
+        "theta* - theta minus its part in the span of the generation's perturbations (what the labels add)")
     history: Int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
     placement: Literal["auto", "master", "workers"] = Field(
         "auto", description="where labels and cloning run: the master, in one batched computation on "

@@ -9,6 +9,10 @@ plus one entry here.
 The parts are named by import path (``"module:attr"``, as Gymnasium's entry points) and imported on first
 use (:func:`resolve`), so this table sits at the foot of the tree (the config reads it) while the parts
 live in the layers above it. The ``*_args`` functions say which config fields each part reads.
+
+Everything that differs per method is a field here (how it trains, what preflight checks, how its saved
+policy is loaded and evaluated, the knobs named when its search diverges, what the report adds): no
+module outside this one compares a method's name (``tests/test_methods.py`` checks).
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ class Method:
 
     # "module:attr" of ``train(cfg, store, progress=True, probe=None, callback=None) -> metrics rows``: trains
     # or resumes a run (``probe``: the run's ``rollout.EnvProbe`` if the caller made one, else it probes its
-    # env; ``callback``: shaped_es.callbacks).
+    # env; ``callback``: shaped_es.monitor.callbacks).
     train: str = "shaped_es.trainer:train"
     # ES methods: "module:attr" of the strategy class, built as ``cls(x0, **strategy_args(cfg, seed))``.
     strategy: str | None = None
@@ -44,6 +48,21 @@ class Method:
     # field, "shaping" a whole section. The benchmark compares and reports runs by them.
     reads: tuple[str, ...] = ()
     about: str = ""  # what the method is, in a few words (the CLI's --method help)
+    # Checks before a run writes anything (``preflight.check_run``, after the ones every method shares):
+    # "module:attr" of ``check(cfg, probe) -> None``, raising ConfigError / EnvSpecError (one line).
+    checks: tuple[str, ...] = ("shaped_es.preflight:check_es",)
+    # ES methods: bytes of strategy state beyond the population, for ``n`` parameters (preflight's memory check).
+    state_bytes: Callable[[Any, int], int] = lambda cfg, n: 4 * n * 8  # mean and optimizer state
+    # "module:attr" of ``policy_fields(cfg, arrays, which, run_dir, obs_dim, act_dim) -> dict``: the
+    # ``trained.load.Policy`` fields that make a saved policy act (ES: ``theta``, ``spec``; PPO: ``sb3_policy``).
+    policy_fields: str = "shaped_es.trained.load:es_policy_fields"
+    # "module:attr" of ``returns(cfg, arrays, which, seeds (E,), run_dir, executor, workers) -> (E,)``: the
+    # saved policy's returns on the episodes ``seeds`` (``shaped-es evaluate``).
+    evaluate: str = "shaped_es.trained.evaluate:es_returns"
+    # The settings named when the search becomes non-finite ("lower es.sigma / es.lr").
+    knobs: tuple[str, ...] = ("es.sigma", "es.lr")
+    # "module:attr" of ``(cfg) -> dict`` merged into a report's summary.json (e.g. PPO's resolved settings).
+    report_extra: str | None = None
 
 
 def _es_args(cfg, seed: int) -> dict[str, Any]:
@@ -55,6 +74,11 @@ def _es_args(cfg, seed: int) -> dict[str, Any]:
 
 def _guided_args(cfg, seed: int) -> dict[str, Any]:
     return dict(alpha=cfg.es.alpha, **_es_args(cfg, seed))
+
+
+def _cmaes_state_bytes(cfg, n: int) -> int:
+    """Mean and paths, plus (below ``es.cmaes_diagonal_above``) the full covariance, its eigenbasis, a copy."""
+    return 4 * n * 8 + (3 * n * n * 8 if n <= cfg.es.cmaes_diagonal_above else 0)
 
 
 def _cmaes_args(cfg, seed: int) -> dict[str, Any]:
@@ -77,15 +101,24 @@ METHODS: dict[str, Method] = {
                      about="Guided ES, the last ES updates as surrogate gradients (no waypoints)"),
     "cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
                     reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
-                           "es.cmaes_diagonal_above"), about="CMA-ES (pycma; separable above a size)"),
+                           "es.cmaes_diagonal_above"), state_bytes=_cmaes_state_bytes,
+                    about="CMA-ES (pycma; separable above a size)"),
     "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
                      guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
                                                                  "probe": probe},
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
-                     about="the paper's method: Guided ES whose surrogates are policies behaviour-cloned "
-                           "towards waypoint labels (needs info['position'] and info['waypoint'])"),
+                     checks=("shaped_es.preflight:check_es", "shaped_es.guides.shaped_setup:check_shaped"),
+                     knobs=("es.sigma", "es.lr", "shaping.eta"),
+                     about="waypoint-shaped ES (the paper's method): action labels toward the env's waypoints "
+                           "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "
+                           "the population as a candidate mean (shaping.mechanism; needs info['position'] "
+                           "and info['waypoint'])"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget
     "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo"),
+                  checks=("shaped_es.baselines.ppo_settings:check_ppo",),
+                  policy_fields="shaped_es.baselines.ppo:policy_fields",
+                  evaluate="shaped_es.baselines.ppo:ppo_returns",
+                  report_extra="shaped_es.baselines.ppo_settings:report_extra",
                   about="PPO (Stable-Baselines3, one core), a generation = the env steps of one ES one"),
 }
 
@@ -96,7 +129,6 @@ MECHANISMS: dict[str, str] = {
     "paper": "shaped_es.guides.mechanisms.paper:PaperSubspace",
     "candidate": "shaped_es.guides.mechanisms.candidate:MeanCandidate",
     "pair": "shaped_es.guides.mechanisms.pair:MeanPair",
-    "candidate_pair": "shaped_es.guides.mechanisms.candidate_pair:MeanCandidatePair",
 }
 
 

@@ -26,42 +26,38 @@ def check_run(cfg: RunConfig, warn: bool = True) -> EnvProbe:
     which settings the method ignores (:func:`warn_ignored`; a benchmark's settings are shared by its
     methods on purpose, so it does not)."""
     import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.methods import METHODS
-    from shaped_es.rollout import policy_spec, probe_env
+    from shaped_es.methods import METHODS, resolve
+    from shaped_es.rollout import probe_env
 
     # one env made for the dims, the time limit and (shaped) the reset info
-    probe = probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
+    method = METHODS[cfg.method]
+    probe = probe_env(cfg.env, cfg.env_kwargs, reset=method.probe_reset)
     if warn:
         warn_ignored(cfg)
     _check_executor(cfg.executor)
     _check_wandb(cfg)
     _check_workers(cfg)
-    if cfg.method == "ppo":
-        from shaped_es.baselines.ppo_settings import iterations_per_generation, ppo_settings
+    for check in method.checks:  # the method's own (methods.Method.checks)
+        resolve(check)(cfg, probe)
+    return probe
 
-        iterations_per_generation(cfg, ppo_settings(cfg), probe.time_limit)  # e.g. no time limit
-        return probe
+
+def check_es(cfg: RunConfig, probe: EnvProbe) -> None:
+    """An ES method's checks: the policy and population fit in memory, the strategy takes its settings."""
     import numpy as np
 
+    from shaped_es.methods import METHODS
+    from shaped_es.rollout import policy_spec
     from shaped_es.trainer import build_strategy
 
     spec = policy_spec(cfg, probe)
-    _check_memory(cfg, spec.num_params)
+    _check_memory(cfg, spec.num_params, METHODS[cfg.method].state_bytes(cfg, spec.num_params))
     try:
         build_strategy(cfg, np.zeros(spec.num_params))
     except ValueError as exc:
         if isinstance(exc, ConfigError):
             raise
         raise ConfigError(f"{cfg.method}: {str(exc).splitlines()[0]}") from None
-    if cfg.method == "shaped":
-        from shaped_es.guides.reference import reference_actions
-        from shaped_es.guides.shaped_setup import check_labels, waypoint_dim
-
-        waypoint_dim(cfg, probe)  # the env contract: info['position'] and info['waypoint']
-        check_labels(cfg, spec, probe)  # shaping.labels can serve: reference_run given, the env's controller
-        if cfg.shaping.reference_run:  # a run with a checkpoint, of this env's observation size
-            reference_actions(cfg.shaping.reference_run, spec)
-    return probe
 
 
 def warn_ignored(cfg: RunConfig) -> None:
@@ -106,12 +102,11 @@ def _physical_memory() -> int | None:
         return None
 
 
-def _check_memory(cfg: RunConfig, n: int) -> None:
-    """The population matrix (float32) and the strategy's state must fit in half of this machine's RAM."""
+def _check_memory(cfg: RunConfig, n: int, state_bytes: int) -> None:
+    """The population matrix (float32) and the strategy's state (``state_bytes``, ``Method.state_bytes``)
+    must fit in half of this machine's RAM."""
     pop = 2 * cfg.es.pairs
-    need = pop * n * 4 + 4 * n * 8  # population + mean/optimizer state
-    if cfg.method == "cmaes" and n <= cfg.es.cmaes_diagonal_above:
-        need += 3 * n * n * 8  # full covariance, its eigenbasis and a copy
+    need = pop * n * 4 + state_bytes
     ram = _physical_memory()
     if ram and need > ram // 2:
         raise ConfigError(f"policy.hidden {list(cfg.policy.hidden)} gives {n:,} parameters; a population of "

@@ -20,7 +20,7 @@ one. A method supplies:
 - ``best_generation``: set to the generations done when its best policy was found (checkpointed).
 
 After each row the loop calls the run's callbacks (``callback``: a function ``row -> bool | None`` or a
-:class:`shaped_es.callbacks.Callback`, or a list of them; ``False`` stops the run, as SB3's
+:class:`shaped_es.monitor.callbacks.Callback`, or a list of them; ``False`` stops the run, as SB3's
 ``BaseCallback._on_step``), and ``stop_at`` (``--stop-at R``) ends the run once a test reward reaches
 ``R``. A stopped run completes the rows still waiting for their test episodes and checkpoints; one
 stopped by ``stop_at`` counts as finished (:func:`run_finished`) while its config keeps ``stop_at``.
@@ -33,11 +33,12 @@ import math
 
 import sys
 
-from shaped_es.callbacks import as_callbacks
 from shaped_es.config import RunConfig
-from shaped_es.progress import ProgressDisplay
-from shaped_es.run_meta import Counters, config_digest
-from shaped_es.store import RunStore, StoreError
+from shaped_es.monitor.callbacks import as_callbacks
+from shaped_es.monitor.progress import ProgressDisplay
+from shaped_es.rundir.atomic import atomic_write_text
+from shaped_es.rundir.meta import Counters, config_digest
+from shaped_es.rundir.store import RunStore, StoreError
 
 # the columns every method's metrics row holds, in metrics.csv's order
 BASE_COLUMNS = ("generation", "env_steps", "wall_time_s", "cpu_time_s", "train_reward_mean", "train_reward_max",
@@ -210,23 +211,24 @@ class RunLoop:
     # -- output --------------------------------------------------------------------------------------
     def _log_tb(self, row: dict) -> None:
         """The row as TensorBoard scalars ``train/``, ``test/``, ``shaping/``, ``time/``, ``misc/`` at
-        step ``row["env_steps"]`` (:mod:`shaped_es.tblog`)."""
+        step ``row["env_steps"]`` (:mod:`shaped_es.monitor.tensorboard`)."""
         if not self.cfg.tensorboard:
             return
-        from shaped_es import tblog
+        from shaped_es.monitor import tensorboard as tblog
 
         if self._tb is None:
             self._tb = tblog.open_writer(self.store.root / "tb", row)
         tblog.log_row(self._tb, row)
 
     def _log_wandb(self, row: dict) -> None:
-        """The row in Weights & Biases under the same ``GROUP/column`` names (:mod:`shaped_es.wandb_log`)."""
+        """The row in Weights & Biases under the same ``GROUP/column`` names (:mod:`shaped_es.monitor.wandb_log`)."""
         if not self.cfg.wandb.enabled:
             return
-        from shaped_es import wandb_log
+        from shaped_es.monitor import wandb_log
 
         if self._wandb is None:
-            self._wandb = wandb_log.open_run(self.store.root, self.cfg.wandb, self.cfg.model_dump(mode="json"))
+            self._wandb = wandb_log.open_run(self.store.root, self.cfg.wandb, self.cfg.model_dump(mode="json"),
+                                             atomic_write_text)
             if self.progress:
                 print(f"[{self.label}] W&B: {wandb_log.where(self._wandb)}", file=sys.stderr, flush=True)
         wandb_log.log_row(self._wandb, row)

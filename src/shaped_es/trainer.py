@@ -37,7 +37,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
                                probe_env, run_task, warn_if_endless)
 from shaped_es.run_loop import RunLoop
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 from shaped_es.strategies import Strategy
 
 class DivergedError(RuntimeError):
@@ -65,7 +65,7 @@ def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe 
 def train(cfg: RunConfig, store: RunStore, progress: bool = True, probe: EnvProbe | None = None,
           callback=None) -> list[dict]:
     """Train (or resume) an ES run into ``store``; returns the metrics rows written (``Trainer.run``;
-    ``callback``: see :mod:`shaped_es.callbacks`)."""
+    ``callback``: see :mod:`shaped_es.monitor.callbacks`)."""
     return Trainer(cfg, store, progress=progress, probe=probe, callback=callback).run()
 
 
@@ -134,7 +134,7 @@ class Trainer(RunLoop):
     def _diverged(self, g: int, what: str) -> str:
         gens = self.store.checkpoints()
         kept = f"generation {gens[-1]}" if gens else "none yet"
-        knobs = "es.sigma / es.lr" + (" / shaping.eta" if self.cfg.method == "shaped" else "")
+        knobs = " / ".join(METHODS[self.cfg.method].knobs)
         return (f"generation {g}: {what} became non-finite (inf/NaN); the run stopped, its last good "
                 f"checkpoint ({kept}) is kept; lower {knobs}")
 

@@ -103,7 +103,7 @@ def test_ppo_resume_continues_from_a_pickle_free_checkpoint(tmp_path):
 
 def test_ppo_refuses_a_checkpoint_of_another_config(tmp_path):
     from shaped_es.baselines.ppo import train_ppo
-    from shaped_es.store import StoreError
+    from shaped_es.rundir.store import StoreError
 
     cfg, store = _run(tmp_path, "ppo", "ppo")
     other = build_config({**cfg.model_dump(mode="json"), "generations": 3, "seed": 2})
@@ -112,7 +112,7 @@ def test_ppo_refuses_a_checkpoint_of_another_config(tmp_path):
 
 
 def test_evaluate_a_ppo_run(tmp_path):
-    from shaped_es.evaluate import evaluate_run
+    from shaped_es.trained.evaluate import evaluate_run
 
     _, store = _run(tmp_path, "ppo", "ppo")
     a = evaluate_run(store.root, episodes=3)
@@ -128,7 +128,7 @@ def test_ppo_refuses_malformed_checkpoint_counters(tmp_path, bad):
     import json
 
     from shaped_es.baselines.ppo import train_ppo
-    from shaped_es.store import StoreError
+    from shaped_es.rundir.store import StoreError
 
     cfg, store = _run(tmp_path, "ppo", "ppo")
     meta_path = max(store.ckpt_dir.glob("gen_*.json"))

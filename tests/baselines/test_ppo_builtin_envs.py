@@ -6,9 +6,9 @@ import pytest
 
 import shaped_es  # noqa: F401 - registers the envs
 from shaped_es.baselines.ppo import env_time_limit
-from shaped_es.cli import main
+from shaped_es.cli.main import main
 from shaped_es.config import build_config
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 
 HORIZON = {"CarNav-v0": (250, 1000), "UR5Reach-v0": (100, 100)}  # (default preset, paper preset)
 

@@ -8,7 +8,7 @@ from helpers import CARTPOLE_TINY, train
 from shaped_es.benchmark.estimate import (Pace, benchmark_estimate, describe, duration, measured_pace,
                                           timed_pace)
 from shaped_es.config import build_config
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 
 ES = {**CARTPOLE_TINY, "executor": "inline", "rollout": {"episodes": 2, "test_episodes": 3, "max_steps": 50}}
 PPO = {**ES, "method": "ppo", "ppo": {"n_steps": 64, "batch_size": 32, "n_epochs": 1}}

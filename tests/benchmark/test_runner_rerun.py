@@ -12,7 +12,7 @@ import pytest
 from shaped_es.benchmark.cli_commands import add_benchmark_parser
 from shaped_es.benchmark.runner import method_digest
 from shaped_es.config import build_config
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 TINY = ["--env", "CartPole-v1", "--seeds", "1", "--executor", "inline", "--quiet",
         "--set", "es.pairs=2", "--set", "rollout.max_steps=50", "--set", "rollout.test_episodes=2",

@@ -8,7 +8,7 @@ import pytest
 from shaped_es.benchmark.markdown import write_report
 from shaped_es.benchmark.summary import group_runs, summarize
 from shaped_es.config import build_config
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 
 def make_run(root, method, seed, tests, wall=1.0, extra=None):

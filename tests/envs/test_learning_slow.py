@@ -11,7 +11,7 @@ import pytest
 import shaped_es.envs  # noqa: F401 - registers the built-in envs
 from shaped_es.config import build_config
 from shaped_es.rollout import make_env
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 from shaped_es.trainer import Trainer
 
 pytestmark = pytest.mark.slow

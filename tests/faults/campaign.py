@@ -136,7 +136,7 @@ def inputs(only: set[str]) -> dict:
 def _kill_resume(method: str, point: str, gen: int, tmp: Path, ref: list[dict], during_resume: bool) -> dict:
     from helpers import strip_time
 
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
 
     cfg = write_config(tmp / "cfg.yaml", config(method))
     run = tmp / "run"
@@ -161,7 +161,7 @@ def _kill_resume(method: str, point: str, gen: int, tmp: Path, ref: list[dict], 
 def kills(only: set[str]) -> dict:
     from killer import POINTS
 
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
 
     methods = ("vanilla", "cmaes", "shaped", "shaped_ce3", "ppo")
     plan = [(m, p, 3, False) for m in methods for p in POINTS]

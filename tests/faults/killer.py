@@ -17,8 +17,8 @@ import signal
 import sys
 from pathlib import Path
 
-import shaped_es.store as store
-from shaped_es.cli import main
+import shaped_es.rundir.store as store
+from shaped_es.cli.main import main
 
 POINTS = ("npz_tmp", "npz_rename", "json_rename", "latest", "metrics_append")
 

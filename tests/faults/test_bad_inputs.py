@@ -19,7 +19,7 @@ import pytest
 from fault_run import (drop, edit_json, edit_npz, edit_text, leftovers, module, nothing, replace_with_file,
                         snapshot, write)
 
-from shaped_es.cli import main
+from shaped_es.cli.main import main
 
 TRAIN = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1",
          "--set", "rollout.test_episodes=1", "--set", "policy.hidden=[4]", "--set", "tensorboard=false",
@@ -186,7 +186,7 @@ def test_debug_prints_the_env_traceback(tmp_path, capsys, faults_path):
 
 
 def test_disk_full_is_one_line_and_leaves_the_run_resumable(tmp_path, capsys, monkeypatch):
-    import shaped_es.store as store
+    import shaped_es.rundir.store as store
 
     run = tmp_path / "r"
     real = store.atomic_write_bytes
@@ -225,7 +225,7 @@ def test_out_of_memory_is_one_line(tmp_path, capsys, monkeypatch):
 
 def test_non_finite_mean_stops_with_one_line_and_keeps_the_last_good_checkpoint(tmp_path, capsys,
                                                                                  monkeypatch):
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
     from shaped_es.strategies.vanilla import VanillaES
 
     tell = VanillaES.tell

@@ -22,8 +22,8 @@ from fault_run import (config, edit_json, edit_npz, edit_text, module, nothing, 
                        write, write_config)
 from helpers import strip_time
 
-from shaped_es.cli import main
-from shaped_es.store import RunStore
+from shaped_es.cli.main import main
+from shaped_es.rundir.store import RunStore
 
 TRAIN = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1",
          "--set", "rollout.test_episodes=1", "--set", "policy.hidden=[4]", "--set", "tensorboard=false",

@@ -17,7 +17,7 @@ from fault_run import HERE, config, leftovers, run_cli, write_config
 from helpers import strip_time
 from killer import POINTS
 
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 
 GEN = 3  # the checkpoint written after generation index 2 (of 6)
 FAST = {("vanilla", p) for p in POINTS} | {("cmaes", "npz_tmp"), ("cmaes", "latest")}

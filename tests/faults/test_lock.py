@@ -11,12 +11,12 @@ import time
 import pytest
 from fault_run import config, env, one_error_line, popen_cli, run_cli, snapshot, write_config
 
-from shaped_es.cli import main
-from shaped_es.store import RunStore, StoreError
+from shaped_es.cli.main import main
+from shaped_es.rundir.store import RunStore, StoreError
 
 HOLD = """
 import sys, time
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 with RunStore(sys.argv[1]).lock():
     print("locked", flush=True)
     time.sleep(float(sys.argv[2]))

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 
 def _store(tmp_path, gens=(1, 2, 3), rows=5) -> RunStore:

@@ -31,10 +31,9 @@ def _shaping(**over):
 
 
 @pytest.mark.parametrize("mechanism,labels,option", [
-    ("candidate", "controller", None), ("candidate", "mphi", None), ("candidate", "mphi", "overlap"),
+    ("candidate", "controller", None), ("candidate", "mphi", None),
     ("candidate", "controller", "confirm"), ("candidate", "controller", "extra_episodes"),
-    ("candidate", "mphi", "verify"), ("candidate", "mphi", "warm_start"),
-    ("pair", "controller", None), ("candidate_pair", "mphi", None)])
+    ("candidate", "mphi", "warm_start"), ("pair", "controller", None)])
 def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
     opts = {} if option is None else {option: 2 if option == "extra_episodes" else True}
     sh = _shaping(mechanism=mechanism, labels=labels, mean_clone={**TINY["shaping"]["mean_clone"], **opts})
@@ -80,18 +79,6 @@ def test_master_and_worker_placement_give_the_same_candidate_run(tmp_path):
             mechanism="candidate", labels=labels, placement=p)}).read_metrics() for p in ("master", "workers")]
         a, b = (strip_time(r) for r in runs)
         assert a == b, labels
-
-
-def test_overlap_evaluates_the_clone_of_the_previous_mean_one_generation_later(tmp_path):
-    """overlap: the clone runs in the shaping thread during the next generation's rollouts, so its
-    candidate is first evaluated a generation later than without overlap; otherwise the same search."""
-    rows = {ov: train(tmp_path / str(ov), {**TINY, "generations": 5, "shaping": _shaping(
-        mechanism="candidate", labels="controller", mean_clone={**TINY["shaping"]["mean_clone"],
-                                                                "overlap": ov})}).read_metrics()
-            for ov in (False, True)}
-    first = {ov: min(int(r["generation"]) for r in rs if r["candidate_return"] != "") for ov, rs in rows.items()}
-    assert first[True] == first[False] + 1
-    assert rows[True][0]["train_reward_mean"] == rows[False][0]["train_reward_mean"]
 
 
 def test_controller_labels_need_the_hook(tmp_path):
@@ -213,36 +200,6 @@ def test_extra_episodes_make_a_winner_beat_the_mean_where_nobody_was_chosen(monk
         es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
         out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array(extra), [], np.zeros(n), es, None)
         assert out["candidate_accepted"] == accepted
-
-
-def test_verify_undoes_a_jump_the_replaced_mean_beats_on_new_episodes(monkeypatch):
-    from shaped_es.guides.mechanisms import candidate as cand_mod
-
-    n, P = 3, 4
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + 1.0, {"label_std": 0.1}))
-    for held_return, rolled in ((3.0, 1), (1.0, 0)):
-        host = _Host(n, "best")
-        host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), verify=True)
-        es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
-        mech = MeanCandidate(host)
-        assert "candidate_rolled_back" in mech.metric_keys
-        es.ask(); es.tell(np.zeros(P))
-        mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
-        es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-        es_mean = np.array(es.mean)
-        c = mech.extra_members(1)[0].copy()
-        out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([[5.0], [0.0]]), [], np.zeros(n),
-                              es, None)
-        assert out["candidate_accepted"] == 1 and mech.pending == 1
-        np.testing.assert_allclose(es.mean, c, rtol=1e-6)
-        X = mech.extra_members(2)
-        np.testing.assert_allclose(X[1], es_mean, rtol=1e-6)  # the replaced ES mean, held to verify
-        es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-        out = mech.after_tell(2, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array([[0.0], [held_return], [2.0]]),
-                              [], np.zeros(n), es, None)
-        assert out["candidate_rolled_back"] == rolled and out["candidate_accepted"] == 0
-        if rolled:  # it beat the mean jumped to (3 > 2): back to it
-            np.testing.assert_allclose(es.mean, es_mean, rtol=1e-6)
 
 
 def test_babbling_policies_feed_m_phi_and_resume_exactly(tmp_path, monkeypatch):

@@ -8,9 +8,9 @@ import warnings
 import pytest
 
 from shaped_es.benchmark.summary import ReportWarning, group_runs
-from shaped_es.cli import main
+from shaped_es.cli.main import main
 from shaped_es.config import build_config
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 
 
 def make_run(root, method="shaped", env="CarNav-v0", seed=0, tests=(1.0, 2.0), **over):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from shaped_es.speed.shaping_cost import PHASES, bench_shaping, format_table
-from shaped_es.cli import main
+from shaped_es.cli.main import main
 
 
 def test_side_by_side_report_has_ratio_phases_and_lower_bound():

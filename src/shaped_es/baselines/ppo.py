@@ -46,7 +46,7 @@ from shaped_es.config import RunConfig
 from shaped_es.envs.core import runs_serially
 from shaped_es.rollout import EnvProbe, make_env, probe_env
 from shaped_es.run_loop import RunLoop
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 
 def _train_env(cfg: RunConfig):
@@ -188,7 +188,7 @@ class PPORun(RunLoop):
 def train_ppo(cfg: RunConfig, store: RunStore, progress: bool = True,
               settings: PPOSettings | None = None, probe: EnvProbe | None = None, callback=None) -> list[dict]:
     """Train (or resume) PPO into ``store`` on one torch thread; returns the metrics rows written
-    (``callback``: see :mod:`shaped_es.callbacks`)."""
+    (``callback``: see :mod:`shaped_es.monitor.callbacks`)."""
     threads = torch.get_num_threads()
     torch.set_num_threads(1)  # the paper's PPO: single core
     try:
@@ -209,3 +209,23 @@ def load_policy(cfg: RunConfig, arrays: dict[str, np.ndarray], which: str = "bes
     model.policy.set_training_mode(False)
     model.env.close()
     return model.policy
+
+
+def policy_fields(cfg: RunConfig, arrays: dict[str, np.ndarray], which: str, run_dir, obs_dim: int,
+                  act_dim: int) -> dict:
+    """``trained.load.Policy``'s fields of a PPO checkpoint (``methods.Method.policy_fields``)."""
+    return {"sb3_policy": load_policy(cfg, arrays, which)}
+
+
+def ppo_returns(cfg: RunConfig, arrays: dict[str, np.ndarray], which: str, seeds: np.ndarray, run_dir,
+                executor: str, workers: int | None) -> np.ndarray:
+    """Returns ``(E,)`` of the saved PPO policy on the episodes ``seeds`` ``(E,)``, in one process, as PPO
+    trains (SB3's deterministic actions; ``methods.Method.evaluate``)."""
+    from shaped_es.baselines.ppo_state import DeterministicEpisodes
+
+    runner = DeterministicEpisodes(cfg.env, cfg.env_kwargs, cfg.rollout.max_steps)
+    try:
+        returns, _ = runner.run(load_policy(cfg, arrays, which), seeds)  # (E,)
+    finally:
+        runner.close()
+    return returns

@@ -76,3 +76,16 @@ def iterations_per_generation(cfg: RunConfig, s: PPOSettings, env_max_steps: int
     if budget is None:
         budget = 2 * cfg.es.pairs * cfg.rollout.episodes * horizon(cfg, env_max_steps)  # ES's max per gen
     return max(1, round(budget / (s.n_steps * s.n_envs)))
+
+
+def check_ppo(cfg: RunConfig, probe) -> None:
+    """PPO's preflight check (``methods.Method.checks``): a PPO generation can be sized (e.g. the env has a
+    time limit or ``rollout.max_steps`` is set)."""
+    iterations_per_generation(cfg, ppo_settings(cfg), probe.time_limit)
+
+
+def report_extra(cfg: RunConfig) -> dict:
+    """What a benchmark report's summary.json adds for PPO runs: the settings they resolved to."""
+    from dataclasses import asdict
+
+    return {"ppo_settings": asdict(ppo_settings(cfg))}

@@ -25,7 +25,7 @@ from pathlib import Path
 
 from shaped_es.config import RunConfig, build_config
 from shaped_es.methods import METHODS, resolve
-from shaped_es.store import RunStore
+from shaped_es.rundir.store import RunStore
 
 PROBE_GENERATIONS = 4
 

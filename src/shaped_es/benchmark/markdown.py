@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict
 from pathlib import Path
 
 from shaped_es.benchmark.summary import load_runs, method_settings, plain, report_env, summarize
 from shaped_es.config import RunConfig
+from shaped_es.methods import METHODS, resolve
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
 from shaped_es.report.style import figure_title
-from shaped_es.store import atomic_write_text
+from shaped_es.rundir.store import atomic_write_text
 
 MPHI_COLUMNS = ("mphi_train_loss", "mphi_fig5_test_loss", "mphi_fit_test_loss", "mphi_test_loss")
 FIG4, FIG5, PROFILE = "fig4_test_reward.png", "fig5_mphi_loss.png", "profile_final_reward.png"
@@ -185,11 +185,10 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
     summary["figures"] = rel
     summary["runs"] = runs
     summary["settings"] = {k: method_settings(c) for k, c in configs.items()}
-    ppo = next((c for c in configs.values() if c.method == "ppo"), None)  # "ppo", or "ppo (<env>)" when split
-    if ppo is not None:
-        from shaped_es.baselines.ppo_settings import ppo_settings
-
-        summary["ppo_settings"] = asdict(ppo_settings(ppo))
+    for name in dict.fromkeys(c.method for c in configs.values()):  # a method's first group (split: "ppo (<env>)")
+        extra = METHODS[name].report_extra  # e.g. PPO's resolved settings (methods.Method.report_extra)
+        if extra:
+            summary.update(resolve(extra)(next(c for c in configs.values() if c.method == name)))
     summary_path = Path(summary_path) if summary_path else root / "summary.json"
     atomic_write_text(summary_path, json.dumps(summary, indent=2))
     atomic_write_text(out_md, render_markdown(summary, rel, runs, summary["settings"], title))

@@ -37,8 +37,8 @@ import yaml
 from shaped_es.config import ConfigError, RunConfig, build_config, merge
 from shaped_es.methods import METHODS, resolve
 from shaped_es.run_loop import run_finished
-from shaped_es.run_meta import RUNTIME_FIELDS
-from shaped_es.store import RunStore, StoreError, atomic_write_text
+from shaped_es.rundir.meta import RUNTIME_FIELDS
+from shaped_es.rundir.store import RunStore, StoreError, atomic_write_text
 
 SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
 SPACING_KEY = "waypoint_spacing"
@@ -160,7 +160,7 @@ def _relevant(cfg: RunConfig) -> dict:
 
 def method_digest(cfg: RunConfig) -> str:
     """Hash of the settings that determine this run's results given its method."""
-    from shaped_es.run_meta import config_digest
+    from shaped_es.rundir.meta import config_digest
 
     return f"{cfg.method}:{config_digest(build_config(_relevant(cfg)))}"
 

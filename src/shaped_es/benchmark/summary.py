@@ -37,7 +37,7 @@ from shaped_es.methods import METHODS
 from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement
 from shaped_es.report.plots import load_metrics
 from shaped_es.report.stats import t_interval
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 Metrics = dict[str, np.ndarray]
 REFERENCE = "shaped"  # the paper's method: the fallback threshold is the best of the *other* methods

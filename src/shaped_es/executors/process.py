@@ -31,7 +31,7 @@ from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
-from shaped_es import warning_log
+from shaped_es.monitor import warning_log
 from shaped_es.executors.base import WORKER_INDEX_ENV, Executor, ExecutorError, check_local_workers, pid_after
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from shaped_es.store import atomic_write_bytes
+from shaped_es.rundir.store import atomic_write_bytes
 
 _PART_RE = re.compile(r"added_(\d{6,})\.npz")
 

@@ -14,9 +14,9 @@ def reference_actions(run_dir: str, spec: MLPSpec):
     one ``ConfigError`` naming ``shaping.reference_run`` if ``run_dir`` holds no run with a checkpoint, or
     one of another observation size (preflight calls it before the run directory is written)."""
     from shaped_es.env_probe import EnvSpecError
-    from shaped_es.load import load_policy
+    from shaped_es.trained.load import load_policy
     from shaped_es.policies import forward
-    from shaped_es.store import StoreError
+    from shaped_es.rundir.store import StoreError
 
     try:
         pol = load_policy(run_dir)

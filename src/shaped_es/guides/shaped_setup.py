@@ -47,6 +47,20 @@ def from_section(cls, section, **resolved):
     return cls(**{n: getattr(section, n) for n in names if n not in resolved}, **resolved)
 
 
+def check_shaped(cfg: RunConfig, probe: EnvProbe) -> None:
+    """The shaped method's preflight checks (``methods.Method.checks``): the env contract
+    (``info['position']`` and ``info['waypoint']``), a label source that can serve, and a
+    ``shaping.reference_run`` with a checkpoint of this env's observation size."""
+    from shaped_es.guides.reference import reference_actions
+    from shaped_es.rollout import policy_spec
+
+    spec = policy_spec(cfg, probe)
+    waypoint_dim(cfg, probe)
+    check_labels(cfg, spec, probe)
+    if cfg.shaping.reference_run:
+        reference_actions(cfg.shaping.reference_run, spec)
+
+
 def check_labels(cfg: RunConfig, spec: MLPSpec, probe: EnvProbe | None = None) -> None:
     """One clear ``ConfigError`` if ``shaping.labels`` cannot serve this run: ``reference`` without
     ``shaping.reference_run`` (or with mechanism ``paper`` on the workers), ``controller`` on an env without

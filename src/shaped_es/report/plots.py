@@ -16,7 +16,7 @@ from shaped_es.report.style import method_color  # noqa: E402
 def load_metrics(run_dir: str | Path) -> dict[str, np.ndarray]:
     """``metrics.csv`` as columns of floats (empty cells -> NaN), read and validated by the run store (a
     damaged file is one ``StoreError`` line; a torn last row is left out)."""
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
 
     rows = RunStore(run_dir).read_metrics()
     if not rows:

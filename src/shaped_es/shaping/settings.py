@@ -85,18 +85,12 @@ class MeanCloneConfig:
     #                          on which a winner must beat the mean too
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
-    verify: bool = False  # candidate: after a jump, the ES mean it replaced is evaluated beside the next
-    #                       generation and the jump undone if that mean does better there
-    overlap: bool = False  # candidate: clone in the shaping thread while the next rollouts run (the
-    #                        candidate is then evaluated one generation later)
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
                 or self.extra_episodes < 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every}")
-        if self.confirm and self.verify:
-            raise ValueError("mean-clone confirm and verify exclude each other (one held row a generation)")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:
             raise ValueError(f"mean-clone scales must be positive and accept one of {ACCEPT_RULES}, got "
                              f"{self.scales!r}, {self.accept!r}")

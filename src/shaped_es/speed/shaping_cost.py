@@ -45,7 +45,7 @@ class _Stepper:
     """One run driven generation by generation, as ``Trainer.run`` would (rows, checkpoints)."""
 
     def __init__(self, cfg, root: Path):
-        from shaped_es.store import RunStore
+        from shaped_es.rundir.store import RunStore
         from shaped_es.trainer import Trainer
 
         self.store = RunStore(root)

@@ -15,14 +15,11 @@ mechanism       what it does with the labels
                 CEM-RL, Pourchot & Sigaud 2019; injected solutions, Hansen 2011)
 ``pair``        the same clone of the mean, as a direction: the next generation's first antithetic pair
                 lies along ``theta* - mu`` (Meier et al. 2019)
-``candidate_    both: the clone is a candidate, and its direction the next first pair
-pair``
 ==============  ==========================================================================================
 
 The candidate's options (``shaping.mean_clone``): ``scales`` (candidates along ``theta* - mu``),
 ``accept`` (beat every member, or the mean), ``extra_episodes`` (also beat the mean on episodes nobody
-was selected on), ``confirm`` (win again in the next generation), ``overlap`` (clone while the next
-generation rolls out).
+was selected on), ``confirm`` (win again in the next generation).
 
 A new mechanism is a :class:`Mechanism` subclass in its own file plus one entry in
 ``methods.MECHANISMS``. The guide calls, per generation: :meth:`Mechanism.background_job` (work overlapping the rollouts,

@@ -13,10 +13,9 @@ Per generation ``g`` (the search's mean ``mu_g``):
    the candidates and the mean also run that many episodes nobody was selected on, and a winner must
    beat the mean there too (a return on two episodes can be luck). With ``confirm`` the
    winner is first evaluated again beside the next generation, on new episodes, and the jump is taken
-   only if it beats the mean's return there. With ``verify`` the jump is taken at once, and the ES
-   mean it replaced is evaluated beside the next generation: if it beats the mean jumped to, on those
-   new episodes, the jump is undone (UR5Reach-v0: winners on two lucky episodes, accepted at once, led
-   the mean into colliding regions; waiting a generation before each jump cost CarNav-v0 its speed);
+   only if it beats the mean's return there (UR5Reach-v0: winners on two lucky episodes, accepted at
+   once, led the mean into colliding regions; waiting a generation before each jump cost CarNav-v0 its
+   speed: ``docs/benchmarks/labels_ur5``);
 3. the new mean is cloned again for the next generation.
 
 Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
@@ -48,29 +47,9 @@ class MeanCandidate(Mechanism):
         super().__init__(host)
         self.cfg = host.mean_clone_cfg
         self.extra_episodes = self.cfg.extra_episodes
-        if self.cfg.verify:
-            self.metric_keys = type(self).metric_keys + ("candidate_rolled_back",)
         self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, [the pending one,] the mean
-        self.pending = 0  # 1: the row before the mean is held from the last generation (confirm: its winner;
-        #                   verify: the ES mean its jump replaced)
-        # overlap: the mean the next generation's shaping thread clones, and what that thread returned
-        self._mu: np.ndarray | None = None
-        self._bg: tuple | None = None
+        self.pending = 0  # 1: the row before the mean is held from the last generation (confirm: its winner)
         self.learner: np.ndarray | None = None  # warm_start: the last clone, where the next one starts
-
-    def background_job(self, generation: int):
-        """overlap: clone the mean of the last after_tell on the steps up to ``generation - 1`` while
-        generation ``generation`` rolls out (after M_phi's training steps in the same thread)."""
-        self._bg = None
-        if not self.cfg.overlap or self._mu is None or generation == 0:
-            return None
-        rows, mu = self.host.dagger_rows(generation - 1), self._mu.copy()  # handed over, not shared
-        start = mu if not self.cfg.warm_start or self.learner is None else self.learner.copy()
-
-        def job():
-            if self.host.labels.ready:
-                self._bg = (mu, *clone_mean(self.host, generation - 1, start, self.cfg, rows=rows))
-        return job
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
@@ -81,7 +60,7 @@ class MeanCandidate(Mechanism):
     def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks) -> dict:
         out: dict = {}
-        held = None  # a row for the next generation: the winner to confirm, or the mean to verify against
+        held = None  # a row for the next generation: the winner to confirm
         if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
             E = self.host.cfg.rollout.episodes
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
@@ -95,40 +74,25 @@ class MeanCandidate(Mechanism):
             def passes(i: int, over: float) -> bool:
                 return bool(common[i] > over and (more is None or more[i] > more[-1]))
             won = passes(j, bar)
-            # the held row (last generation's): confirm -- the winner must beat the new mean's return on
-            # new episodes; verify -- the ES mean the last jump left must not beat the mean jumped to
+            # the held row (last generation's winner, confirm): it must beat the new mean's return on new episodes
             confirmed = bool(self.pending) and self.cfg.confirm and passes(k, f_mean)
-            rolled_back = bool(self.pending) and self.cfg.verify and bool(common[k] > f_mean)
-            accept = not rolled_back and (confirmed or (won and not self.cfg.confirm))
+            accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,
                        candidate_gain=float(f_cand[j]) - f_mean, candidate_accepted=int(accept),
                        candidate_scale=float(self.cfg.scales[j]),
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
-            if self.cfg.verify:
-                out["candidate_rolled_back"] = int(rolled_back)
-            if rolled_back:  # the last jump lost to the ES mean it replaced, on new episodes: undo it
-                strategy.set_mean(self.extras[k])
-            elif accept:  # selection prefers the label-made policy to anything ES sampled: jump there
-                if self.cfg.verify:  # keep the ES mean the jump replaces, to check it next generation
-                    held = np.asarray(strategy.mean, np.float32).copy()
+            if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
                 strategy.set_mean(self.extras[k] if confirmed else self.extras[j])
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
         self.extras, self.pending = None, 0
-        mean = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
-        if self.cfg.overlap:  # the clone of mu_g the shaping thread made during this generation
-            bg, self._bg, self._mu = self._bg, None, mean.copy()
-            mu, theta_star, info = bg if bg is not None else (mean, mean, {})
-            if info and self.cfg.warm_start:
-                self.learner = theta_star.copy()
-        else:
-            mu = mean
-            start = mu if not self.cfg.warm_start or self.learner is None else self.learner
-            theta_star, info = clone_mean(self.host, generation, start, self.cfg) if self.host.labels.ready \
-                else (mu, {})
-            if info and self.cfg.warm_start:
-                self.learner = theta_star.copy()
+        mean = mu = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
+        start = mu if not self.cfg.warm_start or self.learner is None else self.learner
+        theta_star, info = clone_mean(self.host, generation, start, self.cfg) if self.host.labels.ready \
+            else (mu, {})
+        if info and self.cfg.warm_start:
+            self.learner = theta_star.copy()
         out.update(info)
         if info:
             d = theta_star - mu  # (n,) the label direction
@@ -139,23 +103,18 @@ class MeanCandidate(Mechanism):
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params
         return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
-                "clone_from": np.zeros(0) if self._mu is None else self._mu.copy(),
                 "pending": np.array(self.pending, np.int64),
                 "learner": np.zeros(0) if self.learner is None else self.learner.copy()}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
-        mu = np.asarray(state.get("clone_from", np.zeros(0)), np.float64).reshape(-1)
         pending = int(np.asarray(state.get("pending", 0)))
         k, n = len(self.cfg.scales) + 1 + pending, self.host.spec.num_params
         if pending not in (0, 1) or x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
-        if mu.size and (mu.shape != (n,) or not np.isfinite(mu).all()):
-            raise ValueError(f"candidate clone_from has shape {mu.shape}, expected ({n},) and finite")
         learner = np.asarray(state.get("learner", np.zeros(0)), np.float64).reshape(-1)
         if learner.size and (learner.shape != (n,) or not np.isfinite(learner).all()):
             raise ValueError(f"candidate learner has shape {learner.shape}, expected ({n},) and finite")
         self.learner = learner if learner.size else None
         self.extras = x if x.size else None
         self.pending = pending if x.size else 0
-        self._mu = mu if mu.size else None

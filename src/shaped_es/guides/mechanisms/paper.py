@@ -6,9 +6,8 @@ Every member ``theta_i`` is cloned toward the labels of its own aggregated data 
     Delta = (Theta* - mu_{g+1}) / eta                                        (Eq. Delta_g, eta = 0.01)
 
 spans the next generation's Guided-ES subspace, ``Sigma = sigma^2 (alpha I + (1 - alpha) n/k U U^T)``.
-``shaping.surrogate`` picks other forms of the surrogates: each cloning step ``theta*_i - theta_i``
-(``clone_step``), their mean (``clone_mean``, k = 1), or each step minus its part in the span of the
-generation's perturbations (``clone_orth``).
+``shaping.surrogate = clone_orth`` takes each cloning step ``theta*_i - theta_i`` minus its part in the
+span of the generation's perturbations instead (what the labels add; ``docs/paper-construction.md``).
 
 Where the cloning runs (``shaping.placement``): on the master, labels in one batch straight into shared
 memory and the gradient steps in chunks on the idle process workers; or on the workers, each reading its
@@ -46,12 +45,8 @@ class PaperSubspace(Mechanism):
         mean = np.asarray(strategy.mean, dtype=np.float64)
         if sh.surrogate == "paper":
             G = surrogate_gradients(theta_star, mean, sh.eta)  # (k, n): (Theta* - mu_{g+1}) / eta
-        elif sh.surrogate == "clone_step":
-            G = theta_star.astype(np.float64) - params  # (k, n): the cloning steps alone
-        elif sh.surrogate == "clone_orth":
+        else:  # clone_orth
             G = clone_steps_orthogonal(theta_star, params, old_mean)  # (k, n): steps outside span(eps)
-        else:
-            G = (theta_star.astype(np.float64) - params).mean(axis=0, keepdims=True)  # (1, n)
         strategy.guide(G)
         update = mean - np.asarray(old_mean, dtype=np.float64)  # (n,) this generation's ES step
         # share of the ES update inside the next ask's subspace: ||U^T v|| / ||v|| without forming U

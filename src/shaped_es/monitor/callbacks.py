@@ -54,6 +54,6 @@ def as_callbacks(callback) -> list[Callback]:
         elif callable(cb):
             out.append(FunctionCallback(cb))
         else:
-            raise TypeError(f"callback must be a function row -> bool or a shaped_es.callbacks.Callback, "
+            raise TypeError(f"callback must be a function row -> bool or a shaped_es.monitor.callbacks.Callback, "
                             f"got {type(cb).__name__}")
     return out

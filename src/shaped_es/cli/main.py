@@ -1,5 +1,5 @@
 """``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench),
-and the commands that explain: config / envs / check-env (``cli_info.py``).
+and the commands that explain: config / envs / check-env (``info.py``).
 
 Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
 directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
@@ -7,7 +7,7 @@ values (its exception's type and message in the line), a search that went non-fi
 run stays resumable), a run directory another process is writing, a dead MPI worker. The full traceback
 goes to ``RUN/error.log`` (when the run directory exists) and, with ``--debug``, to the terminal. An
 unexpected internal error is reported the same way with exit code 1. Warnings are one line each,
-``shaped-es: warning: ...`` (all of this in ``cli_errors.py``).
+``shaped-es: warning: ...`` (all of this in ``errors.py``).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from shaped_es.cli_errors import WarningRoute, continue_hint, error_line, mpi_spawn_command, supervise
+from shaped_es.cli.errors import WarningRoute, continue_hint, error_line, mpi_spawn_command, supervise
 
 
 
@@ -59,7 +59,7 @@ def cmd_train(a: argparse.Namespace) -> int:
 
 def cmd_resume(a: argparse.Namespace) -> int:
     from shaped_es.config import ConfigError, build_config, merge
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
 
     store = RunStore(a.run_dir)
     store.read_config()  # "not a run directory" before anything is created or locked
@@ -79,8 +79,8 @@ def cmd_resume(a: argparse.Namespace) -> int:
 
 def _fitting_checkpoint(cfg, store):
     """The run's newest checkpoint, checked to come from this run's config (``StoreError`` if not)."""
-    from shaped_es.store import StoreError
-    from shaped_es.run_meta import config_digest
+    from shaped_es.rundir.store import StoreError
+    from shaped_es.rundir.meta import config_digest
 
     loaded = store.load_checkpoint()
     if loaded is not None:
@@ -114,7 +114,7 @@ def _num(v):
 
 
 def cmd_evaluate(a: argparse.Namespace) -> int:
-    from shaped_es.evaluate import evaluate_run
+    from shaped_es.trained.evaluate import evaluate_run
 
     print(json.dumps(evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)))
     return 0
@@ -202,7 +202,7 @@ def add_render_parser(sub) -> argparse.ArgumentParser:
 
 
 def cmd_render(a: argparse.Namespace) -> int:
-    from shaped_es.render import render_run
+    from shaped_es.trained.render import render_run
 
     res = render_run(a.run_dir, a.out, episodes=a.episodes, which=a.policy, seed=a.seed,
                      max_steps=a.max_steps, fps=a.fps, every=a.every)
@@ -259,7 +259,7 @@ def build_parser() -> argparse.ArgumentParser:
     from shaped_es.methods import METHODS
 
     d = _config_default
-    from shaped_es.cli_info import Parser, use_formatter
+    from shaped_es.cli.info import Parser, use_formatter
 
     p = Parser(prog="shaped-es", description="Shaped policy search with evolution strategies")
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
@@ -321,7 +321,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_benchmark_parser(sub)
     add_report_parser(sub)
     add_render_parser(sub)
-    from shaped_es import cli_info
+    from shaped_es.cli import info as cli_info
 
     cli_info.add_parsers(sub)  # config, envs, check-env
 

@@ -9,7 +9,7 @@ from helpers import train
 from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
 from shaped_es.config import build_config
-from shaped_es.tblog import tb_tag
+from shaped_es.monitor.tensorboard import tb_tag
 from shaped_es.trainer import Trainer
 
 

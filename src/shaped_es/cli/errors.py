@@ -1,6 +1,6 @@
 """How a ``shaped-es`` command ends: every error as one line and an exit code, its traceback in
 ``RUN/error.log``, warnings as one line, and the supervision that reports, in one line, an MPI job that
-MPI itself ended (see ``cli.py`` for the command line)."""
+MPI itself ended (see ``main.py`` for the command line)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import traceback
 import warnings
 from pathlib import Path
 
-from shaped_es import warning_log
+from shaped_es.monitor import warning_log
 
 USAGE_ERROR = 2
 INTERNAL_ERROR = 1
@@ -25,7 +25,7 @@ def _user_errors() -> tuple[type[BaseException], ...]:
     from shaped_es.config import ConfigError
     from shaped_es.executors import ExecutorError
     from shaped_es.rollout import EnvSpecError
-    from shaped_es.store import StoreError
+    from shaped_es.rundir.store import StoreError
 
     from shaped_es.trainer import DivergedError
 
@@ -54,7 +54,7 @@ def continue_hint(a: argparse.Namespace) -> str:
 
 def _log(a: argparse.Namespace, text: str):
     """Append ``text`` to RUN/error.log (only if the run directory exists); its path, or None."""
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
 
     run = _run_dir(a)
     if not run or not text.strip():
@@ -116,11 +116,11 @@ class WarningRoute:
     """Where a command's warnings go (``warnings.showwarning`` while it runs): shaped-es's own (a
     category defined in ``shaped_es``: executor and env settings, repairs) as one line each; every
     other library's (Gymnasium's env checker, NumPy, Ray's output, ...) into ``RUN/error.log``
-    (``warning_log.py``; the process executor's workers write theirs there too) and the terminal with
+    (``monitor/warning_log.py``; the process executor's workers write theirs there too) and the terminal with
     ``--debug``, with one line at the end saying how many there were and where."""
 
     def __init__(self, a: argparse.Namespace, debug: bool):
-        from shaped_es.store import RunStore
+        from shaped_es.rundir.store import RunStore
 
         run = _run_dir(a)
         self.debug, self.held = debug, []
@@ -169,7 +169,7 @@ def mpi_spawn_command(a: argparse.Namespace) -> bool:
         return False
     executor = getattr(a, "executor", None)
     if executor is None and a.command == "resume":
-        from shaped_es.store import RunStore
+        from shaped_es.rundir.store import RunStore
 
         executor = RunStore(a.run_dir).read_config().executor
     if executor is None and a.command == "train" and getattr(a, "config", None):
@@ -202,7 +202,7 @@ def supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
 
             ctypes.CDLL(None).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
 
-    child = subprocess.Popen([sys.executable, "-m", "shaped_es.cli", *argv], env=env,
+    child = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", *argv], env=env,
                              stderr=subprocess.PIPE, text=True, errors="replace", preexec_fn=die_with_parent)
     old_int = signal.signal(signal.SIGINT, signal.SIG_IGN)  # the child gets the terminal's Ctrl-C
     old_term = signal.signal(signal.SIGTERM, lambda *_: child.terminate())

@@ -8,8 +8,8 @@ import pytest
 import torch
 
 from shaped_es import evaluation_seeds, load_policy
-from shaped_es.cli import main
-from shaped_es.evaluate import evaluate_run
+from shaped_es.cli.main import main
+from shaped_es.trained.evaluate import evaluate_run
 
 EPISODES, SEED = 3, 12345
 COMMON = ["--generations", "2", "--executor", "inline", "--pairs", "2", "--set", "rollout.episodes=1",
@@ -69,7 +69,7 @@ def test_the_best_policy_names_its_generation(runs, name, tmp_path):
     import json
     import shutil
 
-    from shaped_es.store import RunStore
+    from shaped_es.rundir.store import RunStore
 
     rows = RunStore(runs[name]).read_metrics()
     test = [float(r["test_reward_mean"]) for r in rows]
@@ -160,7 +160,7 @@ def test_ppo_test_episodes_run_one_observation_per_forward(runs):
 
 
 def test_load_policy_errors(runs, tmp_path):
-    from shaped_es.store import StoreError
+    from shaped_es.rundir.store import StoreError
 
     with pytest.raises(ValueError, match="which"):
         load_policy(runs["es"], which="worst")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from shaped_es.config import build_config
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 
 def test_store_checkpoint_and_metrics(tmp_path):

@@ -18,29 +18,9 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.load import es_params
-from shaped_es.rollout import (DEFAULT_MAX_STEPS, EnvSpecError, _to_env_action, env_time_limit, make_env,
-                               policy_spec)
-from shaped_es.store import RunStore, StoreError
-
-
-def policy_fn(store: RunStore, which: str = "best"):
-    """``obs (obs_dim,) -> env action`` for the run's saved policy."""
-    cfg = store.read_config()
-    arrays, _ = store.require_checkpoint()
-    if cfg.method == "ppo":
-        from shaped_es.baselines.ppo import load_policy
-
-        policy = load_policy(cfg, arrays, which)
-        return lambda obs: policy.predict(obs[None], deterministic=True)[0][0]
-    from shaped_es.policies import forward
-
-    spec = policy_spec(cfg)
-    theta = es_params(arrays, which, spec.num_params, store.root)[None]  # (1, n)
-    probe = make_env(cfg.env, cfg.env_kwargs)
-    space = probe.action_space
-    probe.close()
-    return lambda obs: _to_env_action(space, forward(spec, theta, obs[None, None])[0, 0])  # (1,1,obs)->(a,)
+from shaped_es.rollout import DEFAULT_MAX_STEPS, EnvSpecError, env_time_limit, make_env
+from shaped_es.rundir.store import RunStore, StoreError
+from shaped_es.trained.load import load_policy
 
 
 def _rgb_env(env_id: str, env_kwargs: dict) -> gym.Env:
@@ -95,9 +75,8 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
     out = Path(out)
     if out.suffix.lower() != ".gif":
         raise StoreError(f"--out must name a .gif file, got {out}")
-    store = RunStore(run_dir)
-    cfg = store.read_config()
-    act = policy_fn(store, which)
+    cfg = RunStore(run_dir).read_config()
+    act = load_policy(run_dir, which).predict  # evaluate's actions, any method
     env = _rgb_env(cfg.env, cfg.env_kwargs)
     cap = max_steps or cfg.rollout.max_steps or (None if env_time_limit(env) else DEFAULT_MAX_STEPS)
     seeds = seeding.evaluation_seeds(episodes, seed)  # evaluate's episodes

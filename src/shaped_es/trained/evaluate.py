@@ -11,9 +11,10 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import make_executor
-from shaped_es.load import es_params, policy_generation
+from shaped_es.methods import METHODS, resolve
+from shaped_es.trained.load import es_params, policy_generation
 from shaped_es.rollout import policy_episode_tasks, policy_spec, probe_env, run_task, warn_if_endless
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 
 def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 12345,
@@ -23,27 +24,24 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
     store = RunStore(run_dir)
     cfg = store.read_config()
     arrays, meta = store.require_checkpoint()
-    seeds = np.array([seeding.evaluation_seeds(episodes, seed)])  # (1, E)
-    if cfg.method == "ppo":  # one process, as PPO trains (SB3 policy, deterministic actions)
-        from shaped_es.baselines.ppo import load_policy
-        from shaped_es.baselines.ppo_state import DeterministicEpisodes
+    seeds = np.array(seeding.evaluation_seeds(episodes, seed))  # (E,)
+    returns = resolve(METHODS[cfg.method].evaluate)(cfg, arrays, which, seeds, run_dir, executor, workers)
+    return _summary(store, which, meta, returns, seeds)
 
-        runner = DeterministicEpisodes(cfg.env, cfg.env_kwargs, cfg.rollout.max_steps)
-        try:
-            returns, _ = runner.run(load_policy(cfg, arrays, which), seeds[0])  # (E,)
-        finally:
-            runner.close()
-        return _summary(store, which, meta, returns, seeds[0])
+
+def es_returns(cfg, arrays: dict, which: str, seeds: np.ndarray, run_dir, executor: str,
+               workers: int | None) -> np.ndarray:
+    """Returns ``(E,)`` of an ES checkpoint's ``which`` policy on the episodes ``seeds`` ``(E,)``, spread
+    over the executor's workers, each row of the policy computed on its own (``load_policy``'s actions)."""
     probe = probe_env(cfg.env, cfg.env_kwargs)
     spec = policy_spec(cfg, probe)
     theta = es_params(arrays, which, spec.num_params, run_dir)
     warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
     with make_executor(executor, workers=workers) as ex:
-        tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds, ex.workers,
-                                     max_steps=cfg.rollout.max_steps, rowwise=True)
+        tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds[None], ex.workers,
+                                     max_steps=cfg.rollout.max_steps, rowwise=True)  # seeds (1, E)
         res = ex.map(run_task, tasks)
-    returns = np.concatenate([r.returns[0] for r in res])  # (E,)
-    return _summary(store, which, meta, returns, seeds[0])
+    return np.concatenate([r.returns[0] for r in res])  # (E,)
 
 
 def _summary(store: RunStore, which: str, meta: dict, returns: np.ndarray, seeds: np.ndarray) -> dict:

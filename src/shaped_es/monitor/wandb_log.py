@@ -1,5 +1,5 @@
 """Weights & Biases logging of a run (``--wandb``; ``pip install 'shaped-es[wandb]'``): every
-``metrics.csv`` row under the TensorBoard tags (``GROUP/column``, :func:`shaped_es.tblog.tb_tag`), with
+``metrics.csv`` row under the TensorBoard tags (``GROUP/column``, :func:`shaped_es.monitor.tensorboard.tb_tag`), with
 ``misc/env_steps`` as every chart's x axis, as TensorBoard's step.
 
 The W&B run's id is kept in ``RUN/wandb_id``, so ``resume`` continues the same W&B run (the rows a
@@ -13,17 +13,19 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Callable
 from pathlib import Path
 
-from shaped_es.tblog import tb_tag
+from shaped_es.monitor.tensorboard import tb_tag
 
 STEP = tb_tag("env_steps")  # "misc/env_steps": the x axis of every chart
 ID_FILE = "wandb_id"
 
 
-def open_run(root: str | Path, settings, config: dict):
+def open_run(root: str | Path, settings, config: dict, write_text: Callable[[Path, str], None]):
     """A W&B run for the run directory ``root`` (``settings``: the config's ``wandb`` section), resuming
-    the one whose id ``root/wandb_id`` holds."""
+    the one whose id ``root/wandb_id`` holds; a new id is written with ``write_text(path, text)`` (the run
+    directory's atomic write: this module knows nothing of the run directory)."""
     import wandb
 
     root = Path(root)
@@ -32,10 +34,8 @@ def open_run(root: str | Path, settings, config: dict):
     if not run_id:
         import secrets
 
-        from shaped_es.store_io import atomic_write_text
-
         run_id = secrets.token_hex(8)  # W&B ids: letters and digits
-        atomic_write_text(id_path, run_id + "\n")
+        write_text(id_path, run_id + "\n")
     run = wandb.init(project=settings.project, entity=settings.entity, group=settings.group,
                      name=root.name, id=run_id, resume="allow", dir=str(root), config=config,
                      mode=settings.mode, settings=wandb.Settings(silent=True, console="off"))

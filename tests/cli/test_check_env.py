@@ -5,7 +5,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from shaped_es.env_check import FAIL, NO, OK, WARN, check_env, describe_env, trains_with
+from shaped_es.cli.check_env import FAIL, NO, OK, WARN, check_env, describe_env, trains_with
 
 
 class Point(gym.Env):

@@ -32,7 +32,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.store import RunStore, StoreError
+from shaped_es.rundir.store import RunStore, StoreError
 
 WHICH = ("best", "mean")
 
@@ -127,14 +127,20 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
                   generation=policy_generation(store, meta, which), checkpoint_generation=int(meta["generation"]),
                   env_id=cfg.env, env_kwargs=dict(cfg.env_kwargs), max_steps=cfg.rollout.max_steps,
                   observation_space=obs_space, action_space=act_space)
-    if cfg.method == "ppo":
-        from shaped_es.baselines.ppo import load_policy as load_sb3
+    from shaped_es.methods import METHODS, resolve
 
-        return Policy(**common, sb3_policy=load_sb3(cfg, arrays, which))
+    fields = resolve(METHODS[cfg.method].policy_fields)(cfg, arrays, which, run_dir, obs_dim, act_dim)
+    return Policy(**common, **fields)
+
+
+def es_policy_fields(cfg, arrays: dict[str, np.ndarray], which: str, run_dir, obs_dim: int,
+                     act_dim: int) -> dict:
+    """``Policy``'s fields of an ES checkpoint (``methods.Method.policy_fields``): the MLP and its
+    parameters."""
     from shaped_es.policies import MLPSpec
 
     spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
-    return Policy(**common, theta=es_params(arrays, which, spec.num_params, run_dir), spec=spec)
+    return {"theta": es_params(arrays, which, spec.num_params, run_dir), "spec": spec}
 
 
 def es_params(arrays: dict[str, np.ndarray], which: str, num_params: int, run_dir) -> np.ndarray:

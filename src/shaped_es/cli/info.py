@@ -193,7 +193,7 @@ def cmd_envs(a: argparse.Namespace) -> int:
 
     import shaped_es  # noqa: F401 - registers the built-in envs
     from shaped_es.config import ConfigError
-    from shaped_es.env_check import describe_env
+    from shaped_es.cli.check_env import describe_env
 
     for m in a.modules or []:
         try:
@@ -229,7 +229,7 @@ def _cell(v) -> str:
 # -- shaped-es check-env -------------------------------------------------------------------------------------
 def cmd_check_env(a: argparse.Namespace) -> int:
     from shaped_es.config import ConfigError, parse_set
-    from shaped_es.env_check import FAIL, as_dicts, check_env, trains_with
+    from shaped_es.cli.check_env import FAIL, as_dicts, check_env, trains_with
 
     if a.episodes <= 0 or a.max_steps <= 0:
         raise ConfigError("--episodes and --max-steps must be positive")

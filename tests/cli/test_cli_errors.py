@@ -2,7 +2,7 @@
 
 import argparse
 
-from shaped_es.cli_errors import USAGE_ERROR, error_line
+from shaped_es.cli.errors import USAGE_ERROR, error_line
 from shaped_es.rollout import EnvError
 
 

@@ -22,7 +22,7 @@ drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row in
 which two writers at once leave, are reduced to the last of each generation; rows the checkpoint covers
 that are missing are an error: nothing is changed).
 
-One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``run_lock.py``: the run directory
+One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``lock.py``: the run directory
 itself ``flock``-ed, so deleting ``RUN/.lock`` does not let a second writer in, and ``RUN/.lock`` naming
 the holder; a killed holder's lock is free again). Writes outside a held lock check that no other
 process holds it.
@@ -46,10 +46,10 @@ from typing import Any
 
 import numpy as np
 
-from shaped_es import metrics_csv
+from shaped_es.rundir import metrics_csv
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
-from shaped_es.run_lock import HELD, LOCK_NAME, acquire, probe, release
-from shaped_es.store_io import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
+from shaped_es.rundir.lock import HELD, LOCK_NAME, acquire, probe, release
+from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
 
 ERROR_LOG = "error.log"
 _CKPT_RE = re.compile(r"gen_(\d{6,})")

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from shaped_es.store_io import StoreError, atomic_write_text
+from shaped_es.rundir.atomic import StoreError, atomic_write_text
 
 _NON_FLOAT = ("", "True", "False")  # empty: no value (None or NaN); booleans as csv writes them
 Table = tuple[list[str], list[dict[str, str]]]  # (header, rows)

@@ -6,7 +6,7 @@ import re
 
 from rich.console import Console
 
-from shaped_es.progress import ProgressDisplay
+from shaped_es.monitor.progress import ProgressDisplay
 
 
 class Clock:

@@ -3,7 +3,7 @@ a stray ``rm RUN/.lock`` cannot take away from a live holder) and ``RUN/.lock``,
 and command for the message others get; a killed holder's locks are free again. Where the filesystem
 cannot ``flock`` a directory (NFS), the lock file alone is the lock; without ``flock`` at all, a lock of a
 dead pid on this host is taken over. Re-entrant within a process (:data:`HELD`);
-:meth:`shaped_es.store.RunStore.lock` is the way in."""
+:meth:`shaped_es.rundir.store.RunStore.lock` is the way in."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import sys
 import time
 from pathlib import Path
 
-from shaped_es.store_io import StoreError
+from shaped_es.rundir.atomic import StoreError
 
 try:
     import fcntl

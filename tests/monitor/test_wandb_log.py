@@ -8,7 +8,7 @@ import types
 import pytest
 
 from helpers import CARTPOLE_TINY, new_run
-from shaped_es.tblog import tb_tag
+from shaped_es.monitor.tensorboard import tb_tag
 from shaped_es.trainer import Trainer
 
 CFG = {**CARTPOLE_TINY, "executor": "inline", "generations": 3, "wandb": {"enabled": True, "mode": "offline"}}
@@ -66,7 +66,7 @@ def test_rows_go_to_wandb_under_the_tensorboard_tags(tmp_path, fake_wandb):
 def test_without_the_package_train_says_how_to_get_it(tmp_path, monkeypatch, capsys):
     import importlib.util
 
-    from shaped_es.cli import main
+    from shaped_es.cli.main import main
 
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "wandb" else real(name, *a))
