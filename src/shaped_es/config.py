@@ -95,10 +95,11 @@ class InverseDynamicsSettings(_Strict):
     min_return: Float = Field(_MPHI.min_return,
                               description="episodes with a lower return are left out (paper: 5)")
     max_dataset: Int = Field(_MPHI.max_dataset, gt=0, description="cap on aggregated transitions (FIFO)")
-    frame: Literal["auto", "world", "motion", "waypoint"] = Field(
+    frame: Literal["auto", "world", "motion", "waypoint", "both"] = Field(
         "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, the "
-        "waypoint's direction (x toward w_t - p_t; defined at rest), or "
-        "auto = motion for 2-D waypoint spaces (planar vehicles), world otherwise")
+        "waypoint's direction (x toward w_t - p_t; defined at rest), both (world and motion frames "
+        "concatenated: the model uses whichever explains the action), or auto = both for waypoint "
+        "spaces of 2 or more dimensions, world for 1-D")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
     targets: Literal["one_step", "hindsight", "matched"] = Field(
@@ -114,8 +115,7 @@ class InverseDynamicsSettings(_Strict):
     babble: Int = Field(16, ge=0, le=10_000, description="motor babbling (labels=mphi only: M_phi's data): this many random "
                         "policies (weights ~ N(0, babble_sigma^2)) roll out beside the population in the "
                         "first babble_generations generations; their steps are M_phi's data (and the "
-                        "clone's states), their returns steer no ES step (a babbler can still be the "
-                        "generation's tested best member)")
+                        "clone's states), their returns steer no ES step and they are never tested)")
     babble_generations: Int = Field(20, ge=0, description="generations with babbling policies")
     babble_sigma: Float = Field(1.0, gt=0, description="standard deviation of the babbling policies' weights")
     filter: Literal["total", "positive", "none"] = Field(
@@ -145,8 +145,9 @@ class MeanCloneSettings(_Strict):
     scales: tuple[Float, ...] = Field(_MEAN.scales, min_length=1, description="candidate: mu + s (theta* - mu) "
                                       "is evaluated for each scale s, a positive number (e.g. [0.5, 1.0])")
     accept: Literal[tuple(ACCEPT_RULES)] = Field(
-        _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best) "
-        "or the mean's own on the same episodes (mean)")
+        _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best), "
+        "the mean's own on the same episodes (mean), the mean's by more than one standard error of the "
+        "paired differences over the common and extra episodes (paired), or best and paired together")
     warm_start: Bool = Field(_MEAN.warm_start, description="the clone starts from the previous generation's "
                              "clone (a DAgger learner kept across generations) instead of the mean")
     extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "
@@ -192,6 +193,12 @@ class ShapingConfig(_Strict):
     diagnose_returns: Bool = Field(
         False, description="also roll out every theta* on the generation's episode seeds and log the "
         "return change cloning made (costs one more population rollout; diagnostics only)")
+    backoff_after: Int = Field(
+        5, ge=0, le=100_000, description="candidate: after this many judged generations in a row without an "
+        "accepted candidate, shaping sleeps (no recording, M_phi, clone or candidate: a Vanilla-ES "
+        "generation), first for 4 generations, then twice as long each time its labels lose again, waking "
+        "to try; an acceptance resets it (guides/label_budget.py); 0: never back off")
+    backoff_max: Int = Field(32, ge=0, le=100_000, description="the longest sleep, in generations")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
     cloning: CloningSettings = Field(default_factory=CloningSettings)
     mean_clone: MeanCloneSettings = Field(default_factory=MeanCloneSettings)

@@ -249,8 +249,9 @@ class Trainer(RunLoop):
 
     def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray, P: int) -> _Row:
         """Generation ``g``'s metrics row (train rewards of the population's ``fitness[:P]``); the test
-        episodes of its best member (over the population and the guide's extra members, ``X`` ``(P + k,
-        n)``) start when they are due."""
+        episodes of its best population member start when they are due. Every method tests by this one
+        rule: the guide's extra members (candidates, babblers) are never tested; an accepted candidate
+        becomes the mean and so the centre of the next population."""
         pop = fitness[:P]
         item = _Row({"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
                      "train_reward_mean": float(pop.mean()), "train_reward_max": float(pop.max()),
@@ -258,7 +259,7 @@ class Trainer(RunLoop):
                      "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
         cfg = self.cfg
         if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
-            self._submit_eval(item, X[int(np.argmax(fitness))].copy(), g)  # the generation's best member
+            self._submit_eval(item, X[int(np.argmax(fitness[:P]))].copy(), g)  # the population's best
         return item
 
     def _end_row(self, g: int, item: _Row, results: list, old_mean: np.ndarray, extra: dict,

@@ -33,9 +33,12 @@ def _shaping(**over):
 @pytest.mark.parametrize("mechanism,labels,option", [
     ("candidate", "controller", None), ("candidate", "mphi", None),
     ("candidate", "controller", "confirm"), ("candidate", "controller", "extra_episodes"),
+    ("candidate", "controller", "paired"),
     ("candidate", "mphi", "warm_start"), ("pair", "controller", None)])
 def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
     opts = {} if option is None else {option: 2 if option == "extra_episodes" else True}
+    if option == "paired":
+        opts = {"accept": "paired", "extra_episodes": 3}
     sh = _shaping(mechanism=mechanism, labels=labels, mean_clone={**TINY["shaping"]["mean_clone"], **opts})
     full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
     assert full[-1]["shaping_active"] == "1"
@@ -43,8 +46,9 @@ def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, m
         scored = [r for r in full if r["candidate_return"] != ""]
         assert scored and all(r["candidate_accepted"] in ("0", "1") for r in scored)
         for r in scored:  # the gain is the candidate's return over the mean's, on the same episodes
-            assert float(r["candidate_gain"]) == pytest.approx(
-                float(r["candidate_return"]) - float(r["mean_return"]))
+            if option not in ("extra_episodes", "paired"):  # (with extra episodes: over all both ran)
+                assert float(r["candidate_gain"]) == pytest.approx(
+                    float(r["candidate_return"]) - float(r["mean_return"]))
     if "pair" in mechanism:
         assert any(r["pair_return_diff"] != "" for r in full)
     assert ("mphi_iterations" in full[0]) == (labels == "mphi")  # M_phi exists only as the label source
@@ -227,3 +231,12 @@ def test_babbling_is_off_without_m_phi(tmp_path):
     ctrl = train(tmp_path / "ctrl", {**TINY, "generations": 2, "shaping": sh}).read_metrics()
     plain = train(tmp_path / "plain", {**TINY, "generations": 2, "shaping": _shaping(labels="controller")})
     assert strip_time(ctrl) == strip_time(plain.read_metrics())
+
+
+def test_paired_win_needs_more_than_a_standard_error():
+    from shaped_es.guides.mechanisms.candidate import paired_win
+
+    mean = np.array([0.0, 0.0, 0.0, 0.0])
+    assert paired_win(np.array([1.0, 1.2, 0.9, 1.1]), mean)  # a steady gain
+    assert not paired_win(np.array([9.0, -3.0, -3.0, -2.0]), mean)  # one lucky episode
+    assert not paired_win(np.array([-1.0, -1.0, -1.0, -1.0]), mean)

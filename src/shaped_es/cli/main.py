@@ -100,10 +100,20 @@ def _run(cfg, store, a, probe=None) -> int:
     fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)
     rows = store.read_metrics()
     last = rows[-1] if rows else {}
-    print(json.dumps({"run_dir": str(store.root), "generations": len(rows),
-                      "test_reward_mean": _num(last.get("test_reward_mean")),
-                      "train_reward_mean": _num(last.get("train_reward_mean")), "figure": str(fig)}))
+    out = {"run_dir": str(store.root), "generations": len(rows),
+           "test_reward_mean": _num(last.get("test_reward_mean")),
+           "train_reward_mean": _num(last.get("train_reward_mean")), "figure": str(fig)}
+    shaping = rows_summary(rows)  # candidate runs: what the labels did
+    if shaping is not None:
+        out["shaping"] = shaping
+    print(json.dumps(out))
     return 0
+
+
+def rows_summary(rows):
+    from shaped_es.guides.label_budget import rows_summary as summary
+
+    return summary(rows)
 
 
 def _num(v):

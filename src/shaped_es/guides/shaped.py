@@ -62,6 +62,7 @@ from shaped_es.shaping.trajectories import (TrajectoryStoreError, delete_generat
                                           run_root)
 from shaped_es.shaping.trajectories import read_generation, write_shard
 from shaped_es.guides.babble import babbling_policies
+from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
@@ -69,7 +70,7 @@ from shaped_es.guides.shaped_setup import from_section, label_source, placement,
 
 MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size",
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
-COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active")
+COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active", "shaping_awake")
 DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
 FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
@@ -95,7 +96,7 @@ class ShapedGuide(NoGuide):
         self.placement = placement(cfg, spec)
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
-        frame = mp.frame if mp.frame != "auto" else ("motion" if pos_dim == 2 else "world")
+        frame = mp.frame if mp.frame != "auto" else ("both" if pos_dim >= 2 else "world")
         self.mphi_cfg = from_section(InverseDynamicsConfig, mp, frame=frame,
                                      seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
@@ -126,6 +127,10 @@ class ShapedGuide(NoGuide):
         self.population = 2 * cfg.es.pairs
         self._warned = False
         self._babblers = 0  # babbling policies among this generation's extra members (the last rows)
+        # labels that keep losing put the shaping work to sleep (guides/label_budget.py)
+        self.budget = LabelBudget(self.sh.backoff_after, self.sh.backoff_max)
+        self.awake = True  # this generation is shaped (False: asleep, a Vanilla-ES generation)
+        self._silent: set[int] = set()  # recent generations slept through: no steps were recorded
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
@@ -147,6 +152,8 @@ class ShapedGuide(NoGuide):
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         """Which members' steps the rollouts keep (the mechanism's choice; every babbler),
         ``(population + extra,)``."""
+        if not self.awake:
+            return np.zeros(population + extra, bool)
         mask = self.mechanism.record_mask(population, extra)
         if self._babblers:
             mask[population + extra - self._babblers:] = True
@@ -154,7 +161,11 @@ class ShapedGuide(NoGuide):
 
     def extra_members(self, generation: int) -> np.ndarray | None:
         """Policies ``(k, n)`` evaluated beside the population (None: none): the mechanism's, then the
-        babbling policies of the first generations (``guides/babble.py``; M_phi's data only)."""
+        babbling policies of the first generations (``guides/babble.py``; M_phi's data only); none while
+        the guide sleeps."""
+        if not self.awake:
+            self._babblers = 0
+            return None
         mech = self.mechanism.extra_members(generation)
         bab = None if self.mphi is None else babbling_policies(self.sh.inverse_dynamics, self.cfg.seed,
                                                                 generation, self.spec.num_params)  # (b, n)
@@ -165,7 +176,7 @@ class ShapedGuide(NoGuide):
 
     def extra_episodes(self) -> int:
         """Episodes the mechanism's extra members run beyond the population's."""
-        return self.mechanism.extra_episodes
+        return self.mechanism.extra_episodes if self.awake else 0
 
     def rollout_fn(self):
         if self.placement == "workers":  # each worker writes its chunk's shard before it returns
@@ -188,6 +199,8 @@ class ShapedGuide(NoGuide):
 
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""
+        if generation in self._silent and generation not in self._cache:
+            return []  # slept through (label_budget.py): nothing was recorded
         if generation not in self._cache:
             trs = read_generation(self.traj_root, generation)
             if not trs:  # every generation's rollouts write a shard: this one was lost
@@ -278,6 +291,11 @@ class ShapedGuide(NoGuide):
         self._after_checkpoint()  # the previous generation's checkpoint is durable by now
         # shards a killed run left for this generation (maybe laid out by another placement) go first
         delete_generations(self.traj_root, [generation])
+        self.awake = self.budget.begin()
+        if not self.awake:  # a Vanilla-ES generation: no data, no M_phi, no mechanism work
+            self._silent.add(generation)
+            return
+        self._silent.discard(generation)
         if self.mphi is not None:
             self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
                                  mphi_dataset_size=self.mphi.dataset_size)
@@ -347,6 +365,11 @@ class ShapedGuide(NoGuide):
             out["time_mphi_wait_s"] = time.perf_counter() - t_wait
         self._write_time = 0.0
         self._last_generation = generation
+        out["shaping_awake"] = int(self.awake)
+        if not self.awake:
+            self._remember(generation, [])
+            self._trim_cache(generation)
+            return out
         if not self.labels.ready:  # M_phi has no data kept yet: this generation stays Vanilla-ES
             self._warn_untrained(generation)
             self._trim_cache(generation)
@@ -362,8 +385,26 @@ class ShapedGuide(NoGuide):
         out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
                                              strategy, map_tasks))
         out["time_cloning_s"] = time.perf_counter() - t0
+        self._judge(generation, out)
         self._trim_cache(generation)
         return out
+
+    def _judge(self, generation: int, out: dict) -> None:
+        """Tell the label budget whether this generation's candidate paid; asleep from the next one if
+        the labels keep losing (the mechanism drops what it prepared), with one warning line the first time."""
+        if out.get("candidate_accepted") is None:
+            return
+        if not self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain")):
+            return
+        self.mechanism.sleep()
+        if self.budget.sleeps == 1:
+            b = self.budget
+            print(f"shaped-es: warning: the labels' candidate won {b.accepted} of {b.judged} generations "
+                  f"(mean gain {b.gain_sum / b.judged:+.3g}): shaping backs off (sleeps {b.asleep_left} "
+                  f"generations, then longer, waking to try again; column shaping_awake) -- here the run is "
+                  f"Vanilla-ES at about its price; try shaping.labels=controller (if the env has a "
+                  f"waypoint_controller) to tell the labels' quality from their use, another "
+                  f"shaping.inverse_dynamics.frame, or --method vanilla / cmaes", file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
@@ -380,11 +421,14 @@ class ShapedGuide(NoGuide):
         keep_from = generation + 2 - max(self.sh.history, 2)
         for g in [g for g in self._cache if g < keep_from]:
             del self._cache[g]
+        self._silent = {g for g in self._silent if g >= keep_from - self._ckpt_margin}
 
     # -- checkpoint ---------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         self._join_writes()  # the checkpoint may only name shards and data parts that are durable
         st = {f"mechanism/{k}": v for k, v in self.mechanism.state_dict().items()}
+        st |= {f"budget/{k}": v for k, v in self.budget.state_dict().items()}
+        st["silent"] = np.array(sorted(self._silent), np.int64)
         if self.mphi is None:
             self._saved = (self._last_generation, self._last_generation + 1)
             return st
@@ -397,6 +441,8 @@ class ShapedGuide(NoGuide):
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         self.mechanism.load_state_dict({k[10:]: v for k, v in state.items() if k.startswith("mechanism/")})
+        self.budget.load_state_dict({k[7:]: v for k, v in state.items() if k.startswith("budget/")})
+        self._silent = {int(g) for g in np.asarray(state.get("silent", np.zeros(0)), np.int64).reshape(-1)}
         self._cache.clear()
         if self.mphi is None:
             return

@@ -20,6 +20,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutResult, RolloutTask, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
 from shaped_es.shaping.member_rows import MemberRows
+from shaped_es.shaping.frames import frame_dim
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
 from shaped_es.shaping.labels import clip_norm
 from shaped_es.shaping.trajectories import TrajectoryStoreError, read_members, write_shard
@@ -70,7 +71,7 @@ def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_di
                        scale: str = "raw") -> tuple[np.ndarray, np.ndarray]:
     """One member's ``D_i`` as states ``(T, obs)`` and M_phi's queries ``(T, d)`` (before any clip)."""
     if not hist:
-        return np.zeros((0, obs_dim), np.float32), np.zeros((0, pos_dim), np.float32)
+        return np.zeros((0, obs_dim), np.float32), np.zeros((0, frame_dim(frame, pos_dim)), np.float32)
     s = np.concatenate([h.state for h in hist])
     q = np.concatenate([query_displacement(h, frame, scale) for h in hist])
     return s, q.astype(np.float32)

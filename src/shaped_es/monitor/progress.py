@@ -36,6 +36,7 @@ class ProgressDisplay:
         self._first: tuple[float, int, int] | None = None  # (time, generations done, steps) at the first line
         self._first_wall: float | None = None  # the first line's row's wall_time_s (the run's clock)
         self._steps = 0
+        self._judged = self._accepted = 0  # candidate runs: judged / accepted candidates shown so far
         self._live = enabled and (console is not None or sys.stderr.isatty())
         self._every = max(1, (total - start) // 20)
         self._bar = None
@@ -87,13 +88,14 @@ class ProgressDisplay:
         self._steps += int(row.get("gen_env_steps", 0) or 0)
         rate = self._rate(now, row)
         test = row.get("test_reward_mean")
+        labels = self._labels(row)
         if self._compact:
             test_s = "" if test in (None, "") else f" test {float(test):.1f}"
-            info = f"train {float(row['train_reward_mean']):.1f}{test_s} {_si(rate)} steps/s"
+            info = f"train {float(row['train_reward_mean']):.1f}{test_s} {_si(rate)} steps/s{labels}"
         else:
             test_s = "" if test in (None, "") else f" test {float(test):8.2f}"
             info = (f"train mean {float(row['train_reward_mean']):8.2f} max {float(row['train_reward_max']):8.2f}"
-                    f"{test_s}  {rate:,.0f} steps/s")
+                    f"{test_s}  {rate:,.0f} steps/s{labels}")
         if self._bar is not None:
             self._bar.update(self._task, completed=done, info=info)
         elif done - self._start <= 2 or done % self._every == 0 or done == self.total:
@@ -104,6 +106,17 @@ class ProgressDisplay:
         if self._first is None:
             self._first = (now, done, self._steps)
             self._first_wall = _number(row.get("wall_time_s"))
+
+    def _labels(self, row: dict) -> str:
+        """`` labels A/J`` (candidates accepted of judged, this display's rows) for candidate runs, with
+        ``[backed off]`` while shaping sleeps (guides/label_budget.py); empty otherwise."""
+        if "candidate_accepted" not in row:
+            return ""
+        acc = _number(row.get("candidate_accepted"))
+        if acc is not None:
+            self._judged, self._accepted = self._judged + 1, self._accepted + int(acc)
+        asleep = _number(row.get("shaping_awake")) == 0
+        return f"  labels {self._accepted}/{self._judged}" + (" [backed off]" if asleep else "")
 
     def close(self) -> None:
         if self._bar is not None:

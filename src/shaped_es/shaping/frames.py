@@ -14,7 +14,13 @@ odometry; ``frame="world"`` is the paper's behaviour):
   ``waypoint_t - position_t`` is ``(|w - p|, 0)`` in it: "straight to the waypoint"; what the agent's
   heading is relative to that direction, the model reads from the state (CarNav-v0: the heading error).
 
-Both rotate the first two coordinates (planar); further coordinates stay as they are.
+- ``both``: the world-frame displacement and the motion-frame one, concatenated (``2d`` inputs): the
+  model picks whichever explains the action. A holonomic point's action lives in the world frame (a
+  velocity command), a car's in its motion frame; measured closed loop (M_phi's labels driving the
+  env, ``docs/shaped-results.md``) ``both`` matched the better single frame on a velocity point, a
+  force point and CarNav-v0, where each single frame failed on one of them.
+
+``motion`` and ``waypoint`` rotate the first two coordinates (planar); further coordinates stay as they are.
 """
 
 from __future__ import annotations
@@ -23,7 +29,12 @@ import numpy as np
 
 from shaped_es.data import Transitions
 
-FRAMES = ("world", "motion", "waypoint")
+FRAMES = ("world", "motion", "waypoint", "both")
+
+
+def frame_dim(frame: str, d: int) -> int:
+    """Width of a ``d``-dimensional displacement expressed in ``frame`` (``both`` concatenates two)."""
+    return 2 * d if frame == "both" else d
 
 
 def motion_angle(tr: Transitions) -> np.ndarray:
@@ -51,6 +62,8 @@ def to_frame(tr: Transitions, disp: np.ndarray, frame: str) -> np.ndarray:
         raise ValueError(f"frame must be one of {FRAMES}, got {frame!r}")
     if disp.shape[1] < 2:
         raise ValueError(f"frame={frame!r} needs positions with at least two coordinates")
+    if frame == "both":
+        return np.concatenate([disp, to_frame(tr, disp, "motion")], axis=1)  # (T, 2d)
     a = motion_angle(tr) if frame == "motion" else waypoint_angle(tr)
     c, s = np.cos(a), np.sin(a)
     out = disp.astype(np.float64, copy=True)

@@ -28,7 +28,7 @@ from dataclasses import replace
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.shaping.frames import to_frame
+from shaped_es.shaping.frames import frame_dim, to_frame
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.settings import QUERY_SCALES, TARGETS, InverseDynamicsConfig
 
@@ -171,7 +171,8 @@ class InverseDynamics:
             raise ValueError("inverse dynamics needs waypoint-space positions (info 'position', 'waypoint')")
         self.config = config or InverseDynamicsConfig()
         self.obs_dim, self.pos_dim, self.act_dim = obs_dim, pos_dim, act_dim
-        self.in_dim = obs_dim + pos_dim
+        self.query_dim = frame_dim(self.config.frame, pos_dim)  # displacement inputs (frame "both": 2d)
+        self.in_dim = obs_dim + self.query_dim
         self._rng = np.random.default_rng(int(self.config.seed))  # init, then minibatch draws
         self.net = LeanMLP((self.in_dim, *self.config.hidden, act_dim), self._rng)
         self.opt = FlatAdam(self.net.num_params, lr=self.config.lr)
@@ -253,7 +254,7 @@ class InverseDynamics:
         s = np.asarray(states, dtype=np.float32)
         d = np.asarray(displacement, dtype=np.float32)
         lead = s.shape[:-1]
-        x = np.concatenate([s.reshape(-1, self.obs_dim), d.reshape(-1, self.pos_dim)], axis=1)  # (N, in)
+        x = np.concatenate([s.reshape(-1, self.obs_dim), d.reshape(-1, self.query_dim)], axis=1)  # (N, in)
         a = np.empty((x.shape[0], self.act_dim), np.float32)  # (N, act)
         with self._lock:
             for i in range(0, x.shape[0], LABEL_CHUNK):  # cache-sized chunks (82k rows: 7.9 vs 8.7 ms)

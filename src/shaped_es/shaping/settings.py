@@ -17,7 +17,7 @@ from shaped_es.shaping.frames import FRAMES
 
 TARGETS = ("one_step", "hindsight", "matched")
 LABEL_SOURCES = ("mphi", "reference", "controller")  # shaping/labels.py
-ACCEPT_RULES = ("best", "mean")
+ACCEPT_RULES = ("best", "mean", "paired", "best_paired")
 FILTERS = ("total", "positive", "none")
 QUERY_SCALES = ("raw", "own_step")
 
@@ -77,8 +77,9 @@ class MeanCloneConfig:
     max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
     record_every: int = 1  # the rollouts keep the steps of every k-th member (and of every candidate)
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
-    accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best")
-    #                       or the mean's own return on the same episodes ("mean")
+    accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best"),
+    #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
+    #   the paired differences over every episode both ran ("paired"), or both of best and paired
     warm_start: bool = True  # the clone starts from the previous generation's clone (a DAgger learner
     #                           kept across generations) instead of the mean
     extra_episodes: int = 0  # candidate: the candidates and the mean also run this many more episodes,

@@ -64,6 +64,10 @@ class Mechanism:
         population's E episodes and ``extra_episodes`` more; returns metrics."""
         return {}
 
+    def sleep(self) -> None:
+        """The guide backs off (``guides/label_budget.py``): drop what was prepared for the next
+        generation; the first generation after the sleep starts afresh."""
+
     def state_dict(self) -> dict[str, np.ndarray]:
         return {}
 

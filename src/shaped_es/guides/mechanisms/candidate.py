@@ -38,6 +38,16 @@ from shaped_es.shaping.surrogate import cosine
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
 
 
+def paired_win(cand: np.ndarray, mean: np.ndarray) -> bool:
+    """The candidate beats the mean on the same episodes (common random numbers) by more than one
+    standard error of the paired differences ``cand_e - mean_e`` (a one-sided test at about 84%; on
+    two episodes a win is often luck where episodes differ)."""
+    d = np.asarray(cand, np.float64) - np.asarray(mean, np.float64)  # (E + x,)
+    if d.size < 2:
+        return bool(d.size and d[0] > 0)
+    return bool(d.mean() > d.std(ddof=1) / np.sqrt(d.size))
+
+
 class MeanCandidate(Mechanism):
     name = "candidate"
     metric_keys = ("candidate_return", "mean_return", "candidate_gain", "candidate_accepted",
@@ -69,17 +79,21 @@ class MeanCandidate(Mechanism):
             k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates
             f_cand, f_mean = common[:k], float(common[-1])  # (k,), the mean's
             j = int(np.argmax(f_cand))
-            bar = float(np.max(fitness)) if self.cfg.accept == "best" else f_mean
+            bar = float(np.max(fitness)) if self.cfg.accept in ("best", "best_paired") else f_mean
 
             def passes(i: int, over: float) -> bool:
+                if self.cfg.accept == "paired":
+                    return paired_win(extra_returns[i], extra_returns[-1])
+                if self.cfg.accept == "best_paired" and not paired_win(extra_returns[i], extra_returns[-1]):
+                    return False
                 return bool(common[i] > over and (more is None or more[i] > more[-1]))
             won = passes(j, bar)
             # the held row (last generation's winner, confirm): it must beat the new mean's return on new episodes
             confirmed = bool(self.pending) and self.cfg.confirm and passes(k, f_mean)
             accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
-            out.update(candidate_return=float(f_cand[j]), mean_return=f_mean,
-                       candidate_gain=float(f_cand[j]) - f_mean, candidate_accepted=int(accept),
+            gain = float(np.mean(extra_returns[j] - extra_returns[-1]))  # over every episode both ran
+            out.update(candidate_return=float(f_cand[j]), mean_return=f_mean, candidate_gain=gain, candidate_accepted=int(accept),
                        candidate_scale=float(self.cfg.scales[j]),
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
@@ -99,6 +113,9 @@ class MeanCandidate(Mechanism):
             rows = [mu + s * d for s in self.cfg.scales] + ([held] if held is not None else []) + [mean]
             self.extras, self.pending = np.stack(rows).astype(np.float32), int(held is not None)
         return out
+
+    def sleep(self) -> None:
+        self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
 
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params

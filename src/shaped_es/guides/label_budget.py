@@ -1,0 +1,121 @@
+"""When the labels keep losing, the shaped run stops paying for them (and tries again later).
+
+A candidate mechanism's labels pay only through accepted candidates. Each generation where a candidate
+was judged (its returns compared with the population's) is a *judgement*; ``patience`` judgements in a
+row without an acceptance put the guide to sleep: for ``sleep`` generations it records no steps, trains
+no ``M_phi``, evaluates no candidate or babbler and clones nothing -- the generation is Vanilla-ES's, at
+Vanilla-ES's price. Then it wakes: one generation to record and clone, then ``WAKE_JUDGED`` judgements;
+an acceptance keeps it awake (and resets the sleep to ``first_sleep``), none sends it back to sleep for
+twice as long (at most ``max_sleep``): an exponential back-off, the schedule a retrying client uses.
+
+So a run whose labels never pay spends, after its first ``patience`` judgements, at most about
+``(1 + WAKE_JUDGED) / (1 + WAKE_JUDGED + max_sleep)`` of its generations on shaping. State is a few
+integers, saved in the checkpoint (resume is exact).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+WAKE_JUDGED = 2  # judgements a woken guide gets to show a win before it sleeps again
+FIRST_SLEEP = 4  # generations of the first sleep
+
+
+class LabelBudget:
+    """Counts judgements and acceptances; decides whether a generation is shaped (:attr:`awake`)."""
+
+    def __init__(self, patience: int, max_sleep: int, first_sleep: int = FIRST_SLEEP):
+        self.patience, self.max_sleep = int(patience), int(max_sleep)
+        self.first_sleep = max(1, min(int(first_sleep), self.max_sleep)) if self.max_sleep else 0
+        self.losses = 0  # judgements in a row without an acceptance
+        self.sleep = self.first_sleep  # the next sleep's length
+        self.asleep_left = 0  # generations of the current sleep still to come
+        self.trial = 0  # judgements left in a wake-up trial (0: not in a trial)
+        self.sleeps = 0  # sleeps begun (the guide warns at the first)
+        self.silent = 0  # generations slept through
+        self.judged = 0
+        self.accepted = 0
+        self.gain_sum = 0.0
+
+    @property
+    def enabled(self) -> bool:
+        return self.patience > 0 and self.max_sleep > 0
+
+    @property
+    def awake(self) -> bool:
+        return self.asleep_left == 0
+
+    def begin(self) -> bool:
+        """Called at the start of a generation; True when it is shaped."""
+        if self.asleep_left:
+            self.asleep_left -= 1
+            self.silent += 1
+            if self.asleep_left == 0:
+                self.trial = WAKE_JUDGED  # wakes after this generation, on trial
+            return False
+        return True
+
+    def judge(self, accepted: bool, gain: float | None) -> bool:
+        """Record one judgement; True when it puts the guide to sleep (from the next generation)."""
+        self.judged += 1
+        self.accepted += int(accepted)
+        if gain is not None and np.isfinite(gain):
+            self.gain_sum += float(gain)
+        if accepted:
+            self.losses, self.trial, self.sleep = 0, 0, self.first_sleep
+            return False
+        self.losses += 1
+        if not self.enabled:
+            return False
+        if self.trial:
+            self.trial -= 1
+            if self.trial:
+                return False
+        elif self.losses < self.patience:
+            return False
+        self.asleep_left, self.trial, self.sleeps = self.sleep, 0, self.sleeps + 1
+        self.sleep = min(2 * self.sleep, self.max_sleep)
+        return True
+
+    def summary(self) -> dict:
+        """What shaping did, for the final JSON and the progress line."""
+        return {"candidates_judged": self.judged, "candidates_accepted": self.accepted,
+                "mean_gain": self.gain_sum / self.judged if self.judged else None,
+                "generations_backed_off": self.silent, "asleep": not self.awake}
+
+    _FIELDS = ("losses", "sleep", "asleep_left", "trial", "sleeps", "silent", "judged", "accepted")
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        return {"ints": np.array([getattr(self, f) for f in self._FIELDS], np.int64),
+                "gain_sum": np.array([self.gain_sum], np.float64)}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        if "ints" not in state:  # a checkpoint from before the budget: start counting now
+            return
+        ints = np.asarray(state["ints"], np.int64).reshape(-1)
+        if ints.size != len(self._FIELDS) or (ints < 0).any():
+            raise ValueError(f"label budget state has {ints.size} counters (expected {len(self._FIELDS)}, "
+                             f"none negative)")
+        for f, v in zip(self._FIELDS, ints):
+            setattr(self, f, int(v))
+        self.gain_sum = float(np.asarray(state.get("gain_sum", [0.0]), np.float64).reshape(-1)[0])
+
+
+def _num(v) -> float | None:
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        return None
+    return x if np.isfinite(x) else None
+
+
+def rows_summary(rows: list[dict]) -> dict | None:
+    """What shaping did over a run's metrics rows (None: no candidate columns, not a candidate run):
+    candidates judged and accepted, their mean return gain, generations backed off."""
+    if not rows or "candidate_accepted" not in rows[0]:
+        return None
+    acc = [a for a in (_num(r.get("candidate_accepted")) for r in rows) if a is not None]
+    gains = [g for g in (_num(r.get("candidate_gain")) for r in rows) if g is not None]
+    asleep = sum(1 for r in rows if _num(r.get("shaping_awake")) == 0)
+    return {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
+            "mean_gain": float(np.mean(gains)) if gains else None, "generations_backed_off": asleep}

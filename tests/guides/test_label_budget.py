@@ -1,0 +1,117 @@
+"""The label budget (guides/label_budget.py): its back-off schedule, its state, and a shaped run on an env
+whose labels cannot pay (the waypoint space is noise): it backs off, says so once, costs at most 1.2x
+Vanilla-ES's env steps, and resumes exactly across a crash while asleep."""
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from helpers import new_run, npz_round_trip, run_until_crash, strip_time, train
+from shaped_es.guides.label_budget import FIRST_SLEEP, WAKE_JUDGED, LabelBudget, rows_summary
+from shaped_es.trainer import Trainer
+
+
+def _run(budget: LabelBudget, wins: list[bool]) -> str:
+    """Feed one judgement per awake generation; returns the awake pattern '1'/'0' per generation."""
+    out, it = [], iter(wins)
+    for _ in range(len(wins) * 10):
+        awake = budget.begin()
+        out.append("1" if awake else "0")
+        if awake:
+            try:
+                budget.judge(next(it), 0.0)
+            except StopIteration:
+                break
+    return "".join(out)
+
+
+def test_losses_back_off_exponentially_and_a_win_resets():
+    b = LabelBudget(patience=3, max_sleep=8)
+    pattern = _run(b, [False] * 9)
+    # 3 losses, sleep 4, a trial of 2 losses, sleep 8, a trial of 2, sleep 8 (capped) ...
+    assert pattern.startswith("111" + "0" * FIRST_SLEEP + "1" * WAKE_JUDGED + "0" * 8 + "11" + "0" * 8)
+    assert b.sleeps == 4 and b.accepted == 0 and b.judged == 9
+    b2 = LabelBudget(patience=3, max_sleep=8)
+    # a win during the trial keeps it awake and resets the sleep to the first length
+    pattern = _run(b2, [False, False, False, True, False, False, False])
+    assert pattern.startswith("111" + "0" * FIRST_SLEEP + "1111" + "0" * FIRST_SLEEP)
+    assert b2.sleeps == 2 and b2.accepted == 1
+
+
+def test_disabled_budget_never_sleeps():
+    assert _run(LabelBudget(patience=0, max_sleep=32), [False] * 20) == "1" * 21
+
+
+def test_state_round_trip_continues_the_schedule():
+    a = LabelBudget(5, 32)
+    _run(a, [False] * 6)
+    b = LabelBudget(5, 32)
+    b.load_state_dict(npz_round_trip(a.state_dict()))
+    assert [b.begin() for _ in range(12)] == [a.begin() for _ in range(12)]
+    with pytest.raises(ValueError, match="counters"):
+        b.load_state_dict({"ints": np.array([1, 2])})
+
+
+def test_rows_summary():
+    rows = [{"candidate_accepted": "", "candidate_gain": "", "shaping_awake": "1"},
+            {"candidate_accepted": "1", "candidate_gain": "2.0", "shaping_awake": "1"},
+            {"candidate_accepted": "0", "candidate_gain": "-4.0", "shaping_awake": "1"},
+            {"candidate_accepted": "", "candidate_gain": "", "shaping_awake": "0"}]
+    assert rows_summary(rows) == {"candidates_judged": 2, "candidates_accepted": 1, "mean_gain": -1.0,
+                                  "generations_backed_off": 1}
+    assert rows_summary([{"train_reward_mean": "1"}]) is None
+
+
+class NoisyWaypoints(gym.Env):
+    """Reward for matching the observation with the action; the waypoint space is noise, so labels from
+    position changes carry no information about good actions."""
+
+    observation_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        return self.x.copy(), self._info()
+
+    def _info(self):
+        return {"position": self.np_random.normal(size=2), "waypoint": self.np_random.normal(size=2)}
+
+    def step(self, action):
+        r = -float(np.sum((np.asarray(action) - self.x[::-1]) ** 2))
+        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        return self.x.copy(), r, False, False, self._info()
+
+
+gym.register("NoisyWaypoints-v0", entry_point=NoisyWaypoints, max_episode_steps=10)
+
+CFG = {"env": "NoisyWaypoints-v0", "executor": "inline", "method": "shaped", "generations": 40, "seed": 3,
+       "es": {"pairs": 4}, "policy": {"hidden": [4]},
+       "rollout": {"episodes": 2, "test_episodes": 2, "test_every": 5},
+       "shaping": {"inverse_dynamics": {"steps_per_generation": 20, "babble": 0}, "history": 2,
+                   "backoff_after": 3, "backoff_max": 16,
+                   "mean_clone": {"steps": 10, "batch_size": 16}},
+       "tensorboard": False}
+
+
+def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
+    rows = train(tmp_path / "shaped", CFG).read_metrics()
+    err = capsys.readouterr().err
+    assert err.count("shaping backs off") == 1
+    awake = "".join(r["shaping_awake"] for r in rows)
+    s = rows_summary(rows)
+    assert s["candidates_accepted"] < s["candidates_judged"] and "0" * 8 in awake
+    vanilla = train(tmp_path / "vanilla", {**CFG, "method": "vanilla", "shaping": {}}).read_metrics()
+    # env steps stand for the price: the candidates' episodes are the shaped run's extra rollouts
+    assert int(rows[-1]["env_steps"]) <= 1.2 * int(vanilla[-1]["env_steps"])
+
+
+def test_resume_is_exact_across_a_crash_while_asleep(tmp_path, monkeypatch):
+    cfg = {**CFG, "generations": 16}
+    full = train(tmp_path / "full", cfg).read_metrics()
+    asleep = [int(r["generation"]) for r in full if r["shaping_awake"] == "0"]
+    assert asleep, "the schedule should sleep within 16 generations"
+    c, store = new_run(tmp_path / "crashed", cfg)
+    run_until_crash(monkeypatch, c, store, asleep[1])
+    Trainer(c, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)
