@@ -113,6 +113,18 @@ METHODS: dict[str, Method] = {
                            "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "
                            "the population as a candidate mean (shaping.mechanism; needs info['position'] "
                            "and info['waypoint'])"),
+    "shaped_cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
+                           guide="shaped_es.guides.shaped:ShapedGuide",
+                           guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
+                                                                       "probe": probe},
+                           probe_reset=True, state_bytes=_cmaes_state_bytes,
+                           reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
+                                  "es.cmaes_diagonal_above", "shaping"),
+                           checks=("shaped_es.guides.shaped_setup:check_shaped",
+                                   "shaped_es.guides.shaped_setup:check_candidate_only"),
+                           knobs=("es.sigma",),
+                           about="the shaped method's candidate over CMA-ES (an accepted candidate becomes "
+                                 "CMA's mean): for bodies where CMA-ES is the best baseline (arms)"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget
     "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo"),
                   checks=("shaped_es.baselines.ppo_settings:check_ppo",),

@@ -240,3 +240,15 @@ def test_paired_win_needs_more_than_a_standard_error():
     assert paired_win(np.array([1.0, 1.2, 0.9, 1.1]), mean)  # a steady gain
     assert not paired_win(np.array([9.0, -3.0, -3.0, -2.0]), mean)  # one lucky episode
     assert not paired_win(np.array([-1.0, -1.0, -1.0, -1.0]), mean)
+
+
+def test_shaped_cmaes_resumes_exactly(tmp_path, monkeypatch):
+    """The candidate over CMA-ES (--method shaped_cmaes): the controller's candidates are judged, and a
+    run crashed at generation 3 resumes to the uninterrupted run's rows."""
+    cfg = {**TINY, "method": "shaped_cmaes", "shaping": _shaping(labels="controller")}
+    full = train(tmp_path / "full", cfg).read_metrics()
+    assert any(r["candidate_accepted"] in ("0", "1") for r in full)
+    c, store = new_run(tmp_path / "crashed", cfg)
+    run_until_crash(monkeypatch, c, store, 3)
+    Trainer(c, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)

@@ -61,6 +61,14 @@ def check_shaped(cfg: RunConfig, probe: EnvProbe) -> None:
         reference_actions(cfg.shaping.reference_run, spec)
 
 
+def check_candidate_only(cfg: RunConfig, probe: EnvProbe) -> None:
+    """``shaped_cmaes``: CMA-ES takes the candidate (``set_mean``), not a Guided-ES subspace or pair."""
+    if cfg.shaping.mechanism != "candidate":
+        raise ConfigError(f"--method shaped_cmaes uses shaping.mechanism=candidate (CMA-ES takes a candidate "
+                          f"mean, not the {cfg.shaping.mechanism!r} mechanism's directions); drop the setting "
+                          f"or use --method shaped")
+
+
 def check_labels(cfg: RunConfig, spec: MLPSpec, probe: EnvProbe | None = None) -> None:
     """One clear ``ConfigError`` if ``shaping.labels`` cannot serve this run: ``reference`` without
     ``shaping.reference_run`` (or with mechanism ``paper`` on the workers), ``controller`` on an env without

@@ -74,6 +74,7 @@ class CMAES(Strategy):
                                                                    self._options()))
         self._pending: list[np.ndarray] | None = None  # solutions asked, awaiting tell
         self._history: list[np.ndarray] = []  # told raw fitness, one (popsize,) row per generation
+        self._jumps: dict[int, np.ndarray] = {}  # generation -> the mean set_mean moved to (replayed)
 
     def _isolated(self, fn):
         """Run ``fn`` with our numpy global RNG state; restore the caller's afterwards."""
@@ -112,10 +113,27 @@ class CMAES(Strategy):
         self._history.append(f.copy())
         self.generation += 1
 
+    def set_mean(self, x) -> None:
+        """Move the mean to ``x`` (n,) before the next ``ask`` (an accepted candidate of the shaped
+        method): pycma's mean is set as it is, with step size, paths and covariance kept -- a jump CMA's
+        own update did not make, so its evolution paths do not learn from it (Hansen 2011's injection
+        would; an injected solution moves the mean by one member's weight, too little for a jump). The
+        jump is recorded, and the replay of ``load_state_dict`` repeats it."""
+        if self._pending is not None:
+            raise RuntimeError("set_mean() between ask() and tell()")
+        x = np.array(x, dtype=np.float64).reshape(-1)
+        if x.shape != (self.num_params,) or not np.isfinite(x).all():
+            raise ValueError(f"mean must be {self.num_params} finite values, got shape {x.shape}")
+        self._es.mean[:] = x
+        self._jumps[self.generation] = x.copy()
+
     # -- state --------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
         hist = np.array(self._history, dtype=np.float64).reshape(len(self._history), self.popsize)
-        return self._base_state() | {"fitness_history": hist, "mean": self.mean}  # hist (G, 2P)
+        gens = sorted(self._jumps)
+        jumps = np.array([[g, *self._jumps[g]] for g in gens], np.float64).reshape(len(gens), self.num_params + 1)
+        return self._base_state() | {"fitness_history": hist, "mean": self.mean,  # hist (G, 2P)
+                                     "jumps": jumps}  # (J, 1 + n): generation, the mean moved to
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Rebuild pycma from x0 and replay the saved generations (bitwise-exact continuation)."""
@@ -124,10 +142,18 @@ class CMAES(Strategy):
             raise ValueError(f"fitness_history has shape {hist.shape}, expected (G, {self.popsize})")
         if int(np.asarray(state["generation"])) != hist.shape[0]:
             raise ValueError("fitness_history length does not match generation")
+        jumps = np.asarray(state.get("jumps", np.zeros((0, self.num_params + 1))), np.float64)
+        if jumps.ndim != 2 or jumps.shape[1] != self.num_params + 1:
+            raise ValueError(f"jumps has shape {jumps.shape}, expected (J, {self.num_params + 1})")
         self._build()
         self.generation = 0
+        moves = {int(j[0]): j[1:] for j in jumps}
+        if 0 in moves:
+            self.set_mean(moves[0])
         for row in hist:
             self.tell(row)
+            if self.generation in moves:
+                self.set_mean(moves[self.generation])
         self._load_base(state)  # best-so-far as saved (the replay recomputed the same)
         saved = np.asarray(state["mean"], dtype=np.float64)
         if not np.array_equal(saved, self.mean):
