@@ -401,8 +401,8 @@ class ShapedGuide(NoGuide):
             b = self.budget
             print(f"shaped-es: warning: the labels' candidate won {b.accepted} of {b.judged} generations "
                   f"(mean gain {b.gain_sum / b.judged:+.3g}): shaping backs off (sleeps {b.asleep_left} "
-                  f"generations, then longer, waking to try again; column shaping_awake) -- here the run is "
-                  f"Vanilla-ES at about its price; try shaping.labels=controller (if the env has a "
+                  f"generations, then longer, waking to try again; column shaping_awake): a sleeping "
+                  f"generation is the ES strategy's alone, at its price; try shaping.labels=controller (if the env has a "
                   f"waypoint_controller) to tell the labels' quality from their use, another "
                   f"shaping.inverse_dynamics.frame, or --method vanilla / cmaes", file=sys.stderr)
 
