@@ -18,6 +18,7 @@ BUILTIN = {
     "PointVel-v0": ("shaped_es.envs.planar.pointvel", "PointVelVectorEnv", 8.5),
     "PointForce-v0": ("shaped_es.envs.planar.pointforce", "PointForceVectorEnv", 8.5),
     "Unicycle-v0": ("shaped_es.envs.planar.unicycle", "UnicycleVectorEnv", 8.5),
+    "ReacherWay-v0": ("shaped_es.envs.reacher", None, -7.0),
 }
 
 
