@@ -63,6 +63,78 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     return b
 
 
+# -- suite -----------------------------------------------------------------------------------------------
+def add_suite_parser(sub) -> argparse.ArgumentParser:
+    from shaped_es.benchmark.suite import DEFAULT_METHODS as SUITE_METHODS
+    from shaped_es.benchmark.suite import DEFAULT_SUITE, SUITES
+    from shaped_es.config import set_item
+    from shaped_es.executors import EXECUTORS
+
+    s = sub.add_parser("suite", help="the suite study: a benchmark per task of a waypoint task suite, one table")
+    ssub = s.add_subparsers(dest="what", required=True)
+    r = ssub.add_parser("run", help="run every (task, method, seed) resumably, then write suite.md / suite.json")
+    r.add_argument("--out", required=True, help="suite directory (rerun to skip finished runs)")
+    r.add_argument("--suite", default=DEFAULT_SUITE, choices=tuple(SUITES), help=f"(default {DEFAULT_SUITE})")
+    r.add_argument("--tasks", help="comma-separated env ids of the suite (default: all; shaped-es suite list)")
+    r.add_argument("--methods", default=",".join(SUITE_METHODS),
+                   help=f"comma-separated methods (default {','.join(SUITE_METHODS)})")
+    r.add_argument("--seeds", type=int, default=10, help="seeds per method (FIRST..FIRST+N-1; default 10)")
+    r.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
+    r.add_argument("--generations", type=int,
+                   help="generations of every run (default: each task's budget in the suite, shaped-es suite list)")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE", type=set_item,
+                   help="override a config field of every run, e.g. es.sigma=0.1 (repeatable)")
+    r.add_argument("--executor", choices=tuple(EXECUTORS), help="where rollouts run (default: process)")
+    r.add_argument("--workers", type=int, help="worker count (default: all cores)")
+    r.add_argument("--estimate-only", action="store_true",
+                   help="print what the suite would cost (a short timing per task and method) and stop")
+    r.add_argument("--quiet", action="store_true", help="no per-run progress display (the [suite] lines stay)")
+    r.set_defaults(fn=cmd_suite_run)
+    rep = ssub.add_parser("report", help="write DIR/suite.md and DIR/suite.json from a suite's runs")
+    rep.add_argument("dir", help="suite directory (of shaped-es suite run)")
+    rep.set_defaults(fn=cmd_suite_report)
+    ls = ssub.add_parser("list", help="the suites' tasks and generation budgets")
+    ls.set_defaults(fn=cmd_suite_list)
+    return s
+
+
+def cmd_suite_run(a: argparse.Namespace) -> int:
+    from shaped_es.benchmark.suite import run_suite
+    from shaped_es.config import ConfigError, parse_set
+
+    if a.seeds <= 0 or a.first_seed < 0:
+        raise ConfigError("--seeds must be positive and --first-seed non-negative")
+    if a.generations is not None and a.generations <= 0:
+        raise ConfigError(f"--generations must be positive, got {a.generations}")
+    overrides = {k: v for k, v in {"executor": a.executor, "workers": a.workers}.items() if v is not None}
+    overrides.update(parse_set(a.set))
+    res = run_suite(a.out, suite=a.suite, tasks=[t.strip() for t in a.tasks.split(",") if t.strip()] if a.tasks
+                    else None, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),
+                    seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=a.generations,
+                    overrides=overrides, progress=not a.quiet, estimate_only=a.estimate_only)
+    print(json.dumps(res))
+    return 0
+
+
+def cmd_suite_report(a: argparse.Namespace) -> int:
+    from shaped_es.benchmark.suite import write_suite_report
+
+    print(json.dumps(write_suite_report(a.dir)))
+    return 0
+
+
+def cmd_suite_list(a: argparse.Namespace) -> int:
+    from shaped_es.benchmark.suite import SUITES
+    from shaped_es.benchmark.summary import builtin_threshold
+
+    for name, tasks in SUITES.items():
+        print(f"{name}:")
+        for t in tasks:
+            thr = builtin_threshold(t.env)
+            print(f"  {t.env:<15} {t.generations:>4} generations  threshold {thr[0] if thr else '-':<6}  {t.note}")
+    return 0
+
+
 def add_threshold(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threshold", type=float,
                    help="success threshold on the test reward (default: CarNav-v0 200, UR5Reach-v0 40, "

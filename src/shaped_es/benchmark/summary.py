@@ -271,7 +271,22 @@ def env_threshold(cfg: RunConfig | None) -> tuple[float, str] | None:
     env = cfg.env.rsplit(":", 1)[-1]
     kwargs = cfg.env_kwargs or {}
     rescaled = [k for k in REWARD_SCALE_KEYS if k in kwargs and not (k == "preset" and kwargs[k] == "default")]
-    return None if rescaled else DEFAULT_THRESHOLDS.get(env)
+    return None if rescaled else builtin_threshold(env)
+
+
+def builtin_threshold(env: str) -> tuple[float, str] | None:
+    """A built-in env's success threshold at its default reward scale and where it comes from: the
+    ``reward_threshold`` registered with its EnvSpec (``envs.BUILTIN``; its reason in the env module's
+    docstring), CarNav-v0's and UR5Reach-v0's with their reasons here. None for any other env."""
+    from shaped_es.envs import BUILTIN
+
+    env = env.rsplit(":", 1)[-1]
+    if env in DEFAULT_THRESHOLDS:
+        return DEFAULT_THRESHOLDS[env]
+    entry = BUILTIN.get(env)
+    if entry is None or entry[2] is None:
+        return None
+    return float(entry[2]), f"{env} reward_threshold (registered; its reason in the env's docstring)"
 
 
 def resolve_threshold(threshold: float | None, finals: dict[str, float], cfg: RunConfig | None = None,

@@ -235,8 +235,15 @@ def _presets(env_id: str) -> list[str]:
         return []
     import importlib
 
-    module = importlib.import_module(BUILTIN[env_id][0].rsplit(".", 1)[0] + ".config")
-    return sorted(getattr(module, "PRESETS", {}))
+    module = BUILTIN[env_id][0]  # its PRESETS: in the env's module, else in a config module beside it
+    for name in (module, module.rsplit(".", 1)[0] + ".config"):
+        try:
+            presets = getattr(importlib.import_module(name), "PRESETS", None)
+        except ImportError:
+            continue
+        if presets is not None:
+            return sorted(presets)
+    return []
 
 
 def _line(text: str) -> str:

@@ -326,9 +326,10 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
     e.set_defaults(fn=cmd_evaluate)
 
-    from shaped_es.benchmark.cli_commands import add_benchmark_parser
+    from shaped_es.benchmark.cli_commands import add_benchmark_parser, add_suite_parser
 
     add_benchmark_parser(sub)
+    add_suite_parser(sub)
     add_report_parser(sub)
     add_render_parser(sub)
     from shaped_es.cli import info as cli_info

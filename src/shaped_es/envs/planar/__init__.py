@@ -1,0 +1,9 @@
+"""Planar waypoint bodies of the task suite: ``PointVel-v0`` (holonomic point, velocity control),
+``PointForce-v0`` (point mass, force control with damping: second order) and ``Unicycle-v0`` (differential
+drive: forward speed and turn rate).
+
+They share one task (``task.py``): a random start and goal per episode, spatial waypoints every
+``waypoint_spacing`` on the start-goal line (consumed when reached or passed), a dense progress reward,
+and one batched NumPy core (``core.py``) whose body (``pointvel.py``, ``pointforce.py``, ``unicycle.py``)
+supplies only its dynamics, its observation and its waypoint controller.
+"""

@@ -1,0 +1,68 @@
+"""``shaped-es suite``: every (task, method, seed) run resumably with progress lines, one table in Markdown
+and JSON, the budgets table, the acceptance rate and the thresholds from the registered EnvSpecs."""
+
+import json
+
+import numpy as np
+import pytest
+
+from shaped_es.benchmark.suite import SUITES, acceptance, run_suite, suite_tasks, write_suite_report
+from shaped_es.benchmark.summary import builtin_threshold
+from shaped_es.cli import main
+from shaped_es.config import ConfigError
+from shaped_es.rundir.store import StoreError
+
+TINY = {"executor": "inline", "tensorboard": False, "rollout.test_episodes": 3, "es.pairs": 4}
+
+
+def test_two_tasks_two_seeds_run_resume_and_report(tmp_path):
+    logs = []
+    res = run_suite(tmp_path, tasks=["PointVel-v0", "Unicycle-v0"], methods=("shaped", "vanilla"), seeds=(0, 1),
+                    generations=2, overrides=TINY, progress=False, log=logs.append)
+    assert sum("new" in m for m in logs if m.startswith("[suite] ") and "runs (" in m) == 8
+    assert any(m.startswith("[suite] 8/8 runs") for m in logs)  # progress: runs done of all
+    data = json.loads((tmp_path / "suite.json").read_text())
+    assert [r["task"] for r in data["tasks"]] == ["PointVel-v0", "Unicycle-v0"]
+    row = data["tasks"][0]
+    assert row["threshold"]["value"] == 8.5 and "reward_threshold" in row["threshold"]["source"]
+    assert row["budget_generations"] == 2 and set(row["methods"]) == {"shaped", "vanilla"}
+    for m in row["methods"].values():
+        assert m["seeds"] == 2 and m["solved"] == 0 and m["generations_to_threshold"] == 3.0  # censored
+        assert m["final_iqm"] is not None and len(m["final_iqm_ci"]) == 2
+    assert row["ratios"]["vs_vanilla"]["generations_to_threshold"] == 1.0
+    assert row["best_baseline"] == "vanilla" and "acceptance" in row["methods"]["shaped"]
+    md = (tmp_path / "suite.md").read_text()
+    assert "| PointVel-v0 | 8.50 | 2 |" in md and "| Unicycle-v0 |" in md
+    assert res["report"].endswith("suite.md")
+    # a rerun skips every finished run and rewrites the same table
+    logs.clear()
+    run_suite(tmp_path, tasks=["PointVel-v0", "Unicycle-v0"], methods=("shaped", "vanilla"), seeds=(0, 1),
+              generations=2, overrides=TINY, progress=False, log=logs.append)
+    assert sum("skipped" in m for m in logs) == 8 and not any(": new" in m for m in logs)
+    assert json.loads((tmp_path / "suite.json").read_text())["tasks"] == data["tasks"]
+
+
+def test_acceptance_rate_pools_generations_with_a_candidate():
+    runs = [{"candidate_accepted": np.array([np.nan, 0, 1, 1]), "candidate_gain": np.array([np.nan, -1, 2, 2])},
+            {"candidate_accepted": np.array([0.0, 0.0]), "candidate_gain": np.array([-3.0, -1.0])}]
+    a = acceptance(runs)
+    assert (a["accepted"], a["generations"]) == (2, 5) and a["rate"] == pytest.approx(0.4)
+    assert a["mean_gain"] == pytest.approx(-0.2)
+    assert acceptance([{"generation": np.arange(3)}])["rate"] is None  # vanilla: no candidate column
+
+
+def test_suite_table_and_thresholds():
+    envs = [t.env for t in SUITES["waypoints"]]
+    assert {"PointVel-v0", "PointForce-v0", "Unicycle-v0", "ReacherWay-v0", "CarNav-v0", "UR5Reach-v0"} <= set(envs)
+    for t in SUITES["waypoints"]:
+        assert t.generations > 0 and builtin_threshold(t.env) is not None
+    assert [t.env for t in suite_tasks("waypoints", ["Unicycle-v0", "PointVel-v0"])] == ["PointVel-v0", "Unicycle-v0"]
+    with pytest.raises(ConfigError, match="not in suite"):
+        suite_tasks("waypoints", ["Pendulum-v1"])
+    with pytest.raises(StoreError, match="no suite"):
+        write_suite_report("/nonexistent/suite")
+
+
+def test_cli_bad_input_is_one_line(capsys):
+    assert main(["suite", "run", "--out", "/tmp/x", "--tasks", "Nope-v0"]) == 2
+    assert "not in suite" in capsys.readouterr().err
