@@ -159,3 +159,10 @@ def test_ended_episodes_stay_unchanged():
     after, _, rew, *_ = core.step(state, np.ones((2, 2), np.float32))
     np.testing.assert_array_equal(after.pos, state.pos)
     assert (rew == 0).all() and (after.steps == 3).all()
+
+
+def test_envs_lists_the_presets_from_the_env_module():
+    from shaped_es.cli.check_env import _presets
+
+    assert _presets("PointVel-v0") == ["default"] and _presets("CarNav-v0") == ["default", "paper"]
+    assert _presets("ReacherWay-v0") == ["default"] and _presets("CartPole-v1") == []

@@ -19,7 +19,7 @@ BUILTIN = {
     "PointForce-v0": ("shaped_es.envs.planar.pointforce", "PointForceVectorEnv", 8.5),
     "Unicycle-v0": ("shaped_es.envs.planar.unicycle", "UnicycleVectorEnv", 8.5),
     "ReacherWay-v0": ("shaped_es.envs.reacher", "ReacherWayVectorEnv", -6.5),
-    "SwimmerWay-v0": ("shaped_es.envs.swimmer", "SwimmerWayVectorEnv", 20.0),
+    "SwimmerWay-v0": ("shaped_es.envs.swimmer", "SwimmerWayVectorEnv", 30.0),
 }
 
 

@@ -1,8 +1,8 @@
 """``SwimmerWay-v0``: Gymnasium's MuJoCo ``Swimmer-v5`` (a 3-link planar swimmer in a viscous fluid, two
-joint torques) with timed waypoints along +x, cut to 150 steps: a body whose displacement comes from a
+joint torques) with timed waypoints along +x, cut to 100 steps: a body whose displacement comes from a
 gait (undulation), not from any one action.
 
-The episodes are Swimmer-v5's for their first 150 steps: its model file (``swimmer.xml`` of Gymnasium's
+The episodes are Swimmer-v5's for their first 100 steps: its model file (``swimmer.xml`` of Gymnasium's
 assets), its reset noise drawn in its order from ``gymnasium.utils.seeding.np_random(seed)``, its frame
 skip, observation and reward (tested against ``gymnasium.make("Swimmer-v5")``), stepped by a batched
 core (``mujoco.batch``, as UR5Reach-v0).
@@ -12,21 +12,24 @@ Action             ``Box(-1, 1, (2,))``: the two joint torques (Swimmer-v5's)
 Observation        ``Box(-inf, inf, (8,))``: Swimmer-v5's: body angle and joint angles (3), velocities of
                    the slides, body and joints (5). No position, no waypoints.
 Reward             Swimmer-v5's: ``reward_forward`` the x velocity (m/s) + ``reward_ctrl`` -1e-4 |a|^2
-Episode            Swimmer-v5's start (+-0.1 noise on positions and velocities); 150 steps of 0.04 s (6 s)
+Episode            Swimmer-v5's start (+-0.1 noise on positions and velocities); 100 steps of 0.04 s (4 s)
 info               ``position`` (2,) the front body's slide (x, y), ``waypoint`` (2,) its scheduled place
                    after the next step: ``start + (speed * dt * (t + 1), 0)``, ``waypoint_index``, the terms
 =================  ======================================================================================
 
-A return is 150 x the mean x velocity (m/s): 15 is 0.1 m/s.
+A return is 100 x the mean x velocity (m/s): 30 is 0.3 m/s.
 
 Waypoint controller (an oracle of a kind: a gait, not an inverse of the waypoint): the waypoints run
 along +x, so it is the open-loop forward undulation ``a_j = sin(2 pi f t dt + phase_j)`` (f = 0.8 Hz,
-phases 0 and -60 deg: the best of a 4 x 3 grid), which keeps the body near them (0.21 m/s against their
-0.2). It does not read the waypoint: gating the gait by the body's lag behind it cut its return in half
+phases 0 and -60 deg: the best of a 4 x 3 grid over 150 steps), which keeps the body near them once
+under way (0.21 m/s over 150 steps against their 0.2). It does not read the waypoint: gating the gait by the body's lag behind it cut its return in half
 (the front body's x oscillates over each stroke, so the gate stops the gait mid-stroke).
 
-Threshold (``reward_threshold`` 20): a mean forward speed of 0.13 m/s, two thirds of the waypoints'; the
-controller scores 32.3 (20 episodes, min 28.2); zero torque scores 0.7 (the start's velocity noise).
+Threshold (``reward_threshold`` 30): a mean forward speed of 0.3 m/s from rest, faster than the
+waypoints. Not the controller's return less a margin: the gait scores 19.0 (20 episodes, min 17.0) and
+random MLP policies already undulate (Vanilla-ES's generation-0 test reward: 23.4), so the threshold is
+set where learning shows: Vanilla-ES (defaults, seed 0) passes 29 at generation 15-20. Zero torque
+scores 0.5 (the start's velocity noise).
 """
 
 from __future__ import annotations
@@ -47,7 +50,7 @@ from shaped_es.envs.presets import preset_config
 from shaped_es.envs.vector import vector_entry_point
 
 ENV_ID = "SwimmerWay-v0"
-REWARD_THRESHOLD = 20.0  # see the module docstring
+REWARD_THRESHOLD = 30.0  # see the module docstring
 OBS_DIM, ACT_DIM, POS_DIM = 8, 2, 2
 
 
@@ -59,7 +62,7 @@ def swimmer_xml() -> str:
 
 @dataclass(frozen=True)
 class SwimmerWayConfig:
-    max_steps: int = 150  # the episode is truncated after this many steps (Swimmer-v5: 1000)
+    max_steps: int = 100  # the episode is truncated after this many steps (Swimmer-v5: 1000)
     waypoint_speed: float = 0.2  # the waypoints move along +x at this speed (m/s)
     frame_skip: int = 4  # Swimmer-v5's (dt = 0.04 s)
     forward_reward_weight: float = 1.0  # Swimmer-v5's

@@ -12,9 +12,9 @@ info               ``position`` (2,), ``waypoint`` (2,) next line waypoint (ever
 =================  ======================================================================================
 
 Waypoint controller: the velocity that reaches the waypoint, at most full speed (``unit_norm``).
-Threshold (``reward_threshold`` 8.5): the controller scores 9.53 (mean of 20 episodes, min 9.27); 8.5 is
-the goal reached (progress at least ~9.5 of 10) with the step cost of a path at most ~1.5x as long as
-the controller's, or nearly reached.
+Threshold (``reward_threshold`` 8.5): the controller scores 9.53 (mean of 20 episodes, min 9.14); 8.5 is
+the goal reached with a path's step cost well above the controller's, or nearly reached. Vanilla-ES
+(defaults) first reaches it at generation 40 and 47 (seeds 0, 1); its generation-0 test reward is -6 to 2.
 """
 
 from __future__ import annotations
