@@ -66,3 +66,12 @@ def test_suite_table_and_thresholds():
 def test_cli_bad_input_is_one_line(capsys):
     assert main(["suite", "run", "--out", "/tmp/x", "--tasks", "Nope-v0"]) == 2
     assert "not in suite" in capsys.readouterr().err
+
+
+def test_estimate_only_prints_each_task_and_writes_nothing(tmp_path):
+    logs = []
+    res = run_suite(tmp_path / "s", tasks=["Unicycle-v0"], methods=("vanilla",), seeds=(0, 1), generations=3,
+                    overrides=TINY, progress=False, estimate_only=True, log=logs.append)
+    assert set(res["estimate_s"]) == {"Unicycle-v0"} and res["estimate_s"]["Unicycle-v0"] > 0
+    assert any(m.startswith("[suite] Unicycle-v0: estimate: vanilla: 2 runs") for m in logs)
+    assert logs[-1].startswith("[suite] estimate: total") and not (tmp_path / "s").exists()

@@ -83,7 +83,7 @@ def add_suite_parser(sub) -> argparse.ArgumentParser:
     r.add_argument("--generations", type=int,
                    help="generations of every run (default: each task's budget in the suite, shaped-es suite list)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", type=set_item,
-                   help="override a config field of every run, e.g. es.sigma=0.1 (repeatable)")
+                   help="override a config field of every run, e.g. es.sigma=0.1 (repeatable; default: none)")
     r.add_argument("--executor", choices=tuple(EXECUTORS), help="where rollouts run (default: process)")
     r.add_argument("--workers", type=int, help="worker count (default: all cores)")
     r.add_argument("--estimate-only", action="store_true",

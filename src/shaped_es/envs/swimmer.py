@@ -28,7 +28,7 @@ under way (0.21 m/s over 150 steps against their 0.2). It does not read the wayp
 Threshold (``reward_threshold`` 30): a mean forward speed of 0.3 m/s from rest, faster than the
 waypoints. Not the controller's return less a margin: the gait scores 19.0 (20 episodes, min 17.0) and
 random MLP policies already undulate (Vanilla-ES's generation-0 test reward: 23.4), so the threshold is
-set where learning shows: Vanilla-ES (defaults, seed 0) passes 29 at generation 15-20. Zero torque
+set where learning shows: Vanilla-ES (defaults) first reaches it at generation 13 and 9 (seeds 0, 1). Zero torque
 scores 0.5 (the start's velocity noise).
 """
 
