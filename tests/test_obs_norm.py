@@ -113,14 +113,16 @@ def _inline(workers: int) -> InlineExecutor:
     return ex
 
 
-def test_run_does_not_depend_on_the_worker_count_and_differs_from_no_norm(tmp_path):
+def test_run_does_not_depend_on_the_executor_or_worker_count_and_differs_from_no_norm(tmp_path):
     one = train(tmp_path / "one", TINY, executor=_inline(1))
     three = train(tmp_path / "three", TINY, executor=_inline(3))
-    assert strip_time(one.read_metrics()) == strip_time(three.read_metrics())
+    procs = train(tmp_path / "procs", {**TINY, "executor": "process", "workers": 2})  # tasks pickled
     a, _ = one.require_checkpoint()
-    b, _ = three.require_checkpoint()
-    for k in ("policy/obs_count", "policy/obs_mean", "policy/obs_m2", "policy/best_obs_mean", "policy/mean"):
-        np.testing.assert_array_equal(a[k], b[k])
+    for other in (three, procs):
+        assert strip_time(one.read_metrics()) == strip_time(other.read_metrics())
+        b, _ = other.require_checkpoint()
+        for k in ("policy/obs_count", "policy/obs_mean", "policy/obs_m2", "policy/best_obs_mean", "policy/mean"):
+            np.testing.assert_array_equal(a[k], b[k])
     rows = one.read_metrics()
     assert float(a["policy/obs_count"]) == float(rows[-1]["env_steps"])  # every training step counted once
     plain = train(tmp_path / "plain", {**TINY, "es": CARTPOLE_TINY["es"]})
