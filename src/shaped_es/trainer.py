@@ -38,10 +38,9 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from shaped_es import seeding
-from shaped_es.config import RunConfig, dump_config
+from shaped_es.config import ConfigError, RunConfig, dump_config
 from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
-from shaped_es.config import ConfigError
 from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
                                probe_env, run_task, warn_if_endless)
