@@ -70,6 +70,10 @@ class ESConfig(_Strict):
     cmaes_mu: Int = Field(25, gt=0, description="CMA-ES parents M_best (paper 25)")
     cmaes_weight_decay: Float = Field(0.05, ge=0, description="CMA-ES fitness weight decay (paper 0.05)")
     cmaes_diagonal_above: Int = Field(2000, gt=0, description="use separable CMA above this many params")
+    obs_norm: Bool = Field(False, description="running observation normalization (ARS V2): policies see "
+                           "clip((obs - mean) / sqrt(var + 1e-8), -5, 5), the statistics of the population's "
+                           "training rollouts up to the previous generation; saved with the policy (vanilla, "
+                           "guided, cmaes; PPO: its own; shaped: not yet)")
 
 
 class RolloutConfig(_Strict):

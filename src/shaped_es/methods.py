@@ -63,6 +63,9 @@ class Method:
     knobs: tuple[str, ...] = ("es.sigma", "es.lr")
     # "module:attr" of ``(cfg) -> dict`` merged into a report's summary.json (e.g. PPO's resolved settings).
     report_extra: str | None = None
+    # ES methods: why ``es.obs_norm`` cannot be used with it yet (None: it can); preflight and the trainer
+    # refuse the setting with this reason.
+    no_obs_norm: str | None = None
 
 
 def _es_args(cfg, seed: int) -> dict[str, Any]:
@@ -90,7 +93,7 @@ def _cmaes_args(cfg, seed: int) -> dict[str, Any]:
 VANILLA_ES = "shaped_es.strategies.vanilla:VanillaES"
 GUIDED_ES = "shaped_es.strategies.guided:GuidedES"
 ES_READS = ("es.pairs", "es.sigma", "es.lr", "es.optimizer", "es.momentum", "es.weight_decay",
-            "es.fitness_shaping")  # what _es_args reads
+            "es.fitness_shaping", "es.obs_norm")  # what _es_args reads, and the trainer's es.obs_norm
 
 METHODS: dict[str, Method] = {
     "vanilla": Method(strategy=VANILLA_ES, strategy_args=_es_args, reads=ES_READS,
@@ -101,7 +104,7 @@ METHODS: dict[str, Method] = {
                      about="Guided ES, the last ES updates as surrogate gradients (no waypoints)"),
     "cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
                     reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
-                           "es.cmaes_diagonal_above"), state_bytes=_cmaes_state_bytes,
+                           "es.cmaes_diagonal_above", "es.obs_norm"), state_bytes=_cmaes_state_bytes,
                     about="CMA-ES (pycma; separable above a size)"),
     "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
                      guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
@@ -109,6 +112,8 @@ METHODS: dict[str, Method] = {
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
                      checks=("shaped_es.preflight:check_es", "shaped_es.guides.shaped_setup:check_shaped"),
                      knobs=("es.sigma", "es.lr", "shaping.eta"),
+                     no_obs_norm="its clones and labels are fitted on raw recorded states (guides/shaped.py), "
+                                 "not yet through the policy's normalizer",
                      about="waypoint-shaped ES (the paper's method): action labels toward the env's waypoints "
                            "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "
                            "the population as a candidate mean (shaping.mechanism; needs info['position'] "
@@ -123,6 +128,8 @@ METHODS: dict[str, Method] = {
                            checks=("shaped_es.guides.shaped_setup:check_shaped",
                                    "shaped_es.guides.shaped_setup:check_candidate_only"),
                            knobs=("es.sigma",),
+                           no_obs_norm="its clones and labels are fitted on raw recorded states (guides/shaped.py), "
+                                       "not yet through the policy's normalizer",
                            about="the shaped method's candidate over CMA-ES (an accepted candidate becomes "
                                  "CMA's mean): for bodies where CMA-ES is the best baseline (arms)"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget

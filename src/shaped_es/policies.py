@@ -101,3 +101,68 @@ def forward_torch(spec: MLPSpec, params, obs):
         b = params[:, bs].unsqueeze(1)  # (P, 1, out)
         h = torch.tanh(torch.bmm(h, W) + b)  # (P, B, out)
     return h
+
+
+# -- observation normalization (ARS V2, Mania et al. 2018; OpenAI-ES; SB3's VecNormalize) ------------------
+OBS_CLIP = 5.0  # normalized observations are clipped to [-OBS_CLIP, OBS_CLIP] (ARS, OpenAI-ES)
+OBS_EPS = 1e-8  # added to the variance: a constant observation stays finite (VecNormalize's epsilon)
+
+
+@dataclass(frozen=True)
+class ObsNorm:
+    """The policy's input pipeline: ``obs' = clip((obs - mean) / std, -OBS_CLIP, OBS_CLIP)`` in float32,
+    applied before :func:`forward` (outside the flat parameters, the ARS way: a change of statistics does
+    not change what a parameter vector means). Elementwise, so an observation's normalized value does not
+    depend on the batch it is in: rollouts and ``load_policy(...).predict`` agree bit for bit."""
+
+    mean: np.ndarray  # (obs_dim,) float32
+    std: np.ndarray  # (obs_dim,) float32, sqrt(var + OBS_EPS)
+
+    def apply(self, obs: np.ndarray) -> np.ndarray:
+        """``(..., obs_dim)`` -> normalized float32 ``(..., obs_dim)``."""
+        x = np.asarray(obs, dtype=np.float32)
+        return np.clip((x - self.mean) / self.std, np.float32(-OBS_CLIP), np.float32(OBS_CLIP))
+
+
+@dataclass
+class ObsStats:
+    """Running mean and variance of observations in float64 (count, mean, ``M2`` = sum of squared
+    deviations; Chan et al. 1979's parallel merge). Before any observation: mean 0, variance 1."""
+
+    count: float
+    mean: np.ndarray  # (obs_dim,) float64
+    m2: np.ndarray  # (obs_dim,) float64
+
+    @classmethod
+    def empty(cls, obs_dim: int) -> ObsStats:
+        return cls(0.0, np.zeros(obs_dim), np.zeros(obs_dim))
+
+    @classmethod
+    def from_sums(cls, count: float, total: np.ndarray, squares: np.ndarray) -> ObsStats:
+        """A batch's statistics from its count, sum ``(d,)`` and sum of squares ``(d,)``."""
+        if count <= 0:
+            return cls.empty(np.shape(total)[0])
+        mean = np.asarray(total, np.float64) / count
+        m2 = np.maximum(np.asarray(squares, np.float64) - total * mean, 0.0)  # sum x^2 - n mean^2
+        return cls(float(count), mean, m2)
+
+    def merge(self, other: ObsStats) -> ObsStats:
+        """Both batches as one (Chan et al.: ``delta = mean_b - mean_a``, ``M2 = M2_a + M2_b + delta^2
+        n_a n_b / n``)."""
+        n = self.count + other.count
+        if other.count == 0:
+            return ObsStats(self.count, self.mean.copy(), self.m2.copy())
+        if self.count == 0:
+            return ObsStats(other.count, other.mean.copy(), other.m2.copy())
+        delta = other.mean - self.mean  # (d,)
+        mean = self.mean + delta * (other.count / n)
+        m2 = self.m2 + other.m2 + delta * delta * (self.count * other.count / n)
+        return ObsStats(n, mean, m2)
+
+    @property
+    def var(self) -> np.ndarray:
+        return self.m2 / self.count if self.count > 0 else np.ones_like(self.mean)
+
+    def norm(self) -> ObsNorm:
+        """The normalizer these statistics give (float32, as the policy applies it)."""
+        return ObsNorm(self.mean.astype(np.float32), np.sqrt(self.var + OBS_EPS).astype(np.float32))

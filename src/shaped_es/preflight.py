@@ -48,8 +48,9 @@ def check_es(cfg: RunConfig, probe: EnvProbe) -> None:
 
     from shaped_es.methods import METHODS
     from shaped_es.rollout import policy_spec
-    from shaped_es.trainer import build_strategy
+    from shaped_es.trainer import build_strategy, check_obs_norm
 
+    check_obs_norm(cfg)
     spec = policy_spec(cfg, probe)
     _check_memory(cfg, spec.num_params, METHODS[cfg.method].state_bytes(cfg, spec.num_params))
     try:

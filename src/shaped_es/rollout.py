@@ -48,7 +48,7 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
     probe_env,
 )
 from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, runs_serially
-from shaped_es.policies import MLPSpec, forward
+from shaped_es.policies import MLPSpec, ObsNorm, forward
 
 # Episodes of an env without a time limit (no registered ``max_episode_steps``, no ``TimeLimit``), with
 # ``rollout.max_steps`` unset, end here: an env that never terminates would hang the run.
@@ -77,6 +77,8 @@ class RolloutTask:
     max_steps: int | None = None  # cap on episode length (None: the env's own limit)
     expert: bool = False  # also record the env's waypoint controller's action (envs/core.py hook)
     rowwise: bool = False  # each observation's action on its own, bit for bit (policies.forward; evaluate)
+    obs_norm: ObsNorm | None = None  # the policies' input normalization (es.obs_norm), applied before forward
+    obs_stats: bool = False  # also return each member's observation count, sum and sum of squares
 
     def recorded(self) -> np.ndarray:
         """Mask ``(m,)`` of the members whose transitions are kept."""
@@ -96,6 +98,10 @@ class RolloutResult:
     lengths: np.ndarray  # (m, E) int64, steps per episode
     cpu_time_s: float  # CPU seconds this task used in its process
     transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
+    # RolloutTask.obs_stats: per member, the raw observations its policy saw (alive steps, float32 values
+    # summed in float64): count (m,), sum (m, obs), sum of squares (m, obs); the master merges them in
+    # member order, so the statistics do not depend on how members were split into tasks
+    obs_stats: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 def mean_returns(results: list[RolloutResult]) -> np.ndarray:
@@ -106,27 +112,31 @@ def mean_returns(results: list[RolloutResult]) -> np.ndarray:
 
 def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray,
                      workers: int, generation: int = 0, record: bool | np.ndarray = False,
-                     max_steps: int | None = None, expert: bool = False) -> list[RolloutTask]:
+                     max_steps: int | None = None, expert: bool = False, obs_norm: ObsNorm | None = None,
+                     obs_stats: bool = False) -> list[RolloutTask]:
     """A population ``params`` ``(P, n)`` on its episode seeds ``(P, E)``, as at most ``workers`` tasks of
-    consecutive members (training rollouts); ``record``: every member, or a mask ``(P,)``."""
+    consecutive members (training rollouts); ``record``: every member, or a mask ``(P,)``; ``obs_norm``:
+    the members' input normalization; ``obs_stats``: return their observations' sums."""
     members = np.arange(params.shape[0])
     rec = record if isinstance(record, (bool, np.bool_)) else np.asarray(record, dtype=bool).reshape(-1)
     return [RolloutTask(env_id, env_kwargs, spec, params[idx], members[idx], seeds[idx], generation=generation,
                         record=rec if isinstance(rec, (bool, np.bool_)) else rec[idx], max_steps=max_steps,
-                        expert=expert)
+                        expert=expert, obs_norm=obs_norm, obs_stats=obs_stats)
             for idx in np.array_split(members, max(1, min(len(members), workers)))]
 
 
 def policy_episode_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, theta: np.ndarray,
                          seeds: np.ndarray, workers: int, generation: int = 0,
-                         max_steps: int | None = None, rowwise: bool = False) -> list[RolloutTask]:
+                         max_steps: int | None = None, rowwise: bool = False,
+                         obs_norm: ObsNorm | None = None) -> list[RolloutTask]:
     """One policy ``theta`` ``(n,)`` on episode seeds ``(E,)``, split into at most ``workers`` tasks
     (test and evaluation episodes; each task is "member 0" of its own chunk of seeds); ``rowwise``:
-    ``evaluate``'s episodes, whose actions equal ``load_policy(...).predict``'s bit for bit."""
+    ``evaluate``'s episodes, whose actions equal ``load_policy(...).predict``'s bit for bit; ``obs_norm``:
+    the policy's input normalization."""
     seeds = np.asarray(seeds).reshape(1, -1)  # (1, E)
     E = seeds.shape[1]
     return [RolloutTask(env_id, env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
-                        generation=generation, max_steps=max_steps, rowwise=rowwise)
+                        generation=generation, max_steps=max_steps, rowwise=rowwise, obs_norm=obs_norm)
             for c in np.array_split(np.arange(E), max(1, min(E, workers)))]
 
 
@@ -284,9 +294,50 @@ def _from_env_action(space: gym.Space, a) -> np.ndarray:
     return np.clip(x, -1.0, 1.0).astype(np.float32)
 
 
-def _finish(task, returns, lengths, rec) -> RolloutResult:
+def _policy_input(task: RolloutTask, obs: np.ndarray) -> np.ndarray:
+    """The observations ``(B, obs)`` as the policies take them (``task.obs_norm`` applied, if any)."""
+    return obs if task.obs_norm is None else task.obs_norm.apply(obs)
+
+
+def _sum_in_order(parts: list[np.ndarray]) -> np.ndarray:
+    """``parts[0] + parts[1] + ...`` left to right (the same rounding whatever batch they came from)."""
+    acc = np.array(parts[0], dtype=np.float64, copy=True)
+    for p in parts[1:]:
+        acc = acc + p
+    return acc
+
+
+class _ObsSums:
+    """Per episode column: the count, sum and sum of squares (float64) of the observations the policy saw
+    while the episode ran (elementwise accumulation over steps, so a column's sums do not depend on the
+    batch it ran in)."""
+
+    def __init__(self, B: int):
+        self.count = np.zeros(B)  # (B,)
+        self.total: np.ndarray | None = None  # (B, obs)
+        self.squares: np.ndarray | None = None  # (B, obs)
+
+    def add(self, obs: np.ndarray, alive: np.ndarray) -> None:
+        x = np.asarray(obs, dtype=np.float32).astype(np.float64)  # what the policy sees, in float64
+        x = np.where(alive[:, None], x, 0.0)  # (B, obs)
+        if self.total is None:
+            self.total, self.squares = np.zeros_like(x), np.zeros_like(x)
+        self.count += alive
+        self.total += x
+        self.squares += x * x
+
+    def per_member(self, m: int, E: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(count (m,), sum (m, obs), sum of squares (m, obs)): each member's E episodes summed in order."""
+        d = 0 if self.total is None else self.total.shape[1]
+        total = np.zeros((m * E, d)) if self.total is None else self.total
+        squares = np.zeros((m * E, d)) if self.squares is None else self.squares
+        return tuple(_sum_in_order([x.reshape(m, E, *x.shape[1:])[:, e] for e in range(E)])
+                     for x in (self.count, total, squares))
+
+
+def _finish(task, returns, lengths, rec, sums=None) -> RolloutResult:
     m, E = task.seeds.shape
-    return RolloutResult(
+    return RolloutResult(obs_stats=None if sums is None else sums.per_member(m, E),
         members=np.asarray(task.members),
         returns=returns.reshape(m, E),  # (m*E,) -> (m, E)
         lengths=lengths.reshape(m, E),
@@ -304,9 +355,13 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
     rec = _Recorder(task, limit) if task.recorded().any() else None
+    sums = _ObsSums(B) if task.obs_stats else None
     expert = _controller(task, core) if rec is not None and task.expert else None
     for _ in range(limit):
-        act = forward(task.spec, task.params, obs.reshape(m, E, -1), task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
+        if sums is not None:
+            sums.add(obs, alive)
+        act = forward(task.spec, task.params, _policy_input(task, obs).reshape(m, E, -1),
+                      task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
         pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
         ex = None if expert is None else expert(state, obs, info)  # (B, a) before the step, as act
         state, nobs, rew, term, trunc, info = core.step(state, act)
@@ -332,7 +387,7 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     if not np.isfinite(obs).all():
         b = int(np.flatnonzero(~np.isfinite(obs.reshape(B, -1)).all(axis=1))[0])
         raise _bad_output(task, "a non-finite observation (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
-    return _finish(task, returns, lengths, rec)
+    return _finish(task, returns, lengths, rec, sums)
 
 
 def _info_vec(info: dict, key: str) -> np.ndarray:
@@ -360,7 +415,11 @@ def _run_serial(task: RolloutTask) -> RolloutResult:
             transitions.append(Transitions(generation=task.generation, member=int(task.members[i]),
                                            episode=np.concatenate([np.full(len(t), e, np.int32) for e, t in eps]),
                                            **fields))
-    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, transitions=transitions,
+    stats = None
+    if task.obs_stats:  # each member's episodes summed in episode order, as _ObsSums.per_member sums them
+        stats = tuple(np.stack([_sum_in_order([p.obs_stats[k][0] for p in row]) for row in parts])
+                      for k in range(3))  # (m,), (m, obs), (m, obs)
+    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, transitions=transitions, obs_stats=stats,
                          returns=np.array([[p.returns[0, 0] for p in row] for row in parts]),  # (m, E)
                          lengths=np.array([[p.lengths[0, 0] for p in row] for row in parts]))
 
@@ -382,13 +441,17 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
     rec = _Recorder(task) if task.recorded().any() else None
+    sums = _ObsSums(B) if task.obs_stats else None
     hooks = [_controller(task, env.unwrapped) for env in envs] if rec is not None and task.expert else None
     cap = task.max_steps
     if cap is None and env_time_limit(envs[0]) is None:
         cap = DEFAULT_MAX_STEPS  # an env that never terminates cannot hang the run (warn_if_endless)
     t = 0
     while alive.any() and (cap is None or t < cap):
-        act = forward(task.spec, task.params, obs.reshape(m, E, -1), task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
+        if sums is not None:
+            sums.add(obs, alive)
+        act = forward(task.spec, task.params, _policy_input(task, obs).reshape(m, E, -1),
+                      task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
         ex = None
         if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
             ex = np.zeros_like(act)
@@ -422,4 +485,4 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
         b = int(np.flatnonzero(~np.isfinite(returns))[0])
         raise _bad_output(task, f"rewards whose sum overflows (the episode return reached {returns[b]}; "
                           f"rewards must stay far below 1e308)", seeds[b], int(lengths[b]))
-    return _finish(task, returns, lengths, rec)
+    return _finish(task, returns, lengths, rec, sums)

@@ -17,6 +17,14 @@ episodes again.
 
 A checkpoint holds the strategy's and the guide's state; ``resume`` reloads the newest one, drops
 metrics rows written after it, and continues, giving the rows an uninterrupted run would have given.
+
+``es.obs_norm`` (running observation normalization, ARS V2): every member of generation g sees its
+observations through the normalizer of the statistics after generation g-1 (``policies.ObsStats``,
+float64), and its test episodes through the same one; after ``tell`` the population's training
+observations of generation g (each member's count, sum and sum of squares, merged in member order:
+the same numbers whatever the executor or worker count) update the statistics. The checkpoint holds
+them (``policy/obs_count``, ``policy/obs_mean``, ``policy/obs_m2``: the "mean" policy's normalizer)
+and the normalizer the best policy was tested with (``policy/best_obs_mean``, ``policy/best_obs_std``).
 """
 
 from __future__ import annotations
@@ -30,10 +38,10 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from shaped_es import seeding
-from shaped_es.config import RunConfig, dump_config
+from shaped_es.config import ConfigError, RunConfig, dump_config
 from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
-from shaped_es.policies import MLPSpec
+from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
                                probe_env, run_task, warn_if_endless)
 from shaped_es.run_loop import RunLoop
@@ -56,6 +64,15 @@ def build_strategy(cfg: RunConfig, x0: np.ndarray) -> Strategy:
     return resolve(method.strategy)(x0, **method.strategy_args(cfg, seed))
 
 
+def check_obs_norm(cfg: RunConfig) -> None:
+    """``ConfigError`` (one line) if ``es.obs_norm`` is set for a method that cannot use it yet
+    (``methods.Method.no_obs_norm``)."""
+    why = METHODS[cfg.method].no_obs_norm
+    if cfg.es.obs_norm and why:
+        raise ConfigError(f"es.obs_norm is not supported with --method {cfg.method} yet: {why}; "
+                          f"set es.obs_norm=false")
+
+
 def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe | None = None):
     """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`); ``probe``: the run's env probe."""
     method = METHODS[cfg.method]
@@ -75,6 +92,7 @@ class _Row:
 
     row: dict
     theta: np.ndarray | None = None
+    obs_norm: ObsNorm | None = None  # the normalizer theta's test episodes run with (es.obs_norm)
     tasks: list = field(default_factory=list)
     futures: list[Future] = field(default_factory=list)
 
@@ -84,6 +102,7 @@ class Trainer(RunLoop):
 
     def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
                  progress: bool = True, probe: EnvProbe | None = None, callback=None):
+        check_obs_norm(cfg)
         super().__init__(cfg, store, cfg.method, progress, callback)
         self._own_executor = executor is None
         self.executor = executor or make_executor(
@@ -103,6 +122,13 @@ class Trainer(RunLoop):
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store, probe)
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
+        # es.obs_norm: the running statistics (None: off) and the normalizer best_params was tested with
+        self.obs_stats = ObsStats.empty(self.spec.obs_dim) if cfg.es.obs_norm else None
+        self.best_norm = self.obs_norm()
+
+    def obs_norm(self) -> ObsNorm | None:
+        """The normalizer the next generation's members see (None: es.obs_norm off)."""
+        return None if self.obs_stats is None else self.obs_stats.norm()
 
     def columns(self) -> tuple[str, ...]:
         return super().columns() + tuple(self.guide.metric_keys())
@@ -113,6 +139,10 @@ class Trainer(RunLoop):
         arrays |= {f"guide/{k}": v for k, v in self.guide.state_dict().items()}
         arrays["policy/best"] = self.best_params
         arrays["policy/mean"] = np.asarray(self.strategy.mean, dtype=np.float32)
+        if self.obs_stats is not None:  # float64: a resume continues with exactly these statistics
+            arrays["policy/obs_count"] = np.array(self.obs_stats.count, dtype=np.float64)
+            arrays["policy/obs_mean"], arrays["policy/obs_m2"] = self.obs_stats.mean, self.obs_stats.m2
+            arrays["policy/best_obs_mean"], arrays["policy/best_obs_std"] = self.best_norm.mean, self.best_norm.std
         meta = {"policy": {"obs_dim": self.spec.obs_dim, "act_dim": self.spec.act_dim,
                            "hidden": list(self.spec.hidden)}}
         # Rows whose test episodes are still running: resume submits them again (same seeds).
@@ -120,6 +150,8 @@ class Trainer(RunLoop):
         for i, item in enumerate(self._waiting):
             if item.theta is not None:
                 arrays[f"waiting/{i}"] = item.theta
+            if item.obs_norm is not None:
+                arrays[f"waiting/{i}/obs_mean"], arrays[f"waiting/{i}/obs_std"] = item.obs_norm.mean, item.obs_norm.std
         bad = _non_finite(arrays)
         if bad:  # never save a state a resume could not continue from; the previous one stays
             raise DivergedError(self._diverged(self.c.generation - 1, f"the state to checkpoint ({bad[0]})"))
@@ -151,6 +183,13 @@ class Trainer(RunLoop):
         self.best_params = arrays["policy/best"]
         if np.shape(self.best_params) != (self.spec.num_params,):
             raise ValueError(f"policy/best has shape {np.shape(self.best_params)}")
+        if self.obs_stats is not None:
+            d = self.spec.obs_dim
+            self.obs_stats = ObsStats(float(_shaped(arrays, "policy/obs_count", ())),
+                                      _shaped(arrays, "policy/obs_mean", (d,)).astype(np.float64),
+                                      _shaped(arrays, "policy/obs_m2", (d,)).astype(np.float64))
+            self.best_norm = ObsNorm(_shaped(arrays, "policy/best_obs_mean", (d,)).astype(np.float32),
+                                     _shaped(arrays, "policy/best_obs_std", (d,)).astype(np.float32))
 
     def resumed(self, arrays: dict, meta: dict) -> None:
         """Submit the test episodes of the rows still waiting at the checkpoint again (``recover`` kept
@@ -159,23 +198,31 @@ class Trainer(RunLoop):
         for i, row in enumerate(meta.get("waiting_rows", [])):
             item = _Row(dict(row))
             if f"waiting/{i}" in arrays:
+                norm = None
+                if f"waiting/{i}/obs_mean" in arrays:
+                    norm = ObsNorm(np.asarray(arrays[f"waiting/{i}/obs_mean"], np.float32),
+                                   np.asarray(arrays[f"waiting/{i}/obs_std"], np.float32))
                 self._submit_eval(item, np.asarray(arrays[f"waiting/{i}"], dtype=np.float32),
-                                  int(row["generation"]))
+                                  int(row["generation"]), norm)
             self._waiting.append(item)
 
     # -- one generation ----------------------------------------------------------------------------
-    def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record):
+    def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record, obs_stats: bool = False):
+        """Training rollout tasks of ``params`` ``(m, n)`` (``obs_stats``: their observations' sums too)."""
         return population_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, params, seeds,
                                 self.executor.workers, g, record, self.cfg.rollout.max_steps,
-                                expert=self.guide.expert)
+                                expert=self.guide.expert, obs_norm=self.obs_norm(),
+                                obs_stats=obs_stats and self.obs_stats is not None)
 
-    def _submit_eval(self, item: _Row, theta: np.ndarray, g: int) -> None:
-        """Start generation ``g``'s test episodes of ``theta`` ``(n,)`` for ``item``'s row."""
+    def _submit_eval(self, item: _Row, theta: np.ndarray, g: int, obs_norm: ObsNorm | None) -> None:
+        """Start generation ``g``'s test episodes of ``theta`` ``(n,)`` seeing observations through
+        ``obs_norm`` (the normalizer of its training rollouts) for ``item``'s row."""
         E = self.cfg.rollout.test_episodes
         seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
-        item.theta = theta
+        item.theta, item.obs_norm = theta, obs_norm
         item.tasks = policy_episode_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, theta, seeds,
-                                          self.eval_executor.workers, g, self.cfg.rollout.max_steps)
+                                          self.eval_executor.workers, g, self.cfg.rollout.max_steps,
+                                          obs_norm=obs_norm)
         item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
 
     def _collect(self, item: _Row) -> dict:
@@ -193,6 +240,7 @@ class Trainer(RunLoop):
             row["test_env_steps"] = int(sum(r.lengths.sum() for r in res))
             if test_ret.mean() > self.c.best_test_reward:
                 self.c.best_test_reward, self.best_params = float(test_ret.mean()), item.theta
+                self.best_norm = item.obs_norm
                 self.best_generation = int(row["generation"]) + 1
         row["test_reward_best_so_far"] = self.c.best_test_reward if math.isfinite(
             self.c.best_test_reward) else None
@@ -220,9 +268,20 @@ class Trainer(RunLoop):
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness[:P])  # maximize
         extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
+        self._update_obs_stats(results)  # generation g+1's members see the observations of 0..g
         if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
             raise DivergedError(self._diverged(g, "the search mean"))
         return done + self._end_row(g, item, results, old_mean, extra, rollout_time, t0, cpu0)
+
+    def _update_obs_stats(self, results: list) -> None:
+        """Merge the population's observation sums (its members' ``RolloutResult.obs_stats``, in member
+        order) into the running statistics (es.obs_norm)."""
+        if self.obs_stats is None:
+            return
+        parts = [r.obs_stats for r in results if r.obs_stats is not None]  # the population's tasks, in order
+        count, total, squares = (np.concatenate([p[k] for p in parts]) for k in range(3))  # (P,), (P, d), (P, d)
+        batch = ObsStats.from_sums(float(count.sum()), total.sum(axis=0), squares.sum(axis=0))
+        self.obs_stats = self.obs_stats.merge(batch)
 
     def _roll_out(self, X: np.ndarray, g: int, P: int) -> tuple[list, float]:
         """Every member of ``X`` ``(P + k, n)`` (the population, then the guide's extra members) on
@@ -235,7 +294,7 @@ class Trainer(RunLoop):
         fn = self.guide.rollout_fn() or run_task
         t_roll = time.perf_counter()
         record = self.guide.record_mask(P, k)  # (P + k,)
-        tasks = self._tasks(X[:P], seeds, g, record[:P])
+        tasks = self._tasks(X[:P], seeds, g, record[:P], obs_stats=True)
         if k:  # the extras, with their extra episodes, in tasks of their own
             x = self.guide.extra_episodes()
             xs = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P, P + k), E + x,
@@ -259,7 +318,8 @@ class Trainer(RunLoop):
                      "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
         cfg = self.cfg
         if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
-            self._submit_eval(item, X[int(np.argmax(fitness[:P]))].copy(), g)  # the population's best
+            # the population's best member, with the normalizer it was trained with
+            self._submit_eval(item, X[int(np.argmax(fitness[:P]))].copy(), g, self.obs_norm())
         return item
 
     def _end_row(self, g: int, item: _Row, results: list, old_mean: np.ndarray, extra: dict,
@@ -324,6 +384,14 @@ def _non_finite(arrays: dict[str, np.ndarray]) -> list[str]:
     """The search's and policies' float arrays holding inf/NaN (a checkpoint holds none)."""
     return [k for k, v in arrays.items() if k.startswith(("strategy/", "policy/", "waiting/"))
             and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
+
+
+def _shaped(arrays: dict[str, np.ndarray], key: str, shape: tuple) -> np.ndarray:
+    """``arrays[key]`` checked to have ``shape`` (``KeyError`` if missing, ``ValueError`` if not)."""
+    v = np.asarray(arrays[key])
+    if v.shape != shape:
+        raise ValueError(f"{key} has shape {v.shape}, expected {shape}")
+    return v
 
 
 def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:

@@ -27,11 +27,12 @@ def reference_actions(run_dir: str, spec: MLPSpec):
         raise ConfigError(f"shaping.reference_run {run_dir} has {pol.obs_dim} observations, this env "
                           f"{spec.obs_dim}")
     if pol.theta is not None:  # an ES run: its flat parameters
-        theta, rspec = pol.theta[None], pol.spec
+        theta, rspec, norm = pol.theta[None], pol.spec, pol.obs_norm
 
         def es(states: np.ndarray) -> np.ndarray:
             lead = states.shape[:-1]
-            return forward(rspec, theta, states.reshape(1, -1, spec.obs_dim))[0].reshape(*lead, -1)
+            x = states if norm is None else norm.apply(states)  # a run trained with es.obs_norm
+            return forward(rspec, theta, x.reshape(1, -1, spec.obs_dim))[0].reshape(*lead, -1)
         return es
     low, high = pol.action_space.low, pol.action_space.high
 

@@ -12,7 +12,7 @@ import numpy as np
 from shaped_es import seeding
 from shaped_es.executors import make_executor
 from shaped_es.methods import METHODS, resolve
-from shaped_es.trained.load import es_params, policy_generation
+from shaped_es.trained.load import es_obs_norm, es_params, policy_generation
 from shaped_es.rollout import policy_episode_tasks, policy_spec, probe_env, run_task, warn_if_endless
 from shaped_es.rundir.store import RunStore, StoreError
 
@@ -36,10 +36,11 @@ def es_returns(cfg, arrays: dict, which: str, seeds: np.ndarray, run_dir, execut
     probe = probe_env(cfg.env, cfg.env_kwargs)
     spec = policy_spec(cfg, probe)
     theta = es_params(arrays, which, spec.num_params, run_dir)
+    norm = es_obs_norm(arrays, which, spec.obs_dim, run_dir)  # es.obs_norm: what the policy saw (or None)
     warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
     with make_executor(executor, workers=workers) as ex:
         tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds[None], ex.workers,
-                                     max_steps=cfg.rollout.max_steps, rowwise=True)  # seeds (1, E)
+                                     max_steps=cfg.rollout.max_steps, rowwise=True, obs_norm=norm)  # seeds (1, E)
         res = ex.map(run_task, tasks)
     return np.concatenate([r.returns[0] for r in res])  # (E,)
 

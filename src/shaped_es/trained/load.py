@@ -17,6 +17,12 @@ Actions are those ``shaped-es evaluate`` feeds the env: ES policies output ``[-1
 ``Box``'s bounds (argmax for ``Discrete``); PPO runs give SB3's deterministic action (clipped to the
 bounds). PPO runs load the same way (``policy.sb3_policy`` is the SB3 ``ActorCriticPolicy``).
 
+A run trained with ``es.obs_norm`` saves the normalizer its policies saw (``policy.obs_norm``,
+``policies.ObsNorm``: ``clip((obs - mean) / std, -5, 5)``); ``predict``, ``to_torch``, ``evaluate`` and
+``render`` apply it, so a plain Gymnasium loop on raw observations acts as the rollouts did. "best" keeps
+the normalizer it was tested with; "mean" takes the run's latest statistics (those its next generation
+would see).
+
 ``which``: ``"best"`` is the policy with the best test reward so far (what ``evaluate`` and ``render``
 use by default; ``policy.generation`` says when it was found); ``"mean"`` is the latest (ES: the search
 distribution's mean; PPO: the latest weights). Both come from the run's newest checkpoint
@@ -56,6 +62,7 @@ class Policy:
     action_space: gym.Space
     theta: np.ndarray | None = None  # ES: flat parameters (num_params,) float32
     spec: Any = None  # ES: policies.MLPSpec
+    obs_norm: Any = None  # ES with es.obs_norm: the policies.ObsNorm applied to observations before the MLP
     sb3_policy: Any = field(default=None, repr=False)  # PPO: the SB3 ActorCriticPolicy
 
     @property
@@ -91,6 +98,8 @@ class Policy:
             from shaped_es.policies import forward
             from shaped_es.rollout import to_space
 
+            if self.obs_norm is not None:
+                x = self.obs_norm.apply(x)  # (B, obs_dim) as the rollouts normalize it
             raw = forward(self.spec, self.theta[None], x[None], rowwise=True)[0]  # (B, act) in [-1, 1], row by row
             act = to_space(self.action_space, raw)  # as the rollouts map them
         if single:
@@ -101,10 +110,11 @@ class Policy:
     def to_torch(self):
         """A ``torch.nn.Module``: ``obs`` float tensor ``(B, obs_dim)`` -> the actions ``predict`` gives
         (``Box``: float ``(B, act_dim)``; ``Discrete``: int64 ``(B,)``). ES: ``module.net`` is the MLP
-        (``nn.Linear`` + ``tanh`` layers, output in ``[-1, 1]``); PPO: ``module.policy`` is SB3's."""
+        (``nn.Linear`` + ``tanh`` layers, output in ``[-1, 1]``; with ``obs_norm`` its buffers
+        ``obs_mean``, ``obs_std`` normalize the input first); PPO: ``module.policy`` is SB3's."""
         if self.sb3_policy is not None:
             return _SB3Actor(self.sb3_policy, self.action_space)
-        return _ESActor(self.spec, self.theta, self.action_space)
+        return _ESActor(self.spec, self.theta, self.action_space, self.obs_norm)
 
 
 def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
@@ -135,12 +145,38 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
 
 def es_policy_fields(cfg, arrays: dict[str, np.ndarray], which: str, run_dir, obs_dim: int,
                      act_dim: int) -> dict:
-    """``Policy``'s fields of an ES checkpoint (``methods.Method.policy_fields``): the MLP and its
-    parameters."""
+    """``Policy``'s fields of an ES checkpoint (``methods.Method.policy_fields``): the MLP, its
+    parameters and its observation normalizer (None without ``es.obs_norm``)."""
     from shaped_es.policies import MLPSpec
 
     spec = MLPSpec(obs_dim, act_dim, tuple(cfg.policy.hidden))
-    return {"theta": es_params(arrays, which, spec.num_params, run_dir), "spec": spec}
+    return {"theta": es_params(arrays, which, spec.num_params, run_dir), "spec": spec,
+            "obs_norm": es_obs_norm(arrays, which, obs_dim, run_dir)}
+
+
+def es_obs_norm(arrays: dict[str, np.ndarray], which: str, obs_dim: int, run_dir):
+    """The ``policies.ObsNorm`` the ``which`` policy of an ES checkpoint sees its observations through
+    (``es.obs_norm``; None for a run without it): "best", the one it was tested with; "mean", the run's
+    latest statistics. Checked: ``obs_dim`` finite entries, positive std (``StoreError`` naming the run)."""
+    from shaped_es.policies import ObsNorm, ObsStats
+
+    if "policy/obs_count" not in arrays:
+        return None
+    try:
+        if which == "best":
+            norm = ObsNorm(np.asarray(arrays["policy/best_obs_mean"], np.float32),
+                           np.asarray(arrays["policy/best_obs_std"], np.float32))
+        else:
+            norm = ObsStats(float(np.asarray(arrays["policy/obs_count"]).reshape(())),
+                            np.asarray(arrays["policy/obs_mean"], np.float64),
+                            np.asarray(arrays["policy/obs_m2"], np.float64)).norm()
+    except (KeyError, ValueError) as exc:
+        raise StoreError(f"checkpoint of {run_dir} has a malformed observation normalizer ({exc})") from None
+    if norm.mean.shape != (obs_dim,) or norm.std.shape != (obs_dim,) or not (
+            np.isfinite(norm.mean).all() and np.isfinite(norm.std).all() and (norm.std > 0).all()):
+        raise StoreError(f"the observation normalizer in the checkpoint of {run_dir} does not fit the env's "
+                         f"{obs_dim} observations (or holds inf/NaN)")
+    return norm
 
 
 def es_params(arrays: dict[str, np.ndarray], which: str, num_params: int, run_dir) -> np.ndarray:
@@ -180,8 +216,12 @@ def _torch_modules():
     from torch import nn
 
     class ESActor(nn.Module):
-        def __init__(self, spec, theta: np.ndarray, space: gym.Space):
+        def __init__(self, spec, theta: np.ndarray, space: gym.Space, obs_norm=None):
             super().__init__()
+            self.normalize = obs_norm is not None
+            if self.normalize:  # policies.ObsNorm: clip((obs - mean) / std, -OBS_CLIP, OBS_CLIP)
+                self.register_buffer("obs_mean", torch.from_numpy(np.array(obs_norm.mean, np.float32)))
+                self.register_buffer("obs_std", torch.from_numpy(np.array(obs_norm.std, np.float32)))
             layers: list[nn.Module] = []
             for (i, o), (ws, bs) in zip(spec.layer_shapes, spec.slices()):
                 lin = nn.Linear(i, o)
@@ -200,6 +240,10 @@ def _torch_modules():
                 self.register_buffer("half_width", (high - low) * 0.5)
 
         def forward(self, obs):
+            if self.normalize:
+                from shaped_es.policies import OBS_CLIP
+
+                obs = torch.clamp((obs - self.obs_mean) / self.obs_std, -OBS_CLIP, OBS_CLIP)
             a = self.net(obs)
             if self.discrete:
                 return a.argmax(dim=-1) + self.start
@@ -226,8 +270,8 @@ def _torch_modules():
     return ESActor, SB3Actor
 
 
-def _ESActor(spec, theta, space):
-    return _torch_modules()[0](spec, theta, space)
+def _ESActor(spec, theta, space, obs_norm=None):
+    return _torch_modules()[0](spec, theta, space, obs_norm)
 
 
 def _SB3Actor(policy, space):
