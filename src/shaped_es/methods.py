@@ -112,8 +112,6 @@ METHODS: dict[str, Method] = {
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
                      checks=("shaped_es.preflight:check_es", "shaped_es.guides.shaped_setup:check_shaped"),
                      knobs=("es.sigma", "es.lr", "shaping.eta"),
-                     no_obs_norm="its clones and labels are fitted on raw recorded states (guides/shaped.py), "
-                                 "not yet through the policy's normalizer",
                      about="waypoint-shaped ES (the paper's method): action labels toward the env's waypoints "
                            "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "
                            "the population as a candidate mean (shaping.mechanism; needs info['position'] "
@@ -124,12 +122,10 @@ METHODS: dict[str, Method] = {
                                                                        "probe": probe},
                            probe_reset=True, state_bytes=_cmaes_state_bytes,
                            reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
-                                  "es.cmaes_diagonal_above", "shaping"),
+                                  "es.cmaes_diagonal_above", "es.obs_norm", "shaping"),
                            checks=("shaped_es.guides.shaped_setup:check_shaped",
                                    "shaped_es.guides.shaped_setup:check_candidate_only"),
                            knobs=("es.sigma",),
-                           no_obs_norm="its clones and labels are fitted on raw recorded states (guides/shaped.py), "
-                                       "not yet through the policy's normalizer",
                            about="the shaped method's candidate over CMA-ES (an accepted candidate becomes "
                                  "CMA's mean): for bodies where CMA-ES is the best baseline (arms)"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget

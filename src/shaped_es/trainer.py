@@ -22,7 +22,9 @@ metrics rows written after it, and continues, giving the rows an uninterrupted r
 observations through the normalizer of the statistics after generation g-1 (``policies.ObsStats``,
 float64), and its test episodes through the same one; after ``tell`` the population's training
 observations of generation g (each member's count, sum and sum of squares, merged in member order:
-the same numbers whatever the executor or worker count) update the statistics. The checkpoint holds
+the same numbers whatever the executor or worker count) update the statistics, and the guide's
+``after_tell`` gets the normalizer of the updated statistics (``guide.obs_norm``: the shaped guide's clones
+are policies of generation g+1, fitted on normalized states). The checkpoint holds
 them (``policy/obs_count``, ``policy/obs_mean``, ``policy/obs_m2``: the "mean" policy's normalizer)
 and the normalizer the best policy was tested with (``policy/best_obs_mean``, ``policy/best_obs_std``).
 """
@@ -267,8 +269,9 @@ class Trainer(RunLoop):
         item = self._start_row(g, X_all, fitness, P)  # the best member's test episodes start now
         old_mean = np.array(self.strategy.mean, copy=True)
         self.strategy.tell(fitness[:P])  # maximize
-        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
         self._update_obs_stats(results)  # generation g+1's members see the observations of 0..g
+        self.guide.obs_norm = self.obs_norm()  # what the policies the guide makes now will see
+        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
         if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
             raise DivergedError(self._diverged(g, "the search mean"))
         return done + self._end_row(g, item, results, old_mean, extra, rollout_time, t0, cpu0)

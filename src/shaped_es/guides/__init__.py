@@ -23,6 +23,9 @@ class NoGuide:
 
     record = False
     expert = False  # rollouts also record the env's waypoint controller's actions
+    # es.obs_norm: the normalizer the next generation's members see (policies.ObsNorm; None: off), set by
+    # the trainer before each after_tell (the shaped guide fits its clones through it)
+    obs_norm = None
 
     def begin_generation(self, generation: int) -> None:
         """Called before the rollouts start (background work may start here)."""

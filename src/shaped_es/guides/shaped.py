@@ -66,7 +66,7 @@ from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.shaped_setup import from_section, label_source, placement, waypoint_dim
+from shaped_es.guides.shaped_setup import check_obs_norm, from_section, label_source, placement, waypoint_dim
 
 MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size",
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
@@ -91,6 +91,7 @@ class ShapedGuide(NoGuide):
     record = True
 
     def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None):
+        check_obs_norm(cfg)  # es.obs_norm: mechanism candidate only (preflight says so first)
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
         self.traj_root = run_root(self.sh.trajectory_root, str(store.trajectories_dir), store.run_id())
         self.placement = placement(cfg, spec)

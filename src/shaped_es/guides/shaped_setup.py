@@ -49,16 +49,27 @@ def from_section(cls, section, **resolved):
 
 def check_shaped(cfg: RunConfig, probe: EnvProbe) -> None:
     """The shaped method's preflight checks (``methods.Method.checks``): the env contract
-    (``info['position']`` and ``info['waypoint']``), a label source that can serve, and a
+    (``info['position']`` and ``info['waypoint']``), ``es.obs_norm`` only with mechanism ``candidate``, a
+    label source that can serve, and a
     ``shaping.reference_run`` with a checkpoint of this env's observation size."""
     from shaped_es.guides.reference import reference_actions
     from shaped_es.rollout import policy_spec
 
+    check_obs_norm(cfg)
     spec = policy_spec(cfg, probe)
     waypoint_dim(cfg, probe)
     check_labels(cfg, spec, probe)
     if cfg.shaping.reference_run:
         reference_actions(cfg.shaping.reference_run, spec)
+
+
+def check_obs_norm(cfg: RunConfig) -> None:
+    """``es.obs_norm`` works with mechanism ``candidate`` (the mean's clone is fitted on normalized states,
+    ``mean_clone.py``); one ``ConfigError`` line for the others, which do not pass the normalizer yet."""
+    if cfg.es.obs_norm and cfg.shaping.mechanism != "candidate":
+        raise ConfigError(f"es.obs_norm is not supported with shaping.mechanism={cfg.shaping.mechanism} yet "
+                          f"(only 'candidate' fits its clone through the policy's normalizer); set "
+                          f"es.obs_norm=false or shaping.mechanism=candidate")
 
 
 def check_candidate_only(cfg: RunConfig, probe: EnvProbe) -> None:

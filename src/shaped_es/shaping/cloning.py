@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from shaped_es.policies import MLPSpec, forward_torch
+from shaped_es.policies import MLPSpec, ObsNorm, forward_torch
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.population_fit import FitTask, fit_rows
 from shaped_es.shaping.shared_rows import SharedRows
@@ -200,6 +200,7 @@ def clone_sampled(
     map_fit: Callable | None = None,
     map_chunks: int = 2,
     shared: SharedRows | None = None,
+    obs_norm: ObsNorm | None = None,
 ) -> CloneResult:
     """Clone every member towards ``label_fn`` on its own data: ``theta`` ``(P, n)`` -> ``theta*``.
 
@@ -218,6 +219,10 @@ def clone_sampled(
     members run there (:func:`fit_rows` on :class:`FitTask`), after the labels are taken here. With
     ``shared`` (workers on this machine) the rows are gathered into its shared memory and the tasks carry
     only a handle to it.
+
+    ``obs_norm`` (``es.obs_norm``): the normalizer the cloned policies see their observations through;
+    the labels (and ``reference_fn``) read the raw states, the fit then runs on their normalized copies:
+    ``pi_theta(obs_norm(s)) ~ label(s)``.
     """
     cfg = config
     th = np.atleast_2d(np.asarray(theta, dtype=np.float32))  # (P, n)
@@ -235,6 +240,8 @@ def clone_sampled(
             s, q = one.gather(pos)
             states.append(s[0, 0])
             labels.append(label_fn(s[0, 0], q[0, 0]) if n_i[i] else np.zeros((0, spec.act_dim), np.float32))
+        if obs_norm is not None:  # the policies' inputs; the labels above read the raw states
+            states = [obs_norm.apply(s) for s in states]
         res = clone_population(spec, th, states, labels, config=cfg, seeds=seeds)
         res.label_std = _label_std(labels)
         return res
@@ -261,6 +268,13 @@ def clone_sampled(
             S[:, ~has], A[:, ~has] = 0.0, 0.0
     else:
         S[...], A[...] = 0.0, 0.0
+    s_raw = None  # the eval rows' raw states, for reference_fn (which reads raw states, as the labels)
+    if obs_norm is not None:  # the policies' inputs (in place: S may be shared memory); labels stay raw
+        if reference_fn is not None:
+            s_raw = S[:k_eval].copy()  # (k, P, B, obs)
+        S[...] = obs_norm.apply(S)
+        if not has.all():
+            S[:, ~has] = 0.0
     fit_cpu = 0.0  # CPU seconds of gradient steps run elsewhere (here: counted by the caller's process)
     if not fit_elsewhere:
         theta_star, before, after, own_before, own_after, _ = fit_rows(
@@ -280,6 +294,8 @@ def clone_sampled(
     s_eval = S[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (k, P, B, obs) -> (P, kB, obs)
     a_eval = A[:k_eval].transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, act)
     used = A[:, has].reshape(-1, spec.act_dim)  # (draws * P' * B, act)
+    if s_raw is not None:
+        s_eval = s_raw.transpose(1, 0, 2, 3).reshape(P, k_eval * B, -1)  # (P, kB, obs) raw
     ref = None
     if reference_fn is not None and has.any():
         r = np.asarray(reference_fn(s_eval[has]), np.float32)  # (P', kB, act)

@@ -7,6 +7,10 @@ toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` it
 
     theta* = argmin_theta 1/M sum_t (pi_theta(s_t) - a_hat_t)^2,  started at mu     (Eq. L(theta), on mu)
 
+With ``es.obs_norm`` the policy sees ``norm(s_t)``, the normalizer the next generation's rollouts use
+(``host.obs_norm``, set by the trainer before ``after_tell``): ``pi_theta(norm(s_t)) ~ a_hat(s_t)``; the
+label source still reads the raw ``s_t``.
+
 One policy instead of the population's 64 (the paper's construction), so it costs a fraction of the
 paper's cloning; the NumPy kernel of ``shaping/population_mlp.py`` runs it with a population of one.
 """
@@ -35,7 +39,8 @@ def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
     clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
                               max_samples=cfg.max_samples)
     res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, host.labels, clone_cfg,
-                        np.array([seed]), reference_fn=host.reference)  # (1, n)
+                        np.array([seed]), reference_fn=host.reference,
+                        obs_norm=getattr(host, "obs_norm", None))  # (1, n)
     out = {"clone_loss_before": float(res.loss_before[0]), "clone_loss_after": float(res.loss_after[0]),
            "label_std": res.label_std, "clone_samples": int(res.samples[0])}
     if res.reference:
