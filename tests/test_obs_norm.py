@@ -4,9 +4,12 @@ The statistics (``policies.ObsStats``) merge like one pass over all the data; th
 sums do not depend on how members are split into tasks (batched core, Gymnasium envs, serial envs);
 a run's rows do not depend on the worker count; a crashed run resumes to the rows and checkpoint an
 uninterrupted one gives; ``load_policy(...).predict`` (and ``to_torch``, ``evaluate``) act as the
-rollouts did; the shaped method refuses the setting in one line, PPO ignores it with a warning.
+rollouts did; the shaped method's ``candidate`` fits the mean's clone on normalized states (labels read
+raw ones) with the normalizer the next generation's rollouts use, and resumes exactly; its other
+mechanisms refuse the setting in one line, PPO ignores it with a warning.
 """
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -206,15 +209,106 @@ def test_best_policy_keeps_the_normalizer_it_was_tested_with(tmp_path, monkeypat
 # --- config -----------------------------------------------------------------------------------------
 
 
-def test_shaped_refuses_obs_norm_in_one_line(tmp_path):
+@pytest.mark.parametrize("mechanism", ["paper", "pair"])
+def test_shaped_refuses_obs_norm_but_with_candidate_in_one_line(tmp_path, mechanism):
     from shaped_es.preflight import check_run
 
-    cfg = build_config({"env": "CarNav-v0", "method": "shaped", "es": {"obs_norm": True}})
-    with pytest.raises(ConfigError, match="es.obs_norm is not supported with --method shaped") as exc:
+    cfg = build_config({"env": "CarNav-v0", "method": "shaped", "es": {"obs_norm": True},
+                        "shaping": {"mechanism": mechanism}})
+    with pytest.raises(ConfigError, match=f"es.obs_norm is not supported with shaping.mechanism={mechanism}") as exc:
         check_run(cfg, warn=False)
     assert "\n" not in str(exc.value)
-    with pytest.raises(ConfigError):
+    with pytest.raises(ConfigError, match="es.obs_norm"):
         Trainer(cfg, new_run(tmp_path / "r", cfg)[1], progress=False)
+    for method in ("shaped", "shaped_cmaes"):  # the default mechanism passes, without a warning
+        ok = build_config({"env": "CarNav-v0", "method": method, "es": {"obs_norm": True}})
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", ConfigWarning)
+            check_run(ok, warn=True)
+
+
+# --- the shaped method (mechanism candidate) --------------------------------------------------------
+
+SHAPED_TINY = {"env": "UR5Reach-v0", "executor": "inline", "method": "shaped", "generations": 4, "seed": 1,
+               "es": {"pairs": 6, "obs_norm": True}, "policy": {"hidden": [8]},
+               "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40}, "tensorboard": False,
+               "shaping": {"labels": "controller", "history": 2,
+                           "mean_clone": {"steps": 10, "batch_size": 32, "record_every": 3}}}
+
+
+@pytest.mark.parametrize("method", ["shaped", "shaped_cmaes"])
+def test_shaped_candidate_clones_through_the_next_generations_normalizer(tmp_path, monkeypatch, method):
+    """Each generation's mean clone gets the normalizer generation g+1's rollouts (and so its candidates)
+    use, and the run resumes exactly after a crash."""
+    from shaped_es import trainer as trainer_mod
+    from shaped_es.guides.mechanisms import mean_clone
+
+    cfg = {**SHAPED_TINY, "method": method}
+    clone_norms, roll_norms = {}, {}
+    clone, tasks = mean_clone.clone_sampled, trainer_mod.population_tasks
+
+    def spy_clone(*a, **kw):
+        clone_norms[len(clone_norms)] = kw["obs_norm"]
+        return clone(*a, **kw)
+
+    def spy_tasks(*a, **kw):
+        roll_norms.setdefault(a[6], kw["obs_norm"])  # generation -> its members' normalizer
+        return tasks(*a, **kw)
+
+    monkeypatch.setattr(mean_clone, "clone_sampled", spy_clone)
+    monkeypatch.setattr(trainer_mod, "population_tasks", spy_tasks)
+    full = train(tmp_path / "full", cfg).read_metrics()
+    assert full[-1]["shaping_active"] == "1" and any(r["candidate_return"] != "" for r in full)
+    cloned = [g for g in range(4) if full[g]["clone_samples"] != ""]  # generations whose mean was cloned
+    assert len(cloned) == len(clone_norms) >= 2
+    for i, g in enumerate(cloned):
+        if g + 1 in roll_norms:
+            assert clone_norms[i] is not None
+            np.testing.assert_array_equal(clone_norms[i].mean, roll_norms[g + 1].mean)
+            np.testing.assert_array_equal(clone_norms[i].std, roll_norms[g + 1].std)
+    assert not np.array_equal(clone_norms[0].mean, np.zeros_like(clone_norms[0].mean))  # not the identity
+    monkeypatch.undo()
+    c, store = new_run(tmp_path / "crashed", cfg)
+    run_until_crash(monkeypatch, c, store, 3)
+    Trainer(c, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_clone_is_fitted_on_normalized_states_and_labels_read_raw_ones():
+    """clone_sampled with obs_norm: the label source and the reference read the raw states; the fit sees
+    them normalized, and fits a policy of normalized inputs far better than it fits the raw ones."""
+    from shaped_es.policies import forward
+    from shaped_es.shaping.cloning import clone_sampled
+    from shaped_es.shaping.member_rows import MemberRows
+    from shaped_es.shaping.settings import CloningConfig
+
+    rng = np.random.default_rng(0)
+    spec = MLPSpec(3, 2, (16,))
+    scale, shift = np.array([50.0, 0.01, 3.0]), np.array([200.0, -0.5, 10.0])
+    states = (rng.normal(size=(600, 3)) * scale + shift).astype(np.float32)  # badly scaled raw states
+    x = states.astype(np.float64)
+    stats = ObsStats.from_sums(len(x), x.sum(0), (x * x).sum(0))
+    norm = stats.norm()
+    teacher = rng.normal(0, 1.0, size=spec.num_params).astype(np.float32)
+    seen = []
+
+    def labels(s, q):  # the teacher acts on normalized states; the label source gets raw ones
+        seen.append(np.array(s))
+        return forward(spec, teacher[None], norm.apply(s).reshape(1, -1, 3))[0].reshape(*s.shape[:-1], 2)
+
+    refs = []
+    rows = MemberRows.from_lists([states], [np.zeros((600, 1), np.float32)])
+    cfg = CloningConfig(steps=300, lr=0.01, batch_size=64, optimizer="adam")
+    theta = spec.init(3)[None]  # (1, n)
+    res = clone_sampled(spec, theta, rows, labels, cfg, np.array([7]), obs_norm=norm,
+                        reference_fn=lambda s: refs.append(np.array(s)) or np.zeros((*s.shape[:-1], 2), np.float32))
+    raw = clone_sampled(spec, theta, rows, labels, cfg, np.array([7]))  # the same fit on raw inputs
+    assert np.abs(seen[0]).max() > 100 and np.abs(refs[0]).max() > 100  # raw states, not normalized ones
+    assert res.loss_after[0] < 0.2 * raw.loss_after[0]
+    pred = forward(spec, res.theta_star, norm.apply(states)[None])[0]  # the clone acts on norm(s)
+    err_norm = float(np.mean((pred - labels(states, None)) ** 2))
+    pred_raw = forward(spec, res.theta_star, states[None])[0]
+    assert err_norm < 0.2 * float(np.mean((pred_raw - labels(states, None)) ** 2))
 
 
 def test_ppo_ignores_obs_norm_with_a_warning():
