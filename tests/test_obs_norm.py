@@ -236,14 +236,18 @@ SHAPED_TINY = {"env": "UR5Reach-v0", "executor": "inline", "method": "shaped", "
                            "mean_clone": {"steps": 10, "batch_size": 32, "record_every": 3}}}
 
 
-@pytest.mark.parametrize("method", ["shaped", "shaped_cmaes"])
-def test_shaped_candidate_clones_through_the_next_generations_normalizer(tmp_path, monkeypatch, method):
+@pytest.mark.parametrize("method,labels", [("shaped", "controller"), ("shaped", "mphi"),
+                                           ("shaped_cmaes", "controller")])
+def test_shaped_candidate_clones_through_the_next_generations_normalizer(tmp_path, monkeypatch, method, labels):
     """Each generation's mean clone gets the normalizer generation g+1's rollouts (and so its candidates)
     use, and the run resumes exactly after a crash."""
     from shaped_es import trainer as trainer_mod
     from shaped_es.guides.mechanisms import mean_clone
 
-    cfg = {**SHAPED_TINY, "method": method}
+    sh = {**SHAPED_TINY["shaping"], "labels": labels}
+    if labels == "mphi":  # M_phi reads raw states (its own normalization), whatever the policies see
+        sh["inverse_dynamics"] = {"steps_per_generation": 30, "filter": "none"}
+    cfg = {**SHAPED_TINY, "method": method, "shaping": sh}
     clone_norms, roll_norms = {}, {}
     clone, tasks = mean_clone.clone_sampled, trainer_mod.population_tasks
 
