@@ -19,7 +19,7 @@ def test_shaping_settings_with_another_method_warn_once(method):
     assert len(rec) == 1
     text = str(rec[0].message)
     assert text.startswith(f"--method {method} ignores shaping.labels, shaping.cloning.steps")
-    assert "only --method shaped uses them" in text
+    assert "only --method shaped / shaped_cmaes use them" in text
 
 
 def test_other_sections_name_who_reads_them():
@@ -57,4 +57,4 @@ def test_train_prints_one_warning_line(tmp_path, capsys):
             "--out", str(tmp_path / "run")]
     assert main(argv) == 0
     err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
-    assert err == ["shaped-es: warning: --method vanilla ignores shaping.labels (only --method shaped uses it)"]
+    assert err == ["shaped-es: warning: --method vanilla ignores shaping.labels (only --method shaped / shaped_cmaes use it)"]
