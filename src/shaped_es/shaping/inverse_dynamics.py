@@ -28,6 +28,7 @@ from dataclasses import replace
 import numpy as np
 
 from shaped_es.data import Transitions
+from shaped_es.shaping import kernels
 from shaped_es.shaping.frames import to_frame
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.settings import QUERY_SCALES, TARGETS, InverseDynamicsConfig
@@ -151,15 +152,20 @@ class RunningNorm:
         var = self.m2 / max(self.count, 1.0)
         return np.where(var > 1e-12, np.sqrt(var), 1.0)  # constant features: shift only
 
-    def apply(self, x: np.ndarray, clip: float) -> np.ndarray:
-        """Standardize and clip ``(..., dim)`` in float32 (4-5x faster than float64 on label batches)."""
+    def shift_scale(self) -> tuple[np.ndarray, np.ndarray]:
+        """The float32 ``(shift, scale)`` ``(dim,)`` that :meth:`apply` uses: ``(x - shift) * scale``."""
         key = (self.count, self.mean.tobytes(), self.m2.tobytes())
         if getattr(self, "_key", None) != key:
             self._key = key
             self._shift = self.mean.astype(np.float32)  # (dim,)
             self._scale = (1.0 / self.std()).astype(np.float32)  # (dim,)
-        out = np.subtract(x, self._shift, dtype=np.float32)
-        out *= self._scale
+        return self._shift, self._scale
+
+    def apply(self, x: np.ndarray, clip: float) -> np.ndarray:
+        """Standardize and clip ``(..., dim)`` in float32 (4-5x faster than float64 on label batches)."""
+        shift, scale = self.shift_scale()
+        out = np.subtract(x, shift, dtype=np.float32)
+        out *= scale
         return np.clip(out, -clip, clip, out=out)
 
 
@@ -232,6 +238,8 @@ class InverseDynamics:
         yet: no steps, ``[]``."""
         steps = self.config.steps_per_generation if num_steps is None else int(num_steps)
         B = self.config.batch_size
+        if kernels.ENABLED and steps > 0:
+            return self._train_compiled(steps, B)
         with self._lock:
             if self.dataset_size == 0 or steps <= 0:
                 return []
@@ -247,12 +255,39 @@ class InverseDynamics:
                 self.iterations += 1
         return losses
 
+    def _train_compiled(self, steps: int, B: int) -> list[float]:
+        """:meth:`train`'s steps in one compiled call (``kernels.fit_mphi``): the same minibatch rows
+        (the same draws from the same generator), the same Adam; equal to the NumPy loop to float
+        tolerance. Holds the lock throughout, but not the GIL."""
+        with self._lock:
+            if self.dataset_size == 0:
+                return []
+            idx = self._rng.integers(0, self.dataset_size, size=(steps, B))  # (steps, B)
+            shift, scale = self.norm.shift_scale()
+            losses = np.zeros(steps)  # (steps,)
+            opt = self.opt
+            kernels.fit_mphi(self.net.flat, opt.m, opt.v, opt.t, np.array(self.net.sizes, np.int64),
+                             self._x, self._y, idx, shift, scale, float(self.config.clip_input), float(opt.lr),
+                             float(opt.b1), float(opt.b2), float(opt.eps), losses)
+            opt.t += steps
+            self.iterations += steps
+        return losses.tolist()
+
     # -- queries -------------------------------------------------------------------------------------
     def label(self, states: np.ndarray, displacement: np.ndarray) -> np.ndarray:
         """``a_hat = M_phi(s, displacement)``: ``(..., obs)``, ``(..., d)`` -> ``(..., act)`` float32."""
         s = np.asarray(states, dtype=np.float32)
         d = np.asarray(displacement, dtype=np.float32)
         lead = s.shape[:-1]
+        if kernels.ENABLED:  # one compiled pass, no concatenated copy of the inputs
+            s2 = np.ascontiguousarray(s.reshape(-1, self.obs_dim))  # (N, obs)
+            d2 = np.ascontiguousarray(d.reshape(-1, self.pos_dim))  # (N, d)
+            a = np.empty((s2.shape[0], self.act_dim), np.float32)  # (N, act)
+            with self._lock:
+                shift, scale = self.norm.shift_scale()
+                kernels.label_mphi(self.net.flat, np.array(self.net.sizes, np.int64), s2, d2, shift, scale,
+                                   float(self.config.clip_input), a)
+            return a.reshape(*lead, self.act_dim)
         x = np.concatenate([s.reshape(-1, self.obs_dim), d.reshape(-1, self.pos_dim)], axis=1)  # (N, in)
         a = np.empty((x.shape[0], self.act_dim), np.float32)  # (N, act)
         with self._lock:
