@@ -260,6 +260,18 @@ def label_mphi(theta, sizes, S, Q, shift, scale, clip, out):
                 out[r0 + r, j] = res[r, j]
 
 
+@nb.njit(cache=True, error_model="numpy", nogil=True)
+def take_block_rows(src, block, local, b, out):
+    """``out[i] = src[local[i]]`` for every draw ``i`` with ``block[i] == b`` (``member_rows.MemberRows.
+    gather``, one block of rows at a time, without NumPy's temporary and scatter)."""
+    w = src.shape[1]
+    for i in range(block.shape[0]):
+        if block[i] == b:
+            r = local[i]
+            for j in range(w):
+                out[i, j] = src[r, j]
+
+
 def warm_up() -> float:
     """Compile (or load from Numba's cache) every kernel on tiny data; returns the seconds it took (the
     first generation would otherwise pay them)."""
@@ -275,4 +287,5 @@ def warm_up() -> float:
     S, A = np.zeros((2, 1, 4, 3), np.float32), np.zeros((2, 1, 4, 2), np.float32)
     fit_population(th[None].copy(), S, A, np.ones(1, np.float32), True, 1e-3, 0.9, 0.999, 1e-8, sizes)
     label_mphi(th, sizes, X[:, :2].copy(), X[:, :1].copy(), f3, f3, 10.0, np.zeros((5, 2), np.float32))
+    take_block_rows(X, np.zeros(5, np.int64), np.zeros(5, np.int64), 0, np.zeros((5, 3), np.float32))
     return time.perf_counter() - t0
