@@ -143,3 +143,26 @@ def test_a_shaped_run_with_the_kernels_resumes_exactly(tmp_path, monkeypatch):
     run_until_crash(monkeypatch, cfg, store, 3)
     Trainer(cfg, store, progress=False).run()
     assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_the_data_set_fifo_keeps_the_newest_rows_in_order(make_transitions, monkeypatch):
+    """M_phi's data set in its backing buffers equals the concatenate-and-cut FIFO, across many adds
+    (the buffers fill, the kept rows move to the front) and a set_data in between; the normalizer's
+    compiled statistics equal the float64 NumPy ones."""
+    cfg = InverseDynamicsConfig(max_dataset=100, filter="none")
+    mdl = InverseDynamics(4, 2, 2, cfg)
+    ref_x = np.zeros((0, 6), np.float32)
+    rng = np.random.default_rng(0)
+    for i in range(12):
+        tr = make_transitions(rng, episodes=1, steps=int(rng.integers(2, 60)), obs_dim=4)
+        mdl.add([tr])
+        x, _ = mdl.newest(len(tr) - 1)
+        ref_x = np.concatenate([ref_x, x])[-100:]
+        np.testing.assert_array_equal(mdl.state_dict()["data/x"], ref_x)
+        if i == 6:
+            mdl.set_data(ref_x[:50], np.zeros((50, 2), np.float32))
+            ref_x = ref_x[:50]
+    x = rng.standard_normal((1000, 6)).astype(np.float32) * 5 + 3
+    mean, m2 = kernels.column_stats(x)
+    np.testing.assert_allclose(mean, x.astype(np.float64).mean(0), rtol=1e-12)
+    np.testing.assert_allclose(m2, ((x.astype(np.float64) - mean) ** 2).sum(0), rtol=1e-10)

@@ -272,6 +272,25 @@ def take_block_rows(src, block, local, b, out):
                 out[i, j] = src[r, j]
 
 
+@nb.njit(cache=True, error_model="numpy", nogil=True)
+def column_stats(x):
+    """``(mean, sum of squared deviations)`` ``(d,)`` float64 of the rows of ``x`` ``(N, d)`` float32 (two
+    passes, float64 sums; ``inverse_dynamics.RunningNorm.update`` without its float64 copy of ``x``)."""
+    N, d = x.shape
+    mean = np.zeros(d)
+    m2 = np.zeros(d)
+    for r in range(N):
+        for j in range(d):
+            mean[j] += x[r, j]
+    for j in range(d):
+        mean[j] /= max(N, 1)
+    for r in range(N):
+        for j in range(d):
+            z = x[r, j] - mean[j]
+            m2[j] += z * z
+    return mean, m2
+
+
 def warm_up() -> float:
     """Compile (or load from Numba's cache) every kernel on tiny data; returns the seconds it took (the
     first generation would otherwise pay them)."""
@@ -287,5 +306,6 @@ def warm_up() -> float:
     S, A = np.zeros((2, 1, 4, 3), np.float32), np.zeros((2, 1, 4, 2), np.float32)
     fit_population(th[None].copy(), S, A, np.ones(1, np.float32), True, 1e-3, 0.9, 0.999, 1e-8, sizes)
     label_mphi(th, sizes, X[:, :2].copy(), X[:, :1].copy(), f3, f3, 10.0, np.zeros((5, 2), np.float32))
+    column_stats(X)
     take_block_rows(X, np.zeros(5, np.int64), np.zeros(5, np.int64), 0, np.zeros((5, 3), np.float32))
     return time.perf_counter() - t0
