@@ -53,6 +53,7 @@ from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
+from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
@@ -129,6 +130,9 @@ class ShapedGuide(NoGuide):
         self._babblers = 0  # babbling policies among this generation's extra members (the last rows)
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
+        # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
+        # (~20 s), not on the clock
+        self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
 
     @property
     def expert(self) -> bool:
