@@ -48,8 +48,27 @@ def test_roundtrip_is_exact_and_layout_as_documented(tr, tmp_path):
     _assert_same(tr, back)
     schema = pq.read_schema(path)
     assert schema.names == list(COLUMNS)
-    assert schema.field("state").type == pa.list_(pa.float32(), 38)
+    assert schema.field("state").type == pa.binary(4 * 38)  # format 2: a row's 38 float32 as one value
+    assert schema.metadata[b"shaped_es.trajectories"] == b"2"
     assert schema.field("step").type == pa.int32() and schema.field("reward").type == pa.float32()
+    state = pq.read_table(path).column("state").combine_chunks()
+    np.testing.assert_array_equal(np.frombuffer(state.buffers()[1], "<f4").reshape(-1, 38), tr.state)
+
+
+def test_format_1_shards_with_list_columns_still_read(tr, tmp_path):
+    """Shards written before format 2 (vectors as fixed_size_list<float32>) read the same."""
+    table = pq.read_table(write_shard(tmp_path / "new", tr))
+    for name in ("state", "position", "waypoint", "action"):
+        a = getattr(tr, name)
+        table = table.set_column(table.schema.get_field_index(name), name,
+                                 pa.FixedSizeListArray.from_arrays(pa.array(a.reshape(-1)), a.shape[1]))
+    meta = {**table.schema.metadata, b"shaped_es.trajectories": b"1"}
+    old = tmp_path / "old" / "gen_000003" / "members_0007-0007.parquet"
+    old.parent.mkdir(parents=True)
+    pq.write_table(table.replace_schema_metadata(meta), old)
+    _assert_same(tr, read_shard(old)[0])
+    pq.write_table(table.replace_schema_metadata({**meta, b"shaped_es.trajectories": b"9"}), tmp_path / "v9.parquet")
+    _expect_error(tmp_path / "v9.parquet", "not a shaped-es trajectory shard")
 
 
 def test_roundtrip_through_a_filesystem_uri(tr, tmp_path):
@@ -133,6 +152,9 @@ def test_missing_or_foreign_or_malformed_shard_raises(tr, tmp_path):
     wide_step = good.set_column(3, "step", good.column("step").cast(pa.int64()))
     pq.write_table(wide_step, tmp_path / "type.parquet")
     _expect_error(tmp_path / "type.parquet", "'step' has type int64")
+    as_float = good.set_column(4, "state", pa.array(np.zeros(good.num_rows, np.float32)))
+    pq.write_table(as_float, tmp_path / "vector.parquet")
+    _expect_error(tmp_path / "vector.parquet", "'state' has type float, expected fixed_size_binary")
     meta = {**good.schema.metadata, b"members": b"8"}
     pq.write_table(good.replace_schema_metadata(meta), tmp_path / "meta.parquet")
     _expect_error(tmp_path / "meta.parquet", "disagree")

@@ -20,6 +20,7 @@ def test_side_by_side_report_has_ratio_phases_and_lower_bound():
     assert e["shaped_phases_s"]["time_cloning_s"] > 0  # the shaping work really ran
     assert e["lower_bound_s"]["mphi"] > 0 and e["lower_bound_s"]["label_and_clone"] > 0
     assert e["shaping"]["clone_steps"] == 2 and e["shaping"]["mphi_steps"] == 20  # --set reached shaped only
+    assert res["kernels"]["enabled"] and res["kernels"]["load_s"] >= 0  # their one-time cost, apart
     assert "UR5Reach-v0" in format_table(res)
     json.dumps(res)
 

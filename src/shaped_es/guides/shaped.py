@@ -53,6 +53,7 @@ from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
+from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
@@ -110,6 +111,7 @@ class ShapedGuide(NoGuide):
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
+        self._thread_error: BaseException | None = None
         self._pending: dict = {}
         self._last_generation = -1  # the newest generation whose after_tell ran
         self._cache: dict[int, _Block] = {}  # master placement: generation -> its block in memory
@@ -134,6 +136,9 @@ class ShapedGuide(NoGuide):
         self._silent: set[int] = set()  # recent generations slept through: no steps were recorded
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
+        # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
+        # (~20 s), not on the clock
+        self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
 
     @property
     def expert(self) -> bool:
@@ -300,17 +305,19 @@ class ShapedGuide(NoGuide):
         if self.mphi is not None:
             self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
                                  mphi_dataset_size=self.mphi.dataset_size)
-        train = self.mphi is not None and generation > 0 and self._add_mphi_data(generation)
+        train = self.mphi is not None and generation > 0
+        # g-1's steps are read here (a lost shard is a loud error on this thread); M_phi takes them in,
+        # then trains, in the shaping thread, beside the rollouts
+        data = [t for t in self._generation(generation - 1) if len(t)] if train else []
         # the mechanism's work that may overlap the rollouts (after M_phi's training, in the same thread)
         job = self.mechanism.background_job(generation)
         if train or job is not None:
-            self._thread = threading.Thread(target=self._background, args=(train, job), name="shaping",
-                                            daemon=True)
+            self._thread = threading.Thread(target=self._background, args=(generation, data, train, job),
+                                            name="shaping", daemon=True)
             self._thread.start()
 
-    def _add_mphi_data(self, generation: int) -> bool:
-        """M_phi's training pairs from generation ``generation - 1``'s recorded steps; True: train it."""
-        data = [t for t in self._generation(generation - 1) if len(t)]
+    def _add_mphi_data(self, generation: int, data: list[Transitions]) -> bool:
+        """M_phi's training pairs from generation ``generation - 1``'s recorded steps ``data``; True: train it."""
         blk = self._cache.get(generation - 1)
         if data:  # one Transitions for the generation: per-step work once, not per member
             data = [blk.big if blk is not None else concat_members(data)[0]]
@@ -334,16 +341,29 @@ class ShapedGuide(NoGuide):
                              mphi_kept_fraction=stats["kept_fraction"])
         return True
 
-    def _background(self, train: bool, job) -> None:
-        """The shaping thread: M_phi's training steps, then the mechanism's job (which may label with it)."""
-        if train:
-            t0 = time.perf_counter()
-            losses = self.mphi.train()
-            self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
-            self._pending["mphi_iterations"] = self.mphi.iterations
-            self._pending["time_mphi_s"] = time.perf_counter() - t0
-        if job is not None:
-            job()
+    def _background(self, generation: int, data: list[Transitions], train: bool, job) -> None:
+        """The shaping thread: M_phi's new data and training steps, then the mechanism's job (which may
+        label with it). An error is raised again where the thread is joined."""
+        try:
+            if train:
+                self._add_mphi_data(generation, data)
+                t0 = time.perf_counter()
+                losses = self.mphi.train()
+                self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
+                self._pending["mphi_iterations"] = self.mphi.iterations
+                self._pending["time_mphi_s"] = time.perf_counter() - t0
+            if job is not None:
+                job()
+        except BaseException as exc:  # noqa: BLE001 - handed to the joining thread
+            self._thread_error = exc
+
+    def _join_thread(self) -> None:
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+        err, self._thread_error = self._thread_error, None
+        if err is not None:
+            raise err
 
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
@@ -357,9 +377,7 @@ class ShapedGuide(NoGuide):
                 blk = self._cache[generation]
                 self._writes.append(self._writer.submit(self._write, blk.trs, blk.big))
         t_wait = time.perf_counter()
-        if self._thread is not None:
-            self._thread.join()
-            self._thread = None
+        self._join_thread()
         out = dict(self._pending, time_cloning_s=0.0, clone_cpu_time_s=0.0, shaping_active=0,
                    time_store_write_s=self._write_time)  # this generation's shards (+ M_phi data parts)
         if self.mphi is not None:

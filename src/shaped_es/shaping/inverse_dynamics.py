@@ -28,6 +28,7 @@ from dataclasses import replace
 import numpy as np
 
 from shaped_es.data import Transitions
+from shaped_es.shaping import kernels
 from shaped_es.shaping.frames import frame_dim, to_frame
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.settings import QUERY_SCALES, TARGETS, InverseDynamicsConfig
@@ -138,9 +139,12 @@ class RunningNorm:
     def update(self, x: np.ndarray) -> None:
         if x.shape[0] == 0:
             return
-        x = x.astype(np.float64)
-        n_b, mean_b = x.shape[0], x.mean(axis=0)
-        m2_b = ((x - mean_b) ** 2).sum(axis=0)
+        if kernels.ENABLED and x.dtype == np.float32 and x.ndim == 2:  # one compiled pass, no float64 copy
+            n_b, (mean_b, m2_b) = x.shape[0], kernels.column_stats(np.ascontiguousarray(x))
+        else:
+            x = x.astype(np.float64)
+            n_b, mean_b = x.shape[0], x.mean(axis=0)
+            m2_b = ((x - mean_b) ** 2).sum(axis=0)
         n = self.count + n_b
         delta = mean_b - self.mean
         self.mean = self.mean + delta * n_b / n
@@ -151,15 +155,20 @@ class RunningNorm:
         var = self.m2 / max(self.count, 1.0)
         return np.where(var > 1e-12, np.sqrt(var), 1.0)  # constant features: shift only
 
-    def apply(self, x: np.ndarray, clip: float) -> np.ndarray:
-        """Standardize and clip ``(..., dim)`` in float32 (4-5x faster than float64 on label batches)."""
+    def shift_scale(self) -> tuple[np.ndarray, np.ndarray]:
+        """The float32 ``(shift, scale)`` ``(dim,)`` that :meth:`apply` uses: ``(x - shift) * scale``."""
         key = (self.count, self.mean.tobytes(), self.m2.tobytes())
         if getattr(self, "_key", None) != key:
             self._key = key
             self._shift = self.mean.astype(np.float32)  # (dim,)
             self._scale = (1.0 / self.std()).astype(np.float32)  # (dim,)
-        out = np.subtract(x, self._shift, dtype=np.float32)
-        out *= self._scale
+        return self._shift, self._scale
+
+    def apply(self, x: np.ndarray, clip: float) -> np.ndarray:
+        """Standardize and clip ``(..., dim)`` in float32 (4-5x faster than float64 on label batches)."""
+        shift, scale = self.shift_scale()
+        out = np.subtract(x, shift, dtype=np.float32)
+        out *= scale
         return np.clip(out, -clip, clip, out=out)
 
 
@@ -180,6 +189,8 @@ class InverseDynamics:
         self.iterations = 0  # training iterations done so far (x axis of the paper's Fig. 5)
         self._x = np.zeros((0, self.in_dim), np.float32)  # (N, obs + d) raw inputs, oldest first
         self._y = np.zeros((0, act_dim), np.float32)  # (N, act) target actions
+        self._bx = self._by = None  # backing buffers of _x, _y once rows are added (_append)
+        self._start = 0  # where _x starts in them
         self._lock = threading.Lock()
 
     @property
@@ -210,15 +221,36 @@ class InverseDynamics:
             ys.append(a[keep])  # (T', act)
         x = np.concatenate(xs).astype(np.float32) if xs else self._x[:0]
         y = np.concatenate(ys).astype(np.float32) if ys else self._y[:0]
-        cap = self.config.max_dataset
         with self._lock:
             self.norm.update(x)
-            self._x = np.concatenate([self._x, x])[-cap:]  # FIFO cap
-            self._y = np.concatenate([self._y, y])[-cap:]
+            self._append(x, y)
             size = self.dataset_size
         return {"episodes": float(episodes), "kept_episodes": float(kept),
                 "kept_fraction": kept / episodes if episodes else 0.0,
                 "added": float(x.shape[0]), "dataset_size": float(size)}
+
+    def _append(self, x: np.ndarray, y: np.ndarray) -> None:
+        """Rows onto the data set, the oldest dropped beyond ``max_dataset`` (FIFO); under the lock.
+
+        The data set is a view of backing buffers twice its cap: new rows go after it, and only when
+        there is no room left do the kept rows move to the front (a copy of the whole set every few
+        generations instead of every generation)."""
+        cap = self.config.max_dataset
+        x, y = x[-cap:], y[-cap:]
+        n, k = self.dataset_size, x.shape[0]
+        keep = min(n, cap - k)
+        end = self._start + n  # the row after the data in the buffers
+        if self._bx is None or end + k > self._bx.shape[0]:  # no room: kept rows to the front
+            bx = np.empty((2 * cap, self.in_dim), np.float32) if self._bx is None else self._bx  # (2 cap, in)
+            by = np.empty((2 * cap, self.act_dim), np.float32) if self._by is None else self._by  # (2 cap, act)
+            bx[:keep], by[:keep] = self._x[n - keep :], self._y[n - keep :]  # no overlap: keep <= cap < end - keep
+            self._bx, self._by, start = bx, by, 0
+        else:
+            start = end - keep
+        self._bx[start + keep : start + keep + k] = x
+        self._by[start + keep : start + keep + k] = y
+        self._start = start
+        self._x, self._y = self._bx[start : start + keep + k], self._by[start : start + keep + k]
 
     def _check(self, tr: Transitions) -> None:
         got = (tr.state.shape[1], tr.position.shape[1], tr.action.shape[1])
@@ -233,6 +265,8 @@ class InverseDynamics:
         yet: no steps, ``[]``."""
         steps = self.config.steps_per_generation if num_steps is None else int(num_steps)
         B = self.config.batch_size
+        if kernels.ENABLED and steps > 0:
+            return self._train_compiled(steps, B)
         with self._lock:
             if self.dataset_size == 0 or steps <= 0:
                 return []
@@ -248,12 +282,39 @@ class InverseDynamics:
                 self.iterations += 1
         return losses
 
+    def _train_compiled(self, steps: int, B: int) -> list[float]:
+        """:meth:`train`'s steps in one compiled call (``kernels.fit_mphi``): the same minibatch rows
+        (the same draws from the same generator), the same Adam; equal to the NumPy loop to float
+        tolerance. Holds the lock throughout, but not the GIL."""
+        with self._lock:
+            if self.dataset_size == 0:
+                return []
+            idx = self._rng.integers(0, self.dataset_size, size=(steps, B))  # (steps, B)
+            shift, scale = self.norm.shift_scale()
+            losses = np.zeros(steps)  # (steps,)
+            opt = self.opt
+            kernels.fit_mphi(self.net.flat, opt.m, opt.v, opt.t, np.array(self.net.sizes, np.int64),
+                             self._x, self._y, idx, shift, scale, float(self.config.clip_input), float(opt.lr),
+                             float(opt.b1), float(opt.b2), float(opt.eps), losses)
+            opt.t += steps
+            self.iterations += steps
+        return losses.tolist()
+
     # -- queries -------------------------------------------------------------------------------------
     def label(self, states: np.ndarray, displacement: np.ndarray) -> np.ndarray:
         """``a_hat = M_phi(s, displacement)``: ``(..., obs)``, ``(..., d)`` -> ``(..., act)`` float32."""
         s = np.asarray(states, dtype=np.float32)
         d = np.asarray(displacement, dtype=np.float32)
         lead = s.shape[:-1]
+        if kernels.ENABLED:  # one compiled pass, no concatenated copy of the inputs
+            s2 = np.ascontiguousarray(s.reshape(-1, self.obs_dim))  # (N, obs)
+            d2 = np.ascontiguousarray(d.reshape(-1, self.query_dim))  # (N, d)
+            a = np.empty((s2.shape[0], self.act_dim), np.float32)  # (N, act)
+            with self._lock:
+                shift, scale = self.norm.shift_scale()
+                kernels.label_mphi(self.net.flat, np.array(self.net.sizes, np.int64), s2, d2, shift, scale,
+                                   float(self.config.clip_input), a)
+            return a.reshape(*lead, self.act_dim)
         x = np.concatenate([s.reshape(-1, self.obs_dim), d.reshape(-1, self.query_dim)], axis=1)  # (N, in)
         a = np.empty((x.shape[0], self.act_dim), np.float32)  # (N, act)
         with self._lock:
@@ -287,6 +348,7 @@ class InverseDynamics:
                              f"actions {self.act_dim}")
         with self._lock:
             self._x, self._y = x[-self.config.max_dataset :], y[-self.config.max_dataset :]
+            self._bx = self._by = None
 
     def state_dict(self, with_training: bool = True, with_data: bool = True) -> dict[str, np.ndarray]:
         """Arrays only (safetensors-ready). ``with_training=False``: just what :meth:`label` needs
@@ -327,6 +389,7 @@ class InverseDynamics:
                 if "data/x" in state:
                     self._x = np.array(state["data/x"], np.float32)
                     self._y = np.array(state["data/y"], np.float32)
+                    self._bx = self._by = None
                 self.opt.m[...] = np.asarray(state["optim/m"], np.float32).reshape(-1)
                 self.opt.v[...] = np.asarray(state["optim/v"], np.float32).reshape(-1)
                 self.opt.t = int(state["optim/t"][0])

@@ -69,10 +69,13 @@ class LeanMLP:
         return loss
 
 
+ADAM_BETAS, ADAM_EPS = (0.9, 0.999), 1e-8  # PyTorch's defaults
+
+
 class FlatAdam:
     """Adam (Kingma & Ba; PyTorch's defaults and bias correction) on one flat float32 buffer."""
 
-    def __init__(self, size, lr: float, betas=(0.9, 0.999), eps: float = 1e-8):
+    def __init__(self, size, lr: float, betas=ADAM_BETAS, eps: float = ADAM_EPS):
         self.lr, (self.b1, self.b2), self.eps = lr, betas, eps
         self.m = np.zeros(size, np.float32)  # (n,) or (P, n): first moment
         self.v = np.zeros(size, np.float32)  # second moment

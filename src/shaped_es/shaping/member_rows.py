@@ -8,6 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shaped_es.shaping import kernels
+
 
 @dataclass
 class MemberRows:
@@ -76,6 +78,11 @@ class MemberRows:
         # per block: one np.take of its drawn rows, scattered into place (no concatenation of the
         # blocks, which copied every generation's whole data set for each gather)
         for b in range(len(self.states)):
+            if kernels.ENABLED and self.states[b].dtype == np.float32 and self.queries[b].dtype == np.float32:
+                for src, dst in ((self.states[b], S), (self.queries[b], Q)):
+                    if src.shape[1]:
+                        kernels.take_block_rows(np.ascontiguousarray(src), flat_b, flat_l, b, dst)
+                continue
             sel = np.flatnonzero(flat_b == b)  # the draws that fall in block b (no sort: 5x cheaper)
             if sel.size:
                 S[sel] = np.take(self.states[b], flat_l[sel], axis=0)

@@ -9,6 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from shaped_es.policies import MLPSpec
+from shaped_es.shaping import kernels
+from shaped_es.shaping.lean_mlp import ADAM_BETAS, ADAM_EPS
 from shaped_es.shaping.population_mlp import PopulationMLP, make_optimizer
 from shaped_es.shaping.shared_rows import RowsRef
 
@@ -40,7 +42,8 @@ class FitTask:
 def fit_rows(task: FitTask):
     """``(theta_star (P, n), mse_before (P,), mse_after (P,), own actions before / after (P, kB, act),
     CPU seconds)`` of ``task.steps`` Adam/SGD steps, minibatch ``k`` = rows ``S[k]``, one NumPy
-    computation for all (:class:`PopulationMLP`; the same steps as torch's, to float tolerance)."""
+    computation for all (:class:`PopulationMLP`; the same steps as torch's, to float tolerance), or one
+    compiled call (``kernels.fit_population``, the default; the same steps to float tolerance)."""
     cpu0 = time.process_time()
     has, k_eval = np.asarray(task.has), task.k_eval
     S, A = task.arrays()
@@ -58,7 +61,13 @@ def fit_rows(task: FitTask):
         return np.where(has, mse, np.nan)
 
     before = eval_mse()
-    if task.steps > 0 and has.any():
+    if task.steps > 0 and has.any() and kernels.ENABLED:  # all the steps in one compiled call
+        if task.optimizer not in ("adam", "sgd"):
+            make_optimizer(task.optimizer, net.flat.shape, task.lr)  # its one-line error
+        kernels.fit_population(net.flat, S[: task.steps], A[: task.steps], weight, task.optimizer == "adam",
+                               float(task.lr), ADAM_BETAS[0], ADAM_BETAS[1], ADAM_EPS,
+                               np.array(task.spec.sizes, np.int64))
+    elif task.steps > 0 and has.any():
         opt = make_optimizer(task.optimizer, net.flat.shape, task.lr)
         for k in range(task.steps):
             net.mse_backward(S[k], A[k], weight)  # sum_i L_i(theta_i), Eq. L(theta) per member

@@ -12,6 +12,9 @@ thread, the background shard writes, the checkpoint); and the **batched lower bo
 work: M_phi's steps and the labels + cloning of the whole population, timed alone on the master on the
 run's last generation of data with nothing else running.
 
+The compiled shaping kernels (``shaping/kernels.py``) are compiled or loaded before the clock; their
+one-time cost is reported apart (``kernels``: compile with an empty Numba cache, load from it).
+
 ``shaped-es speed shaping --json`` prints one JSON line; ``--set shaping.cloning.steps=5`` (and any
 other ``--set``) changes the shaped run only, to price other budgets.
 """
@@ -147,10 +150,36 @@ def bench_shaping(envs=ENVS, generations: int = 10, warmup: int = 3, executor: s
     if load0 is not None and load0 > 0.5 * (os.cpu_count() or 1):
         print(f"shaped-es: warning: the machine is busy (load average {load0:.1f} on {os.cpu_count()} cores): "
               f"the ratio is side by side, but the absolute times will be inflated", file=sys.stderr)
+    kern = _kernels_compile()
     res = [bench_env(e, generations, warmup, executor, workers, overrides) for e in envs]
     return {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
                         "load_average_1min": {"before": load0, "after": _load()}},
-            "executor": executor, "workers": workers or os.cpu_count(), "envs": res}
+            "executor": executor, "workers": workers or os.cpu_count(), "kernels": kern, "envs": res}
+
+
+def _kernels_compile() -> dict:
+    """The compiled shaping kernels' one-time cost, outside the timed generations (the shaped guide
+    loads them before the clock starts): ``compile_s``, a fresh process compiling them with an empty
+    Numba cache (once per install; Numba's own start-up included), and ``load_s``, loading them from
+    the cache in this process."""
+    import subprocess
+
+    from shaped_es.shaping import kernels
+
+    if not kernels.ENABLED:
+        return {"enabled": False}
+    with tempfile.TemporaryDirectory(prefix="shaped-es-numba-") as cache:
+        code = "from shaped_es.shaping import kernels; print(kernels.warm_up())"
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache,
+               "PYTHONPATH": os.pathsep.join(p for p in (str(Path(__file__).resolve().parents[2]),
+                                                         os.environ.get("PYTHONPATH")) if p)}
+        try:
+            out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                                 timeout=600, check=True).stdout
+            compile_s = float(out.strip().splitlines()[-1])
+        except (subprocess.SubprocessError, ValueError, IndexError):
+            compile_s = None
+    return {"enabled": True, "compile_s": compile_s, "load_s": kernels.warm_up()}
 
 
 def _load() -> float | None:
