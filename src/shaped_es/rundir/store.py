@@ -16,11 +16,15 @@ Layout::
 Crash safety: every file is written to a ``.NAME.*.tmp`` file, fsynced and renamed, and a checkpoint is
 its ``.npz`` then its ``.json``; a checkpoint is complete once both exist. A kill at any point leaves the
 previous complete checkpoint in force. :meth:`RunStore.recover` (resume) deletes what a killed writer
-left (``.tmp`` files, an ``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
+left (the temporaries of the files the run writes, :data:`RUN_FILES`, in their own folders only; an
+``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
 ``latest.json`` says (it only names the newest one for people and other tools, and is rewritten), and
 drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included (repeated rows,
 which two writers at once leave, are reduced to the last of each generation; rows the checkpoint covers
 that are missing are an error: nothing is changed).
+
+A run directory is the run's own: ``train --out`` takes only a new or empty folder (or one a failed
+start left), never a folder of other files or the empty path (:meth:`RunStore.check_new`).
 
 One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``lock.py``: the run directory
 itself ``flock``-ed, so deleting ``RUN/.lock`` does not let a second writer in, and ``RUN/.lock`` naming
@@ -54,12 +58,24 @@ from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_bytes
 ERROR_LOG = "error.log"
 _CKPT_RE = re.compile(r"gen_(\d{6,})")
 _RUN_ID_RE = re.compile(r"[0-9a-f]{16,64}")
-_TMP_RE = re.compile(r"\..+\.tmp")  # atomic_write_bytes' (and the trajectory store's) temporaries
+# What the run writes, folder by folder (relative to the run directory; ``*`` a ``gen_NNNNNN`` folder):
+# clean-up deletes only the temporaries of these names (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the
+# trajectory store's), never walking any other folder, so a run directory holds nothing else of value to it
+RUN_FILES = {
+    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id",
+    "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
+    "mphi_data": r"added_\d{6,}\.npz",
+    "trajectories/*": r"members_\d{4,}-\d{4,}\.parquet",
+}
+_TMP_RES = {d: re.compile(rf"\.(?:{names})\.[A-Za-z0-9_]+\.tmp") for d, names in RUN_FILES.items()}
+# what a start that failed before its config was written leaves: ``train --out`` may start there again
+_START_LEFTOVERS = re.compile(rf"{re.escape(LOCK_NAME)}|{re.escape(ERROR_LOG)}|run\.json|{_TMP_RES['.'].pattern}")
 
 
 class RunStore:
     def __init__(self, root: str | Path):
         self.root = Path(root)
+        self._empty_path = isinstance(root, str) and not root.strip()  # Path("") is the working folder
 
     # -- paths -------------------------------------------------------------------------------------
     @property
@@ -134,13 +150,32 @@ class RunStore:
     def exists(self) -> bool:
         return self.config_path.is_file()
 
-    def create(self, cfg: RunConfig) -> None:
+    def check_new(self) -> None:
+        """``StoreError`` unless the run directory can be a new run's: absent, empty, or holding only what
+        a start that failed left (a run directory is a folder the run owns: resume's clean-up deletes what
+        it wrote there, so a folder of other files is refused, and so is an empty path, the working one)."""
+        if self._empty_path:
+            raise StoreError("--out is empty; name a new folder for the run (e.g. --out runs/first)")
         if self.root.exists() and not self.root.is_dir():
             raise StoreError(f"--out {self.root} exists and is not a directory")
         if self.exists():
             raise StoreError(
                 f"{self.root} already holds a run; use 'shaped-es resume {self.root}' or another --out"
             )
+        if not self.root.is_dir():
+            return
+        try:
+            names = sorted(p.name for p in self.root.iterdir())
+        except OSError as exc:
+            raise StoreError(f"cannot list --out {self.root}: {exc.strerror or exc}") from None
+        foreign = [n for n in names if not _START_LEFTOVERS.fullmatch(n)]
+        if foreign:
+            shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+            raise StoreError(f"--out {self.root} is a folder that holds no run but other files ({shown}); a "
+                             f"run directory is the run's own: name a new or empty folder")
+
+    def create(self, cfg: RunConfig) -> None:
+        self.check_new()
         try:
             self.root.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -305,13 +340,12 @@ class RunStore:
         """Delete ``.*.tmp`` files a killed writer left in the run directory (and its sub-directories)
         and checkpoint files without their pair; returns what was deleted. Only for the lock holder."""
         removed = []
-        for dirpath, dirnames, filenames in os.walk(self.root):
-            dirnames[:] = [d for d in dirnames if d not in ("tb", "figures")]
-            for f in filenames:
-                if _TMP_RE.fullmatch(f):
-                    p = Path(dirpath) / f
-                    p.unlink(missing_ok=True)
-                    removed.append(p)
+        for folder, pattern in _TMP_RES.items():
+            for d in self._run_folders(folder):
+                for p in _listdir(d):
+                    if pattern.fullmatch(p.name) and p.is_file() and not p.is_symlink():
+                        p.unlink(missing_ok=True)
+                        removed.append(p)
         if self._check_ckpt_dir():
             names = {p.name for p in self.ckpt_dir.iterdir()}
             for n in names:
@@ -322,6 +356,18 @@ class RunStore:
                     p.unlink(missing_ok=True)
                     removed.append(p)
         return removed
+
+    def _run_folders(self, folder: str) -> list[Path]:
+        """The folders ``folder`` (a :data:`RUN_FILES` key) stands for: ``trajectories/*`` is each of
+        ``trajectories/gen_NNNNNN``; only real folders (a symlink is not followed)."""
+        if folder.endswith("/*"):
+            parent = self.root / folder[:-2]
+            found = [p for p in _listdir(parent) if _CKPT_RE.fullmatch(p.name)] if _real_dir(parent) else []
+        elif folder == ".":
+            return [self.root] if self.root.is_dir() else []
+        else:
+            found = [self.root / folder]
+        return [p for p in found if _real_dir(p)]
 
     def recover(self, loaded: Any = ...) -> tuple[dict[str, np.ndarray], dict] | None:
         """Make the run directory consistent before a writer continues it (call with the lock held):
@@ -368,6 +414,17 @@ class RunStore:
         except OSError:
             return None
         return self.error_log
+
+
+def _real_dir(p: Path) -> bool:
+    return p.is_dir() and not p.is_symlink()
+
+
+def _listdir(d: Path) -> list[Path]:
+    try:
+        return sorted(d.iterdir())
+    except OSError:
+        return []
 
 
 def _rows_covered(loaded) -> int:
