@@ -357,6 +357,20 @@ class RunStore:
                     removed.append(p)
         return removed
 
+    def check_writable_layout(self, columns: tuple[str, ...], tensorboard: bool) -> None:
+        """What a run (a resume) will write to, checked before it writes anything (``StoreError``, one
+        line, nothing changed): ``metrics.csv`` has every column the run's rows fill (a cut header would
+        fail at the first row, after a checkpoint was pruned), and ``figures/``, ``tb/`` (with
+        ``tensorboard``) and ``checkpoints/`` are folders where they exist."""
+        header = metrics_csv.read_table(self.metrics_path)[0]  # validates the whole file too
+        missing = [c for c in columns if header and c not in header]
+        if missing:
+            raise StoreError(f"{self.metrics_path} lacks the columns {missing} this run's rows fill (its header "
+                             f"was cut?); restore it to resume")
+        for d in [self.figures_dir, self.ckpt_dir] + ([self.root / "tb"] if tensorboard else []):
+            if d.exists() and not d.is_dir():
+                raise StoreError(f"{d} is not a folder (the run writes {d.name}/ there); move it away to resume")
+
     def _run_folders(self, folder: str) -> list[Path]:
         """The folders ``folder`` (a :data:`RUN_FILES` key) stands for: ``trajectories/*`` is each of
         ``trajectories/gen_NNNNNN``; only real folders (a symlink is not followed)."""
@@ -371,12 +385,21 @@ class RunStore:
 
     def recover(self, loaded: Any = ...) -> tuple[dict[str, np.ndarray], dict] | None:
         """Make the run directory consistent before a writer continues it (call with the lock held):
-        delete what a killed writer left, load the newest complete checkpoint (``load_checkpoint``, or
-        take ``loaded``, what it returned), point ``latest.json`` at it and keep the metrics rows it
-        covers (every row without a checkpoint; the rows still waiting for test episodes when it was
-        written are written again), one per generation: repeated rows, which two writers at once leave,
-        are reduced to the last of each (with a warning). ``StoreError``, with nothing changed, if
-        rows it covers are missing (a deleted ``metrics.csv``)."""
+        :meth:`prepare_recovery`, then its repair at once; returns the checkpoint it took."""
+        loaded, repair = self.prepare_recovery(loaded)
+        repair()
+        return loaded
+
+    def prepare_recovery(self, loaded: Any = ...):
+        """Check what :meth:`recover` repairs and delete what a killed writer left (temporaries, half
+        checkpoints: nothing a run reads); returns ``(loaded, repair)``: the newest complete checkpoint
+        (``load_checkpoint``, or ``loaded``, what it returned) and the function that points
+        ``latest.json`` at it and keeps the metrics rows it covers (every row without a checkpoint; the
+        rows still waiting for test episodes when it was written are written again), one per generation:
+        repeated rows, which two writers at once leave, are reduced to the last of each (with a warning).
+        The run loop calls ``repair`` once its first generation ran, so a resume that fails before
+        changes no saved file. ``StoreError``, with nothing changed, if rows it covers are missing (a
+        deleted ``metrics.csv``)."""
         self._check_writable()
         if loaded is ...:
             loaded = self.load_checkpoint()  # validates before anything is changed
@@ -390,17 +413,20 @@ class RunStore:
                              f"generations {_span(list(range(cut + 1)))}); restore it to resume, which would go "
                              f"on without those rows (evaluate and render work as the run is)")
         self.clean_temporaries()
-        if loaded is None:
-            if self.ckpt_dir.is_dir():
-                (self.ckpt_dir / "latest.json").unlink(missing_ok=True)
-        elif self._latest_named() != loaded[1]["generation"]:
-            name = f"gen_{loaded[1]['generation']:06d}"
-            atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
-        metrics_csv.write_rows(self.metrics_path, header, rows)
-        if repeats:
-            warnings.warn(f"{self.metrics_path} held {repeats} repeated rows (two writers at once?); kept the "
-                          f"last row of each generation", StoreWarning, stacklevel=2)
-        return loaded
+
+        def repair() -> None:
+            if loaded is None:
+                if self.ckpt_dir.is_dir():
+                    (self.ckpt_dir / "latest.json").unlink(missing_ok=True)
+            elif self._latest_named() != loaded[1]["generation"]:
+                name = f"gen_{loaded[1]['generation']:06d}"
+                atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
+            metrics_csv.write_rows(self.metrics_path, header, rows)
+            if repeats:
+                warnings.warn(f"{self.metrics_path} held {repeats} repeated rows (two writers at once?); kept "
+                              f"the last row of each generation", StoreWarning, stacklevel=3)
+
+        return loaded, repair
 
     # -- errors ------------------------------------------------------------------------------------
     def log_error(self, text: str) -> Path | None:
