@@ -2,9 +2,9 @@
 
 :class:`RunLoop` owns what the ES trainer (``trainer.Trainer``) and PPO (``baselines.ppo.PPORun``) do
 alike: hold the run directory's lock, restore the newest checkpoint (check it belongs to this run, read
-the counters, ``RunStore.prepare_recovery``; its repair once a first generation ran), write the config it runs with once its first generation ran (a
-resume's new ``--generations`` / ``--executor`` / ``--workers``: a resume that fails changes no
-config), then generation after generation append the metrics rows a step completes (``metrics.csv``,
+the counters, ``RunStore.prepare_recovery``), and once its first generation ran repair the directory
+(``latest.json``, rows past the checkpoint) and write the config it runs with (a resume's new
+``--generations`` / ``--executor`` / ``--workers``): a resume that fails before changes nothing; then generation after generation append the metrics rows a step completes (``metrics.csv``,
 TensorBoard, the progress bar) and checkpoint every ``checkpoint_every`` generations and at the last
 one. A method supplies:
 

@@ -101,7 +101,7 @@ CASES = [
     ("npz-wrong-shape", edit_npz(lambda a: {**a, "policy/best": a["policy/best"][:3]}), resume(),
      "does not fit this run"),
     ("json-list", write(f"{CKPT}.json", "[]"), resume(), "unreadable"),
-    ("json-only-generation", write(f"{CKPT}.json", '{"generation": 2}'), resume(), "different config"),
+    ("json-only-generation", write(f"{CKPT}.json", '{"generation": 2}'), resume(), "not saved together"),
     ("json-missing-counter", edit_json(f"{CKPT}.json", drop("env_steps")), resume(), "env_steps"),
     ("json-bad-counter", edit_json(f"{CKPT}.json", lambda d: {**d, "env_steps": "many"}), resume(),
      "does not fit this run"),

@@ -6,7 +6,9 @@ Layout::
     RUN/run.json                 the run's id (random, written once when the run is created)
     RUN/metrics.csv              one row per generation (same columns for every method)
     RUN/tb/                      TensorBoard events of the same metrics
-    RUN/checkpoints/gen_NNNNNN.npz + .json    arrays (never pickle) + JSON metadata
+    RUN/checkpoints/gen_NNNNNN.npz + .json    arrays (never pickle) + JSON metadata; the arrays name the
+                                 run and generation (checkpoint/run_id, checkpoint/generation), the JSON
+                                 holds their sha256 (arrays_sha256): a file from elsewhere is refused
     RUN/checkpoints/latest.json  name of the newest complete checkpoint (written last)
     RUN/trajectories/            Parquet shards (shaped method)
     RUN/figures/                 plots
@@ -35,6 +37,7 @@ process holds it.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import io
 import json
 import os
@@ -56,6 +59,9 @@ from shaped_es.rundir.lock import HELD, LOCK_NAME, acquire, probe, release
 from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
 
 ERROR_LOG = "error.log"
+BIND_PREFIX = "checkpoint/"  # a checkpoint's arrays name their run and generation (bind())
+RUN_KEY, GEN_KEY = BIND_PREFIX + "run_id", BIND_PREFIX + "generation"
+DIGEST_KEY = "arrays_sha256"  # ... and its .json holds their digest (arrays_digest())
 _CKPT_RE = re.compile(r"gen_(\d{6,})")
 _RUN_ID_RE = re.compile(r"[0-9a-f]{16,64}")
 # What the run writes, folder by folder (relative to the run directory; ``*`` a ``gen_NNNNNN`` folder):
@@ -249,10 +255,12 @@ class RunStore:
         if self.ckpt_dir.exists() and not self.ckpt_dir.is_dir():
             raise StoreError(f"{self.ckpt_dir} is not a directory; move it away to resume")
         name = f"gen_{generation:06d}"
+        arrays = {k: np.asarray(v) for k, v in arrays.items()} | bind(self.run_id(), generation)
         buf = io.BytesIO()
-        np.savez(buf, **{k: np.asarray(v) for k, v in arrays.items()})
+        np.savez(buf, **arrays)
         atomic_write_bytes(self.ckpt_dir / f"{name}.npz", buf.getvalue())
-        atomic_write_text(self.ckpt_dir / f"{name}.json", json.dumps({**meta, "generation": generation}))
+        atomic_write_text(self.ckpt_dir / f"{name}.json", json.dumps({**meta, "generation": generation,
+                                                                      DIGEST_KEY: arrays_digest(arrays)}))
         atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
         olds = sorted(self.ckpt_dir.glob("gen_*.npz"))[:-keep]
         for old in olds:
@@ -333,7 +341,30 @@ class RunStore:
         if not isinstance(meta, dict) or type(meta.get("generation")) is not int or meta["generation"] != g:
             raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable (its .json is not this "
                              f"checkpoint's metadata){older}")
-        return arrays, meta
+        why = self._foreign(arrays, meta, g)
+        if why:
+            raise StoreError(f"checkpoint {name} in {self.ckpt_dir} {why}{older}")
+        return {k: v for k, v in arrays.items() if not k.startswith(BIND_PREFIX)}, meta
+
+    def _foreign(self, arrays: dict[str, np.ndarray], meta: dict, g: int) -> str | None:
+        """Why generation ``g``'s checkpoint (``arrays`` and ``meta`` as loaded) is not this run's own,
+        or None: its arrays must name this run and generation ``g`` (:func:`bind`) and hash to the digest
+        its ``.json`` holds. A checkpoint made before checkpoints were bound has neither (taken as is)."""
+        bound = {k for k in arrays if k.startswith(BIND_PREFIX)}
+        if not bound and DIGEST_KEY not in meta:
+            return None
+        if bound != {RUN_KEY, GEN_KEY} or not isinstance(meta.get(DIGEST_KEY), str):
+            return "has arrays and metadata that were not saved together (one of its files replaced?)"
+        rid, gen = arrays[RUN_KEY], arrays[GEN_KEY]
+        if rid.dtype.kind != "U" or rid.shape != () or gen.dtype.kind != "i" or gen.shape != ():
+            return "has malformed binding arrays (checkpoint/run_id, checkpoint/generation)"
+        if str(rid) != (self.run_id() or ""):
+            return f"holds the arrays of another run (run {str(rid) or 'without an id'}, not {self.run_id()})"
+        if int(gen) != g:
+            return f"holds generation {int(gen)}'s arrays, not generation {g}'s (an older checkpoint renamed?)"
+        if arrays_digest(arrays) != meta[DIGEST_KEY]:
+            return "holds arrays that are not the ones its .json was saved with (sha256 differs: edited or replaced?)"
+        return None
 
     # -- resume ------------------------------------------------------------------------------------
     def clean_temporaries(self) -> list[Path]:
@@ -362,7 +393,7 @@ class RunStore:
         line, nothing changed): ``metrics.csv`` has every column the run's rows fill (a cut header would
         fail at the first row, after a checkpoint was pruned), and ``figures/``, ``tb/`` (with
         ``tensorboard``) and ``checkpoints/`` are folders where they exist."""
-        header = metrics_csv.read_table(self.metrics_path)[0]  # validates the whole file too
+        header = metrics_csv.read_table(self.metrics_path, repeats_ok=True)[0]  # validates it (resume repairs repeats)
         missing = [c for c in columns if header and c not in header]
         if missing:
             raise StoreError(f"{self.metrics_path} lacks the columns {missing} this run's rows fill (its header "
@@ -440,6 +471,23 @@ class RunStore:
         except OSError:
             return None
         return self.error_log
+
+
+def bind(run_id: str | None, generation: int) -> dict[str, np.ndarray]:
+    """The arrays that bind a checkpoint's ``.npz`` to its run and generation (no pickle: a str and an
+    int64 scalar)."""
+    return {RUN_KEY: np.array(run_id or ""), GEN_KEY: np.array(generation, dtype=np.int64)}
+
+
+def arrays_digest(arrays: dict[str, np.ndarray]) -> str:
+    """sha256 of every array (name, dtype, shape, bytes, in name order): the ``.json``'s proof that the
+    ``.npz`` beside it is the one saved with it."""
+    h = hashlib.sha256()
+    for k in sorted(arrays):
+        a = np.ascontiguousarray(arrays[k])
+        h.update(json.dumps([k, a.dtype.str, list(a.shape)]).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
 
 
 def _real_dir(p: Path) -> bool:
