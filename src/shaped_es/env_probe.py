@@ -6,6 +6,7 @@ a run config's MLP on it (``policy_spec``), from one env made, measured and clos
 from __future__ import annotations
 
 import traceback
+import warnings
 from dataclasses import dataclass, field
 
 import gymnasium as gym
@@ -33,6 +34,21 @@ class EnvError(EnvSpecError):
 
     def __reduce__(self):  # crosses process boundaries with its traceback text
         return type(self), (str(self), self.detail, self.worker_fault)
+
+
+class EnvCloseWarning(UserWarning):
+    """The env's ``close()`` raised: the work is done, so one warning line, not an error."""
+
+
+def close_env(env, env_id: str | None = None) -> None:
+    """``env.close()``; an exception from it is one warning line naming the env (close should release
+    what the env holds without raising), not an internal error after the work was done."""
+    try:
+        env.close()
+    except Exception as exc:  # noqa: BLE001 - the env's own close
+        name = env_id or getattr(getattr(env, "spec", None), "id", None) or type(env).__name__
+        warnings.warn(f"env {name!r} raised {exception_line(exc)} in close() (ignored; an env's close should "
+                      f"release what it holds without raising)", EnvCloseWarning, stacklevel=2)
 
 
 def exception_line(exc: BaseException) -> str:
@@ -137,7 +153,7 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
         return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
                         unbounded_action=unbounded, controller=has_controller(env))
     finally:
-        env.close()
+        close_env(env, env_id)
 
 
 def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
