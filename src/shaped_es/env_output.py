@@ -23,7 +23,9 @@ class BadOutput(ValueError):
 
 
 def _a(x) -> str:
-    """``a list`` / ``an ndarray``: what ``x`` is, with its article."""
+    """``a list`` / ``an array of shape (3,)``: what ``x`` is, with its article."""
+    if isinstance(x, np.ndarray):
+        return f"an array of shape {x.shape}"
     name = type(x).__name__
     return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
 

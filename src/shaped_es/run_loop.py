@@ -204,7 +204,8 @@ class RunLoop:
         except (KeyError, ValueError, TypeError, IndexError, RuntimeError) as exc:
             msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             msg = f"it lacks {msg}" if isinstance(exc, KeyError) else msg
-            raise StoreError(f"{where} does not fit this run: {msg}") from None
+            raise StoreError(f"{where} does not fit this run: {msg}{self.store.fallback_hint(meta['generation'])}"
+                             ) from None
         self._repair = self.store.prepare_recovery(loaded=loaded)[1]
         for k, v in counters.items():
             setattr(self.c, k, v)

@@ -320,9 +320,9 @@ def _jsonable(row: dict) -> dict:
 
 
 def _non_finite(arrays: dict[str, np.ndarray]) -> list[str]:
-    """The search's and policies' float arrays holding inf/NaN (a checkpoint holds none)."""
-    return [k for k, v in arrays.items() if k.startswith(("strategy/", "policy/", "waiting/"))
-            and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
+    """The float arrays holding inf/NaN, the search's, the policies' and the guide's (M_phi, its
+    normaliser, the learner): a checkpoint holds none."""
+    return [k for k, v in arrays.items() if np.asarray(v).dtype.kind in "fc" and not np.isfinite(v).all()]
 
 
 def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:

@@ -330,7 +330,7 @@ class RunStore:
             return None
         g = gens[-1]
         name = f"gen_{g:06d}"
-        older = f"; delete {name}.npz and {name}.json to resume from gen_{gens[-2]:06d}" if len(gens) > 1 else ""
+        older = self.fallback_hint(g)
         try:
             meta = json.loads((self.ckpt_dir / f"{name}.json").read_bytes().decode("utf-8"))
             with np.load(self.ckpt_dir / f"{name}.npz", allow_pickle=False) as z:
@@ -345,6 +345,13 @@ class RunStore:
         if why:
             raise StoreError(f"checkpoint {name} in {self.ckpt_dir} {why}{older}")
         return {k: v for k, v in arrays.items() if not k.startswith(BIND_PREFIX)}, meta
+
+    def fallback_hint(self, g: int) -> str:
+        """``; delete gen_G.npz and gen_G.json to resume from gen_F`` (the newest checkpoint before ``g``),
+        or "" without one: what to do when checkpoint ``g`` cannot be taken."""
+        older = [x for x in self.checkpoints() if x < g]
+        name = f"gen_{g:06d}"
+        return f"; delete {name}.npz and {name}.json to resume from gen_{older[-1]:06d}" if older else ""
 
     def _foreign(self, arrays: dict[str, np.ndarray], meta: dict, g: int) -> str | None:
         """Why generation ``g``'s checkpoint (``arrays`` and ``meta`` as loaded) is not this run's own,
