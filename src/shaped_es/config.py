@@ -313,7 +313,9 @@ def parse_yaml(text: str, where: str) -> Any:
 
 def read_yaml(path: str | Path) -> dict[str, Any]:
     p = Path(path)
-    if not p.is_file():
+    if p.is_dir():
+        raise ConfigError(f"config file {p} is a folder, not a YAML file")
+    if not p.exists():  # a pipe (--config /dev/stdin, <(...)) is read like a file
         raise ConfigError(f"config file not found: {p}")
     try:
         text = p.read_bytes().decode("utf-8")

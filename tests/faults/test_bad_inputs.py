@@ -71,7 +71,7 @@ CASES = [
     ("config-binary", write("../bin.yaml", bytes(range(256))),
      lambda run, tmp: ["train", "--config", str(tmp / "bin.yaml"), "--out", str(tmp / "new")], "not a text"),
     ("config-directory", nothing, lambda run, tmp: ["train", "--config", str(tmp), "--out", str(tmp / "new")],
-     "config file not found"),
+     "is a folder, not a YAML file"),
     ("config-list", write("../list.yaml", "[]"),
      lambda run, tmp: ["train", "--config", str(tmp / "list.yaml"), "--out", str(tmp / "new")],
      "must hold a mapping"),

@@ -163,6 +163,16 @@ class WarningRoute:
             os.environ[warning_log.ENV] = self._env
 
 
+def config_data(a: argparse.Namespace) -> dict:
+    """The YAML of ``--config``, read once per command ({} without one): a pipe (``--config /dev/stdin``)
+    can be read only once."""
+    if not hasattr(a, "_config_data"):
+        from shaped_es.config import read_yaml
+
+        a._config_data = read_yaml(a.config) if getattr(a, "config", None) else {}
+    return a._config_data
+
+
 def mpi_spawn_command(a: argparse.Namespace) -> bool:
     """True for train/resume/benchmark runs that would spawn MPI workers from this process."""
     if os.environ.get(_SUPERVISED) or a.command not in ("train", "resume", "benchmark"):
@@ -173,9 +183,7 @@ def mpi_spawn_command(a: argparse.Namespace) -> bool:
 
         executor = RunStore(a.run_dir).read_config().executor
     if executor is None and a.command == "train" and getattr(a, "config", None):
-        from shaped_es.config import read_yaml
-
-        executor = read_yaml(a.config).get("executor")
+        executor = config_data(a).get("executor")
     if executor != "mpi":
         return False
     from shaped_es.executors.mpi_executor import under_mpiexec

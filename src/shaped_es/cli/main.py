@@ -19,7 +19,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from shaped_es.cli.errors import WarningRoute, continue_hint, error_line, mpi_spawn_command, supervise
+from shaped_es.cli.errors import WarningRoute, config_data, continue_hint, error_line, mpi_spawn_command, supervise
 
 
 
@@ -39,9 +39,9 @@ def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
 
 def cmd_train(a: argparse.Namespace) -> int:
     from shaped_es.api import prepare_run
-    from shaped_es.config import build_config, merge, parse_set, read_yaml
+    from shaped_es.config import build_config, merge, parse_set
 
-    data = read_yaml(a.config) if a.config else {}
+    data = config_data(a)
     flags = {"env": a.env, "method": a.method, "generations": a.generations, "seed": a.seed,
              "executor": a.executor, "workers": a.workers, "address": a.address, "stop_at": a.stop_at,
              "wandb.enabled": a.wandb or None}

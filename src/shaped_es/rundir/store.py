@@ -56,7 +56,8 @@ import numpy as np
 from shaped_es.rundir import metrics_csv
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
 from shaped_es.rundir.lock import HELD, LOCK_NAME, acquire, probe, release
-from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
+from shaped_es.rundir.atomic import (StoreError, StoreWarning, atomic_write_bytes, atomic_write_text, check_regular,
+                                     open_append, read_regular)
 
 ERROR_LOG = "error.log"
 BIND_PREFIX = "checkpoint/"  # a checkpoint's arrays name their run and generation (bind())
@@ -197,7 +198,7 @@ class RunStore:
         if not self.run_json.is_file():
             return None
         try:
-            data = json.loads(self.run_json.read_bytes().decode("utf-8"))
+            data = json.loads(read_regular(self.run_json).decode("utf-8"))
         except (OSError, ValueError):
             data = None
         rid = data.get("run_id") if isinstance(data, dict) else None
@@ -216,6 +217,7 @@ class RunStore:
         atomic_write_text(self.config_path, dump_config(cfg))
 
     def read_config(self) -> RunConfig:
+        check_regular(self.config_path)  # a folder or a named pipe: refused (a pipe would wait forever)
         if not self.exists():
             if not self.root.exists():
                 raise StoreError(f"{self.root} is not a run directory: it does not exist")
@@ -285,7 +287,7 @@ class RunStore:
         anything but a checkpoint of this directory (``../../x``)."""
         latest = self.ckpt_dir / "latest.json"
         try:
-            data = json.loads(latest.read_bytes().decode("utf-8"))
+            data = json.loads(read_regular(latest).decode("utf-8"))
         except (OSError, ValueError):  # absent, binary or not JSON: it is advisory, the scan decides
             return None
         name = data.get("name") if isinstance(data, dict) else None
@@ -332,8 +334,8 @@ class RunStore:
         name = f"gen_{g:06d}"
         older = self.fallback_hint(g)
         try:
-            meta = json.loads((self.ckpt_dir / f"{name}.json").read_bytes().decode("utf-8"))
-            with np.load(self.ckpt_dir / f"{name}.npz", allow_pickle=False) as z:
+            meta = json.loads(read_regular(self.ckpt_dir / f"{name}.json").decode("utf-8"))
+            with np.load(io.BytesIO(read_regular(self.ckpt_dir / f"{name}.npz")), allow_pickle=False) as z:
                 arrays = {k: z[k] for k in z.files}
         except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
             why = type(exc).__name__
@@ -397,7 +399,7 @@ class RunStore:
 
     def check_writable_layout(self, columns: tuple[str, ...], tensorboard: bool) -> None:
         """What a run (a resume) will write to, checked before it writes anything (``StoreError``, one
-        line, nothing changed): ``metrics.csv`` has every column the run's rows fill (a cut header would
+        line, nothing changed): its files are regular files (not named pipes), ``metrics.csv`` has every column the run's rows fill (a cut header would
         fail at the first row, after a checkpoint was pruned), and ``figures/``, ``tb/`` (with
         ``tensorboard``) and ``checkpoints/`` are folders where they exist."""
         header = metrics_csv.read_table(self.metrics_path, repeats_ok=True)[0]  # validates it (resume repairs repeats)
@@ -405,6 +407,8 @@ class RunStore:
         if missing:
             raise StoreError(f"{self.metrics_path} lacks the columns {missing} this run's rows fill (its header "
                              f"was cut?); restore it to resume")
+        for f in (self.run_json, self.error_log, self.root / "wandb_id", self.ckpt_dir / "latest.json"):
+            check_regular(f)  # a named pipe would make a read or an append wait forever
         for d in [self.figures_dir, self.ckpt_dir] + ([self.root / "tb"] if tensorboard else []):
             if d.exists() and not d.is_dir():
                 raise StoreError(f"{d} is not a folder (the run writes {d.name}/ there); move it away to resume")
@@ -472,10 +476,10 @@ class RunStore:
         if not self.root.is_dir():
             return None
         try:
-            with self.error_log.open("a") as fh:
+            with open_append(self.error_log) as fh:
                 fh.write(f"--- {time.strftime('%Y-%m-%d %H:%M:%S')} pid {os.getpid()}: "
                          f"{' '.join(sys.argv)}\n{text.rstrip()}\n")
-        except OSError:
+        except (OSError, StoreError):
             return None
         return self.error_log
 
