@@ -268,6 +268,8 @@ def read_counters(meta: dict) -> dict:
             out[k] = -math.inf
             continue
         count = k in ("generation", "env_steps")
+        if isinstance(v, int) and not isinstance(v, bool) and not -2**63 <= v < 2**63:  # math.isfinite overflows
+            raise ValueError(f"malformed counter '{k}': {str(v)[:20]}... is out of range")
         if isinstance(v, bool) or not isinstance(v, int if count else (int, float)) or \
                 not math.isfinite(v) or (count and v < 0):
             raise ValueError(f"malformed counter '{k}': {v!r}")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -373,11 +374,40 @@ def _import_from_cwd() -> None:
         os.environ["PYTHONPATH"] = os.pathsep.join([cwd, *paths])
 
 
+_NEGATIVE = re.compile(r"-(\d+\.?\d*|\.\d+)(e[+-]?\d+)?|-inf(inity)?", re.IGNORECASE)
+
+
+def _numeric_flags(parser: argparse.ArgumentParser) -> set[str]:
+    """The options, of every subcommand, that take one number (``--stop-at R``)."""
+    out: set[str] = set()
+    for action in parser._actions:  # noqa: SLF001 - argparse has no public walk
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
+            for sub in action.choices.values():
+                out |= _numeric_flags(sub)
+        elif action.type in (int, float) and action.nargs is None:
+            out.update(o for o in action.option_strings if o.startswith("--"))
+    return out
+
+
+def join_negative_numbers(argv: list[str], flags: set[str]) -> list[str]:
+    """``--stop-at -1e9`` as ``--stop-at=-1e9``: argparse takes a word like ``-1e9`` for an option."""
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i] in flags and i + 1 < len(argv) and _NEGATIVE.fullmatch(argv[i + 1]):
+            out.append(f"{argv[i]}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     _import_from_cwd()
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     parser = build_parser()
+    argv = join_negative_numbers(argv, _numeric_flags(parser))
     a = parser.parse_args([x for x in argv if x != "--debug"])
     old_show = warnings.showwarning
     route = WarningRoute(a, debug)

@@ -18,6 +18,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es import seeding
+from shaped_es.config import check_seed
 from shaped_es.rollout import DEFAULT_MAX_STEPS, EnvSpecError, close_env, env_time_limit, make_env
 from shaped_es.rundir.store import RunStore, StoreError
 from shaped_es.trained.load import load_policy
@@ -75,6 +76,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
     out = Path(out)
     if out.suffix.lower() != ".gif":
         raise StoreError(f"--out must name a .gif file, got {out}")
+    check_seed(seed)
     cfg = RunStore(run_dir).read_config()
     act = load_policy(run_dir, which).predict  # evaluate's actions, any method
     env = _rgb_env(cfg.env, cfg.env_kwargs)
