@@ -20,7 +20,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from shaped_es.cli.errors import WarningRoute, config_data, continue_hint, error_line, mpi_spawn_command, supervise
+from shaped_es.cli.errors import (Terminated, WarningRoute, config_data, continue_hint, error_line, mpi_spawn_command,
+                                  on_signals, restore_signals, supervise)
 
 
 
@@ -412,6 +413,7 @@ def main(argv: list[str] | None = None) -> int:
     old_show = warnings.showwarning
     route = WarningRoute(a, debug)
     warnings.showwarning = route.show
+    old_signals = on_signals()  # SIGTERM as Ctrl-C: clean-up, one line; a second signal: no more lines
     try:
         if mpi_spawn_command(a):
             return supervise(a, argv, debug)
@@ -419,11 +421,12 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the output's reader went away (| head): not an error of the command
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         hint = continue_hint(a)
         route.flush()
-        print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)
-        return 130
+        what, code = ("terminated (SIGTERM)", 143) if isinstance(exc, Terminated) else ("interrupted", 130)
+        print(f"shaped-es: {what}{'; ' + hint if hint else ''}", file=sys.stderr)
+        return code
     except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
         line, code = error_line(exc, a, debug)
         route.flush()  # other libraries' warnings: one line before the error's (their text in error.log)
@@ -432,6 +435,7 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         route.close()
         warnings.showwarning = old_show
+        restore_signals(old_signals)
 
 
 if __name__ == "__main__":
