@@ -174,8 +174,11 @@ class Trainer(RunLoop):
         E = self.cfg.rollout.test_episodes
         seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
         item.theta = theta
+        # rowwise: each episode's actions independent of how the E episodes are split over the workers
+        # (one BLAS product over a chunk rounds by its size), so the test rewards are the same for any
+        # executor and worker count -- and equal evaluate's on the same seeds
         item.tasks = policy_episode_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, theta, seeds,
-                                          self.eval_executor.workers, g, self.cfg.rollout.max_steps)
+                                          self.eval_executor.workers, g, self.cfg.rollout.max_steps, rowwise=True)
         item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
 
     def _collect(self, item: _Row) -> dict:
