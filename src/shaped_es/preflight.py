@@ -64,7 +64,7 @@ def check_waypoints(cfg: RunConfig, probe: EnvProbe) -> None:
     """The waypoint contract of the probe's reset info (a method that reads it): ``info['position']`` and
     ``info['waypoint']`` finite arrays of one size (whether they are there at all: the method's own
     check, which says what it needs them for)."""
-    from shaped_es.env_output import BadOutput, waypoint_pair
+    from shaped_es.env_probe import BadOutput, waypoint_pair
     from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
     from shaped_es.rollout import EnvSpecError
 

@@ -48,7 +48,7 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
     probe_dims,
     probe_env,
 )
-from shaped_es.env_output import OLD_STEP, BadOutput, observation, old_api, reset_output, reward, step_output, \
+from shaped_es.env_probe import OLD_STEP, BadOutput, observation, old_api, reset_output, reward, step_output, \
     waypoint_pair
 from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, runs_serially
 from shaped_es.policies import MLPSpec, forward
@@ -222,7 +222,7 @@ def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> np.ndarr
 
 
 def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndarray, np.ndarray]:
-    """``info``'s position and waypoint (``env_output.waypoint_pair``), or the error naming the env."""
+    """``info``'s position and waypoint (``env_probe.waypoint_pair``), or the error naming the env."""
     try:
         return waypoint_pair(info, d)
     except BadOutput as exc:
@@ -360,7 +360,7 @@ def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
 
 
 def _step(env: gym.Env, action) -> tuple:
-    """``env.step``: ``(obs, reward, terminated, truncated, info)`` checked (``env_output.step_output``)."""
+    """``env.step``: ``(obs, reward, terminated, truncated, info)`` checked (``env_probe.step_output``)."""
     try:
         out = env.step(action)
     except ValueError as exc:
