@@ -410,9 +410,11 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
         except BadOutput as exc:
             raise _bad_output(task, str(exc), seeds[b], 0) from None
     rec = _Recorder(task) if task.recorded().any() else None
-    # the waypoint contract, checked where it is used: recorded steps (the shaped method's data)
+    # the waypoint contract, checked where it is used: recorded steps (the shaped method's data) of an env
+    # whose reset info has it (without it: no columns, d = 0; the shaped method's preflight refuses that)
     pos, wp = np.zeros((B, 0), np.float32), np.zeros((B, 0), np.float32)  # (B, d)
-    if rec is not None:
+    contract = rec is not None and (POSITION_KEY in infos[0] or WAYPOINT_KEY in infos[0])
+    if contract:
         d = _contract(task, infos[0], None, seeds[0], 0)[0].size  # every episode's pair of this size
         pairs = [_contract(task, i, d, seeds[b], 0) for b, i in enumerate(infos)]
         pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])
@@ -443,7 +445,7 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b], infos[b] = o, r, info
-            if rec is not None:
+            if contract:
                 npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1)
             alive[b] = not (term or trunc)
         if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
