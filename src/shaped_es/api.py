@@ -39,8 +39,7 @@ def prepare_run(cfg: RunConfig, out: str | Path):
     from shaped_es.preflight import check_run
 
     store = RunStore(out)
-    if store.exists() or (store.root.exists() and not store.root.is_dir()):
-        store.create(cfg)  # raises the one-line "already holds a run" / "not a directory" error
+    store.check_new()  # "already holds a run" / "not a directory" / a folder of other files / an empty path
     return store, check_run(cfg)  # everything is validated before anything is written
 
 

@@ -322,9 +322,19 @@ def parse_yaml(text: str, where: str) -> Any:
         raise ConfigError(f"{where} holds a value YAML cannot read: {str(exc).splitlines()[0]}") from None
 
 
+def check_seed(seed, flag: str = "--seed") -> int:
+    """A seed as ``train`` takes it (an integer in ``0 .. 2**32 - 1``), else one ``ConfigError`` line."""
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < SEED_LIMIT:
+        raise ConfigError(f"{flag} must be an integer from 0 to {SEED_LIMIT - 1} (seeds are 32-bit, as train's), "
+                          f"got {seed}")
+    return seed
+
+
 def read_yaml(path: str | Path) -> dict[str, Any]:
     p = Path(path)
-    if not p.is_file():
+    if p.is_dir():
+        raise ConfigError(f"config file {p} is a folder, not a YAML file")
+    if not p.exists():  # a pipe (--config /dev/stdin, <(...)) is read like a file
         raise ConfigError(f"config file not found: {p}")
     try:
         text = p.read_bytes().decode("utf-8")

@@ -1,17 +1,24 @@
 """An env before its first rollout: made with one clear error (``make_env``: unknown ids, a module that
 raises or exits on import), its spaces checked against what the policy can use, its own time limit, and
-a run config's MLP on it (``policy_spec``), from one env made, measured and closed (``probe_env``).
-``rollout.py`` re-exports these names."""
+a run config's MLP on it (``policy_spec``), from one env made, measured and closed (``probe_env``); and
+what its ``reset`` and ``step`` hand a rollout, checked where it enters (``reset_output``, ``step_output``,
+``reward``, ``observation``, ``waypoint_pair``): each broken rule of the contract is one
+:class:`BadOutput` naming the part (the rollout adds the env, seed and step) and what a correct one looks
+like -- the old Gym API (a 4-tuple from ``step``, ``reset`` returning the observation only), a reward
+that is not one number, an observation that is not an array, ``info['position']`` / ``info['waypoint']``
+missing, of another size than each other or non-finite. ``rollout.py`` re-exports these names."""
 
 from __future__ import annotations
 
+import numbers
 import traceback
+import warnings
 from dataclasses import dataclass, field
 
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.envs.core import get_batch_core, has_controller
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
 from shaped_es.policies import MLPSpec
 
 
@@ -33,6 +40,21 @@ class EnvError(EnvSpecError):
 
     def __reduce__(self):  # crosses process boundaries with its traceback text
         return type(self), (str(self), self.detail, self.worker_fault)
+
+
+class EnvCloseWarning(UserWarning):
+    """The env's ``close()`` raised: the work is done, so one warning line, not an error."""
+
+
+def close_env(env, env_id: str | None = None) -> None:
+    """``env.close()``; an exception from it is one warning line naming the env (close should release
+    what the env holds without raising), not an internal error after the work was done."""
+    try:
+        env.close()
+    except Exception as exc:  # noqa: BLE001 - the env's own close
+        name = env_id or getattr(getattr(env, "spec", None), "id", None) or type(env).__name__
+        warnings.warn(f"env {name!r} raised {exception_line(exc)} in close() (ignored; an env's close should "
+                      f"release what it holds without raising)", EnvCloseWarning, stacklevel=2)
 
 
 def exception_line(exc: BaseException) -> str:
@@ -137,7 +159,7 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
         return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
                         unbounded_action=unbounded, controller=has_controller(env))
     finally:
-        env.close()
+        close_env(env, env_id)
 
 
 def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:
@@ -155,3 +177,101 @@ def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
                            f"policy's tanh output in [-1, 1] is scaled to the box's bounds, so they must be "
                            f"finite; give the env's action space the bounds its actions live in")
     return MLPSpec(probe.obs_dim, probe.act_dim, tuple(cfg.policy.hidden))
+
+
+# -- what reset and step return, against the contract ---------------------------------------------------
+OLD_STEP = ("a 4-tuple from step (obs, reward, done, info: the old Gym API); Gymnasium's step returns "
+            "(obs, reward, terminated, truncated, info)")
+CONTRACT = (f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'], finite (d,) arrays of one d at reset and every "
+            f"step (README: environment contract)")
+
+
+class BadOutput(ValueError):
+    """What the env returned breaks the contract (message: what it returned and what is wanted)."""
+
+
+def _a(x) -> str:
+    """``a list`` / ``an array of shape (3,)``: what ``x`` is, with its article."""
+    if isinstance(x, np.ndarray):
+        return f"an array of shape {x.shape}"
+    name = type(x).__name__
+    return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
+
+
+def _shown(x) -> str:
+    text = repr(x)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def reset_output(out) -> tuple:
+    """``(obs, info)`` of a ``reset`` result."""
+    if not (isinstance(out, tuple) and len(out) == 2 and isinstance(out[1], dict)):
+        what = f"a {len(out)}-tuple" if isinstance(out, tuple) else _a(out)
+        raise BadOutput(f"{what} from reset instead of (observation, info) (the old Gym API returned the "
+                        f"observation only); Gymnasium's reset returns (obs, info)")
+    return out
+
+
+def step_output(out) -> tuple:
+    """``(obs, reward, terminated, truncated, info)`` of a ``step`` result."""
+    if isinstance(out, tuple) and len(out) == 4:
+        raise BadOutput(OLD_STEP)
+    if not (isinstance(out, tuple) and len(out) == 5 and isinstance(out[4], dict)):
+        what = f"a {len(out)}-tuple" if isinstance(out, tuple) else _a(out)
+        raise BadOutput(f"{what} from step; Gymnasium's step returns (obs, reward, terminated, truncated, "
+                        f"info: a dict)")
+    return out
+
+
+def old_api(exc: BaseException) -> bool:
+    """Gymnasium's own wrappers unpacking an old-API 4-tuple from the env's ``step``."""
+    return isinstance(exc, ValueError) and "expected 5, got 4" in str(exc)
+
+
+def reward(r) -> float:
+    """One number (a Python or NumPy real, or an array of one), as a float; a string is not one."""
+    if isinstance(r, numbers.Real):
+        return float(r)
+    if isinstance(r, np.ndarray) and r.size == 1 and r.dtype.kind in "biuf":
+        return float(r.reshape(()))
+    what = f"an array of shape {r.shape}" if isinstance(r, np.ndarray) else \
+        f"{_a(r)} ({_shown(r)})"
+    raise BadOutput(f"a reward that is {what}; step's reward must be one number (a float)")
+
+
+def observation(o, shape: tuple) -> np.ndarray:
+    """The observation as float32, of the observation space's ``shape``."""
+    try:
+        a = None if isinstance(o, (dict, str, bytes)) else np.asarray(o, dtype=np.float32)
+    except (TypeError, ValueError):
+        a = None
+    if a is None:
+        raise BadOutput(f"an observation that is {_a(o)}, not an array of shape {shape} "
+                        f"(its observation space)")
+    return a
+
+
+def waypoint_pair(info: dict, d: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``info['position']`` and ``info['waypoint']`` as float32 ``(d,)`` arrays, both present, of one
+    size (``d``: the size they had at reset) and finite."""
+    out = []
+    for key in (POSITION_KEY, WAYPOINT_KEY):
+        v = info.get(key)
+        if v is None:
+            raise BadOutput(f"no info['{key}'] (the contract: {CONTRACT})")
+        try:
+            a = np.asarray(v, dtype=np.float32).reshape(-1)
+        except (TypeError, ValueError):
+            raise BadOutput(f"an info['{key}'] that is not an array of numbers ({_shown(v)}); the contract: "
+                            f"{CONTRACT}") from None
+        if not np.isfinite(a).all():
+            raise BadOutput(f"a non-finite info['{key}'] ({_shown(a.tolist())})")
+        out.append(a)
+    pos, wp = out
+    if pos.shape != wp.shape or pos.size == 0:
+        raise BadOutput(f"info['{WAYPOINT_KEY}'] of size {wp.size} and info['{POSITION_KEY}'] of size {pos.size} "
+                        f"(the contract: {CONTRACT})")
+    if d is not None and pos.size != d:
+        raise BadOutput(f"info['{POSITION_KEY}'] of size {pos.size} after size {d} at reset (the contract: "
+                        f"{CONTRACT})")
+    return pos, wp

@@ -110,7 +110,8 @@ METHODS: dict[str, Method] = {
                      guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
                                                                  "probe": probe},
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
-                     checks=("shaped_es.preflight:check_es", "shaped_es.guides.shaped_setup:check_shaped"),
+                     checks=("shaped_es.preflight:check_es", "shaped_es.preflight:check_waypoints",
+                             "shaped_es.guides.shaped_setup:check_shaped"),
                      knobs=("es.sigma", "es.lr", "shaping.eta"),
                      about="waypoint-shaped ES (the paper's method): action labels toward the env's waypoints "
                            "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "

@@ -61,6 +61,22 @@ def check_es(cfg: RunConfig, probe: EnvProbe) -> None:
         raise ConfigError(f"{cfg.method}: {str(exc).splitlines()[0]}") from None
 
 
+def check_waypoints(cfg: RunConfig, probe: EnvProbe) -> None:
+    """The waypoint contract of the probe's reset info (a method that reads it): ``info['position']`` and
+    ``info['waypoint']`` finite arrays of one size (whether they are there at all: the method's own
+    check, which says what it needs them for)."""
+    from shaped_es.env_probe import BadOutput, waypoint_pair
+    from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
+    from shaped_es.rollout import EnvSpecError
+
+    info = probe.reset_info
+    if isinstance(info, dict) and POSITION_KEY in info and WAYPOINT_KEY in info:
+        try:
+            waypoint_pair(info)
+        except BadOutput as exc:
+            raise EnvSpecError(f"env {cfg.env!r} returned {exc} from reset(seed=0)") from None
+
+
 def warn_ignored(cfg: RunConfig) -> None:
     """One ``ConfigWarning`` line naming the settings changed from their defaults that ``cfg.method`` never
     reads (``Method.reads``: ``shaping.*`` with vanilla, ``ppo.*`` with an ES method, ``es.alpha`` with

@@ -39,6 +39,7 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
     EnvError,
     EnvProbe,
     EnvSpecError,
+    close_env,
     env_dims,
     env_time_limit,
     exception_line,
@@ -47,6 +48,8 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
     probe_dims,
     probe_env,
 )
+from shaped_es.env_probe import OLD_STEP, BadOutput, observation, old_api, reset_output, reward, step_output, \
+    waypoint_pair
 from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, runs_serially
 from shaped_es.policies import MLPSpec, ObsNorm, forward
 
@@ -200,6 +203,11 @@ def run_task(task: RolloutTask) -> RolloutResult:
         raise EnvError(f"env {task.env_id!r} raised {exception_line(exc)} (generation {task.generation}, "
                        f"episode seeds {_seed_text(task.seeds)})", traceback.format_exc(),
                        worker_fault=bool(getattr(exc, "worker_fault", False))) from None
+    except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
+        _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)
+        raise EnvError(f"env {task.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
+                       f"{task.generation}, episode seeds {_seed_text(task.seeds)}); an env reports a failure "
+                       f"by raising an exception", traceback.format_exc()) from None
     out.cpu_time_s = time.process_time() - t_cpu
     return out
 
@@ -214,12 +222,21 @@ def _bad_output(task: RolloutTask, what: str, seed, step: int) -> EnvError:
                     f"{int(seed)}, step {step}); check the env's step/reset")
 
 
-def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> None:
+def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> np.ndarray:
     if obs.shape != shape:
         raise _bad_output(task, f"an observation of shape {obs.shape}, its observation space says {shape}",
                           seed, step)
     if not np.isfinite(obs).all():
         raise _bad_output(task, "a non-finite observation (inf/NaN)", seed, step)
+    return obs
+
+
+def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndarray, np.ndarray]:
+    """``info``'s position and waypoint (``env_probe.waypoint_pair``), or the error naming the env."""
+    try:
+        return waypoint_pair(info, d)
+    except BadOutput as exc:
+        raise _bad_output(task, str(exc), seed, step) from None
 
 
 class _Recorder:
@@ -390,9 +407,22 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     return _finish(task, returns, lengths, rec, sums)
 
 
-def _info_vec(info: dict, key: str) -> np.ndarray:
-    v = info.get(key)
-    return np.zeros(0, np.float32) if v is None else np.asarray(v, dtype=np.float32).reshape(-1)
+def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
+    try:
+        return reset_output(env.reset(seed=seed))
+    except BadOutput as exc:
+        raise _bad_output(task, str(exc), seed, 0) from None
+
+
+def _step(env: gym.Env, action) -> tuple:
+    """``env.step``: ``(obs, reward, terminated, truncated, info)`` checked (``env_probe.step_output``)."""
+    try:
+        out = env.step(action)
+    except ValueError as exc:
+        if old_api(exc):  # Gymnasium's TimeLimit unpacking the env's 4-tuple
+            raise BadOutput(OLD_STEP) from None
+        raise
+    return step_output(out)
 
 
 def _run_serial(task: RolloutTask) -> RolloutResult:
@@ -429,18 +459,27 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
     B = m * E
     envs = _envs(task.env_id, task.env_kwargs, B)
     seeds = task.seeds.reshape(B)  # (m, E) -> (B,)
-    first = [env.reset(seed=int(s)) for env, s in zip(envs, seeds)]
+    first = [_reset(task, env, int(s)) for env, s in zip(envs, seeds)]
     infos = [i for _, i in first]  # the latest info of each env (the waypoint controller reads it)
     shape = tuple(envs[0].observation_space.shape)
+    obs = np.zeros((B, *shape), np.float32)  # (B, obs)
     for b, (o, _) in enumerate(first):
-        _check_obs(task, np.asarray(o, dtype=np.float32), shape, seeds[b], 0)
-    obs = np.stack([np.asarray(o, dtype=np.float32) for o, _ in first])  # (B, obs)
-    pos = np.stack([_info_vec(i, POSITION_KEY) for _, i in first])  # (B, d)
-    wp = np.stack([_info_vec(i, WAYPOINT_KEY) for _, i in first])  # (B, d)
+        try:
+            obs[b] = _check_obs(task, observation(o, shape), shape, seeds[b], 0)
+        except BadOutput as exc:
+            raise _bad_output(task, str(exc), seeds[b], 0) from None
+    rec = _Recorder(task) if task.recorded().any() else None
+    # the waypoint contract, checked where it is used: recorded steps (the shaped method's data) of an env
+    # whose reset info has it (without it: no columns, d = 0; the shaped method's preflight refuses that)
+    pos, wp = np.zeros((B, 0), np.float32), np.zeros((B, 0), np.float32)  # (B, d)
+    contract = rec is not None and (POSITION_KEY in infos[0] or WAYPOINT_KEY in infos[0])
+    if contract:
+        d = _contract(task, infos[0], None, seeds[0], 0)[0].size  # every episode's pair of this size
+        pairs = [_contract(task, i, d, seeds[b], 0) for b, i in enumerate(infos)]
+        pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
-    rec = _Recorder(task) if task.recorded().any() else None
     sums = _ObsSums(B) if task.obs_stats else None
     hooks = [_controller(task, env.unwrapped) for env in envs] if rec is not None and task.expert else None
     cap = task.max_steps
@@ -461,13 +500,16 @@ def _run_gym(task: RolloutTask) -> RolloutResult:
         nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
         stepped = alive.copy()
         for b in np.flatnonzero(stepped):
-            o, r, term, trunc, info = envs[b].step(_to_env_action(envs[b].action_space, act[b]))
-            o = np.asarray(o, dtype=np.float32)
+            try:
+                o, r, term, trunc, info = _step(envs[b], _to_env_action(envs[b].action_space, act[b]))
+                o, r = observation(o, shape), reward(r)
+            except BadOutput as exc:
+                raise _bad_output(task, str(exc), seeds[b], t + 1) from None
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b], infos[b] = o, r, info
-            if npos.shape[1]:
-                npos[b], nwp[b] = _info_vec(info, POSITION_KEY), _info_vec(info, WAYPOINT_KEY)
+            if contract:
+                npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1)
             alive[b] = not (term or trunc)
         if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
             b = int(np.flatnonzero(~(np.isfinite(rew) & np.isfinite(nobs).all(axis=1)))[0])

@@ -2,9 +2,9 @@
 
 :class:`RunLoop` owns what the ES trainer (``trainer.Trainer``) and PPO (``baselines.ppo.PPORun``) do
 alike: hold the run directory's lock, restore the newest checkpoint (check it belongs to this run, read
-the counters, ``RunStore.recover``), write the config it runs with once its first generation ran (a
-resume's new ``--generations`` / ``--executor`` / ``--workers``: a resume that fails changes no
-config), then generation after generation append the metrics rows a step completes (``metrics.csv``,
+the counters, ``RunStore.prepare_recovery``), and once its first generation ran repair the directory
+(``latest.json``, rows past the checkpoint) and write the config it runs with (a resume's new
+``--generations`` / ``--executor`` / ``--workers``): a resume that fails before changes nothing; then generation after generation append the metrics rows a step completes (``metrics.csv``,
 TensorBoard, the progress bar) and checkpoint every ``checkpoint_every`` generations and at the last
 one. A method supplies:
 
@@ -59,6 +59,7 @@ class RunLoop:
         self.stopped: str | None = None  # STOP_AT or CALLBACK once the run ended early
         self.callbacks = as_callbacks(callback)
         self._restored_stop: str | None = None
+        self._repair = lambda: None  # restore's repair of the run directory, once a first generation ran
         self._tb = None
         self._wandb = None
 
@@ -96,6 +97,7 @@ class RunLoop:
         self.restore()
         rows: list[dict] = []
         if self._restored_stop == STOP_AT and self.cfg.stop_at is not None:  # finished: nothing to do
+            self._repair()
             self.close()
             return rows
         for cb in self.callbacks:
@@ -107,6 +109,7 @@ class RunLoop:
             for g in range(self.c.generation, self.cfg.generations):
                 done = self.step(g)
                 if not saved:  # the restore held up through a first generation: resume's changes stay
+                    self._repair()  # latest.json and the rows past the checkpoint (RunStore.prepare_recovery)
                     self.store.save_config(self.cfg)
                     saved = True
                 last = g + 1 == self.cfg.generations
@@ -122,6 +125,7 @@ class RunLoop:
                     self._say_stopped(rows)
                     break
             if not saved:  # nothing left to run (a finished run resumed)
+                self._repair()
                 self.store.save_config(self.cfg)
         finally:
             bar.close()
@@ -180,12 +184,14 @@ class RunLoop:
 
     def restore(self) -> bool:
         """Load the newest complete checkpoint if any (whatever ``latest.json`` says), after checking it
-        belongs to this run; then ``RunStore.recover`` deletes what a killed run left and drops the
+        belongs to this run; then ``RunStore.prepare_recovery`` deletes what a killed run left, and its
+        repair (once the first generation ran: a resume that fails before changes nothing) drops the
         metrics rows past the checkpoint. Returns True if one was loaded. Nothing on disk changes when
         the checkpoint does not fit."""
+        self.store.check_writable_layout(self.columns(), self.cfg.tensorboard)
         loaded = self.store.load_checkpoint()
         if loaded is None:
-            self.store.recover(loaded=None)
+            self._repair = self.store.prepare_recovery(loaded=None)[1]
             return False
         arrays, meta = loaded
         where = f"checkpoint gen_{meta['generation']:06d} in {self.store.ckpt_dir}"
@@ -198,8 +204,9 @@ class RunLoop:
         except (KeyError, ValueError, TypeError, IndexError, RuntimeError) as exc:
             msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             msg = f"it lacks {msg}" if isinstance(exc, KeyError) else msg
-            raise StoreError(f"{where} does not fit this run: {msg}") from None
-        self.store.recover(loaded=loaded)
+            raise StoreError(f"{where} does not fit this run: {msg}{self.store.fallback_hint(meta['generation'])}"
+                             ) from None
+        self._repair = self.store.prepare_recovery(loaded=loaded)[1]
         for k, v in counters.items():
             setattr(self.c, k, v)
         best = meta.get("best_generation")
@@ -261,6 +268,8 @@ def read_counters(meta: dict) -> dict:
             out[k] = -math.inf
             continue
         count = k in ("generation", "env_steps")
+        if isinstance(v, int) and not isinstance(v, bool) and not -2**63 <= v < 2**63:  # math.isfinite overflows
+            raise ValueError(f"malformed counter '{k}': {str(v)[:20]}... is out of range")
         if isinstance(v, bool) or not isinstance(v, int if count else (int, float)) or \
                 not math.isfinite(v) or (count and v < 0):
             raise ValueError(f"malformed counter '{k}': {v!r}")

@@ -222,9 +222,12 @@ class Trainer(RunLoop):
         E = self.cfg.rollout.test_episodes
         seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
         item.theta, item.obs_norm = theta, obs_norm
+        # rowwise: each episode's actions independent of how the E episodes are split over the workers
+        # (one BLAS product over a chunk rounds by its size), so the test rewards are the same for any
+        # executor and worker count -- and equal evaluate's on the same seeds
         item.tasks = policy_episode_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, theta, seeds,
                                           self.eval_executor.workers, g, self.cfg.rollout.max_steps,
-                                          obs_norm=obs_norm)
+                                          obs_norm=obs_norm, rowwise=True)
         item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
 
     def _collect(self, item: _Row) -> dict:
@@ -384,9 +387,9 @@ def _jsonable(row: dict) -> dict:
 
 
 def _non_finite(arrays: dict[str, np.ndarray]) -> list[str]:
-    """The search's and policies' float arrays holding inf/NaN (a checkpoint holds none)."""
-    return [k for k, v in arrays.items() if k.startswith(("strategy/", "policy/", "waiting/"))
-            and np.asarray(v).dtype.kind == "f" and not np.isfinite(v).all()]
+    """The float arrays holding inf/NaN, the search's, the policies' and the guide's (M_phi, its
+    normaliser, the learner): a checkpoint holds none."""
+    return [k for k, v in arrays.items() if np.asarray(v).dtype.kind in "fc" and not np.isfinite(v).all()]
 
 
 def _shaped(arrays: dict[str, np.ndarray], key: str, shape: tuple) -> np.ndarray:

@@ -5,7 +5,7 @@ and SIGKILLs at every checkpoint step, each as a command line in a process of it
     python tests/faults/campaign.py kills                                # kill, resume, compare
 
 ``inputs`` runs each case of ``test_bad_inputs.CASES`` and ``test_error_promise.CASES`` (and an env that
-never terminates, which must run on after one warning line) on a copy of its base run (the bases are
+never terminates, which must run on after one warning line; and issue 30's, :func:`_lost_cases`) on a copy of its base run (the bases are
 trained once, by the code under test), with a timeout and an address-space cap, and classifies it:
 *clear* (exit 2, or 130 for an interrupt; exactly one ``shaped-es: error:`` line, which holds the table's
 words; warnings are one line each), *internal* (exit 1 or a traceback), *silent* (exit 0), *hang* (the
@@ -54,13 +54,82 @@ def _use_src(src: str | None) -> None:
 
 
 def _cases() -> list[tuple[str, str | None, object, object, str]]:
-    """(id, base, damage, command, needle) of both tables; test_bad_inputs' cases use its finished run."""
+    """(id, base, damage, command, needle) of the tables; test_bad_inputs' cases use its finished run."""
     import test_bad_inputs
     import test_error_promise
 
     endless = ("endless-env", None, test_bad_inputs.nothing, test_error_promise.train(env="fault_envs:Endless-v0"),
                WARNED + "cut at 10,000 steps")
-    return [(c[0], "finished", *c[1:]) for c in test_bad_inputs.CASES] + list(test_error_promise.CASES) + [endless]
+    return [(c[0], "finished", *c[1:]) for c in test_bad_inputs.CASES] + list(test_error_promise.CASES) + \
+        [endless] + _lost_cases()
+
+
+BASES: dict[str, Path] = {}  # the bases of this campaign (a damage may copy from another run)
+
+
+def _lost_cases() -> list[tuple[str, str | None, object, object, str]]:
+    """Issue 30's cases: run directories not the run's own, failed resumes that changed files, checkpoints
+    from elsewhere, env contract breaches, named pipes (and the test files that hold each)."""
+    import numpy as np
+    import test_env_contract
+    import test_failed_resume
+    from fault_run import newest, nothing, replace_with_file
+    from test_bad_inputs import TRAIN, evaluate
+
+    def resume5(run, tmp):
+        return ["resume", str(run), "--generations", "5", "--quiet"]
+
+    def other_seed(run, tmp):
+        shutil.copy(newest(BASES["other"], ".npz"), newest(run, ".npz"))
+
+    def edited(run, tmp):
+        p = newest(run, ".npz")
+        with np.load(p) as z:
+            arrays = {k: z[k] * 2 if k == "policy/best" else z[k] for k in z.files}
+        with open(p, "wb") as fh:
+            np.savez(fh, **arrays)
+
+    def fifo(rel):
+        def f(run, tmp):
+            (run / rel).unlink(missing_ok=True)
+            os.mkfifo(run / rel)
+        return f
+
+    def user_folder(run, tmp):
+        (tmp / "proj" / "notes").mkdir(parents=True)
+        (tmp / "proj" / "notes" / ".draft.md.tmp").write_text("a user's draft")
+
+    cases = [
+        ("out-folder-of-other-files", None, user_folder,
+         lambda run, tmp: ["train", "--env", "CartPole-v1", *TRAIN, "--out", str(tmp / "proj")],
+         "holds no run but other files"),
+        ("out-empty", None, nothing, lambda run, tmp: ["train", "--env", "CartPole-v1", *TRAIN, "--out", ""],
+         "--out is empty"),
+        ("resume-metrics-last-column-cut", "vanilla", test_failed_resume.cut_last_column, resume5,
+         "lacks the columns"),
+        ("resume-figures-is-a-file", "vanilla", replace_with_file("figures"), resume5, "is not a folder"),
+        ("resume-tb-is-a-file", "tb", replace_with_file("tb"), resume5, "is not a folder"),
+        ("ckpt-other-seeds-npz", "vanilla", other_seed, resume5, "holds the arrays of another run"),
+        ("ckpt-older-generation-renamed", "vanilla", lambda run, tmp: shutil.copy(
+            run / "checkpoints" / "gen_000003.npz", newest(run, ".npz")), resume5, "holds generation 3's arrays"),
+        ("ckpt-arrays-edited", "vanilla", edited, resume5, "sha256 differs"),
+        ("evaluate-other-seeds-npz", "vanilla", other_seed, evaluate(), "holds the arrays of another run"),
+        ("fifo-metrics", "vanilla", fifo("metrics.csv"), resume5, "is a named pipe"),
+        ("fifo-latest", "vanilla", fifo("checkpoints/latest.json"), resume5, "is a named pipe"),
+        ("fifo-error-log", "vanilla", fifo("error.log"), resume5, "is a named pipe"),
+        ("fifo-config", "vanilla", fifo("config.yaml"), resume5, "is a named pipe"),
+        ("env-close-raises", None, nothing, test_error_promise_train("close_raises"), WARNED + "in close()"),
+    ]
+    cases += [(f"env-{cid}", None, nothing,
+               (lambda argv: lambda run, tmp: ["train", *argv, "--out", str(tmp / "new")])(argv), needle)
+              for cid, argv, needle in test_env_contract.CASES]
+    return cases
+
+
+def test_error_promise_train(fault):
+    from test_env_contract import faulty
+
+    return lambda run, tmp: ["train", *faulty(fault), "--out", str(tmp / "new")]
 
 
 def _bases(root: Path) -> dict[str, Path]:
@@ -77,6 +146,14 @@ def _bases(root: Path) -> dict[str, Path]:
     cfg = write_config(root / "shaped.yaml", config("shaped", generations=4, tensorboard=False))
     res = run_cli("train", "--config", cfg, "--out", out["shaped"], "--quiet")
     assert res.returncode == 0, res.stderr
+    out["other"] = root / "other"  # the vanilla base's config with another seed (a checkpoint from elsewhere)
+    res = run_cli("train", *test_error_promise.VANILLA, "--seed", "7", "--out", out["other"])
+    assert res.returncode == 0, res.stderr
+    out["tb"] = root / "tb"  # with TensorBoard events
+    res = run_cli("train", *[x if x != "tensorboard=false" else "tensorboard=true" for x in
+                             test_error_promise.VANILLA], "--out", out["tb"])
+    assert res.returncode == 0, res.stderr
+    BASES.update(out)
     return out
 
 

@@ -3,7 +3,10 @@
 
 ``fault``: none | raise_step | raise_reset | raise_init | nan_reward | nan_obs | shape | hang | exit |
 slow (every step sleeps 5 ms: a run that lasts) | huge_reward (1e308 a step from ``at_step`` on: finite
-rewards whose sum overflows)
+rewards whose sum overflows) | sys_exit0 / sys_exit_msg (``sys.exit(0)`` / ``sys.exit('message')`` in
+step) | string_reward ('1e6') | array_reward (an array of 3) | old_step (the old Gym API's 4-tuple from
+every step) | old_reset (reset returns the observation only) | dict_obs (a dict observation) |
+close_raises (``close()`` raises)
 ``at_step``: the step of an episode at which it misbehaves (default 3)
 ``seeds``: only episodes reset with one of these seeds misbehave (default: every episode)
 ``marker``: only the first caller that creates this file misbehaves (it writes its pid there); later
@@ -19,6 +22,7 @@ Importable by worker processes (``PYTHONPATH`` holds this directory).
 from __future__ import annotations
 
 import os
+import sys
 import time
 
 import gymnasium as gym
@@ -58,6 +62,8 @@ class Faulty(gym.Env):
             raise ValueError("reset failed (raise_reset)")
         self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
         self.t = 0
+        if self._armed and self.fault == "old_reset":
+            return self._obs()
         return self._obs(), {}
 
     def _obs(self):
@@ -86,21 +92,42 @@ class Faulty(gym.Env):
                     time.sleep(1)
             elif f == "exit":
                 os._exit(13)
+            elif f == "sys_exit0":
+                sys.exit(0)
+            elif f == "sys_exit_msg":
+                sys.exit("the simulator quit")
+            elif f == "string_reward":
+                reward = "1e6"
+            elif f == "array_reward":
+                reward = np.ones(3)
+            elif f == "dict_obs":
+                obs = {"x": obs}
+        if self._armed and self.fault == "old_step":
+            return obs, reward, self.t >= 20, {}
         return obs, reward, False, self.t >= 20, {}
+
+    def close(self):
+        if self.fault == "close_raises":
+            raise RuntimeError("the simulator would not shut down (close_raises)")
 
 
 class Reach(gym.Env):
-    """A point following waypoints 0.5 apart along a random direction; carries info position/waypoint."""
+    """A point following waypoints 0.5 apart along a random direction; carries info position/waypoint.
+    ``fault`` (from step ``at_step`` on): none | nan_position | inf_waypoint | position_missing |
+    waypoint_3d (a 3-d waypoint from reset on, beside the 2-d position)."""
 
     observation_space = gym.spaces.Box(-20, 20, (4,), np.float32)
     action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def __init__(self, fault: str = "none", at_step: int = 3):
+        self.fault, self.at_step, self.t = fault, int(at_step), 0
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
         self.x = np.zeros(2, np.float32)
         ang = self.np_random.uniform(0, 2 * np.pi)
         self.dir = np.array([np.cos(ang), np.sin(ang)], np.float32)
-        self.k = 1
+        self.k, self.t = 1, 0
         return self._obs(), self._info()
 
     def _wp(self):
@@ -110,9 +137,20 @@ class Reach(gym.Env):
         return np.concatenate([self.x, self._wp() - self.x]).astype(np.float32)
 
     def _info(self):
-        return {"position": self.x.copy(), "waypoint": self._wp()}
+        info = {"position": self.x.copy(), "waypoint": self._wp()}
+        late = self.t >= self.at_step
+        if self.fault == "waypoint_3d":
+            info["waypoint"] = np.append(info["waypoint"], 0.0).astype(np.float32)
+        elif late and self.fault == "nan_position":
+            info["position"][0] = np.nan
+        elif late and self.fault == "inf_waypoint":
+            info["waypoint"][1] = np.inf
+        elif late and self.fault == "position_missing":
+            del info["position"]
+        return info
 
     def step(self, action):
+        self.t += 1
         self.x = (self.x + 0.3 * np.asarray(action, np.float32)).astype(np.float32)
         reward = 0.0
         if np.linalg.norm(self._wp() - self.x) < 0.3:

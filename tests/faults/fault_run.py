@@ -131,14 +131,25 @@ def edit_text(rel, fn):
     return f
 
 
-def edit_npz(fn):
-    """The newest checkpoint's arrays replaced by ``fn(arrays)``."""
+def edit_npz(fn, rebind: bool = True):
+    """The newest checkpoint's arrays replaced by ``fn(arrays)`` (``rebind``: still bound to the run and
+    generation, and the ``.json``'s digest made to match, so that what is checked is the arrays
+    themselves; otherwise the edit is refused as a replaced file)."""
     def f(run, tmp):
+        try:
+            from shaped_es.rundir.store import BIND_PREFIX, DIGEST_KEY, arrays_digest
+        except ImportError:  # code before checkpoints were bound (campaign.py --src): nothing to rebind
+            BIND_PREFIX, DIGEST_KEY, arrays_digest = "checkpoint/", None, None
         p = newest(run, ".npz")
         with np.load(p) as z:
             arrays = {k: z[k] for k in z.files}
+        bound = {k: v for k, v in arrays.items() if k.startswith(BIND_PREFIX)}
+        new = fn({k: v for k, v in arrays.items() if k not in bound}) | (bound if rebind else {})
         with open(p, "wb") as fh:
-            np.savez(fh, **fn(arrays))
+            np.savez(fh, **new)
+        if rebind and DIGEST_KEY and all(np.asarray(v).dtype != object for v in new.values()):
+            j = newest(run, ".json")
+            j.write_text(json.dumps({**json.loads(j.read_text()), DIGEST_KEY: arrays_digest(new)}))
     return f
 
 

@@ -47,6 +47,11 @@ def s(key_value):
     return train("--set", key_value)
 
 
+def config_folder(run, tmp):
+    (run / "config.yaml").unlink()
+    (run / "config.yaml").mkdir()
+
+
 CKPT = "checkpoints/gen_000002"
 CASES = [
     # id, damage, command, needle
@@ -71,7 +76,7 @@ CASES = [
     ("config-binary", write("../bin.yaml", bytes(range(256))),
      lambda run, tmp: ["train", "--config", str(tmp / "bin.yaml"), "--out", str(tmp / "new")], "not a text"),
     ("config-directory", nothing, lambda run, tmp: ["train", "--config", str(tmp), "--out", str(tmp / "new")],
-     "config file not found"),
+     "is a folder, not a YAML file"),
     ("config-list", write("../list.yaml", "[]"),
      lambda run, tmp: ["train", "--config", str(tmp / "list.yaml"), "--out", str(tmp / "new")],
      "must hold a mapping"),
@@ -101,7 +106,7 @@ CASES = [
     ("npz-wrong-shape", edit_npz(lambda a: {**a, "policy/best": a["policy/best"][:3]}), resume(),
      "does not fit this run"),
     ("json-list", write(f"{CKPT}.json", "[]"), resume(), "unreadable"),
-    ("json-only-generation", write(f"{CKPT}.json", '{"generation": 2}'), resume(), "different config"),
+    ("json-only-generation", write(f"{CKPT}.json", '{"generation": 2}'), resume(), "not saved together"),
     ("json-missing-counter", edit_json(f"{CKPT}.json", drop("env_steps")), resume(), "env_steps"),
     ("json-bad-counter", edit_json(f"{CKPT}.json", lambda d: {**d, "env_steps": "many"}), resume(),
      "does not fit this run"),
@@ -133,6 +138,12 @@ CASES = [
     ("evaluate-latest-outside", write("checkpoints/latest.json", '{"name": "../../x"}'), evaluate(),
      "not a checkpoint of this run"),
     ("evaluate-episodes-0", nothing, lambda run, tmp: ["evaluate", str(run), "--episodes", "0"], "--episodes"),
+    # issue 30: accepted without a word, an internal error, or a line that did not name the problem
+    ("evaluate-seed-negative", nothing, evaluate("--seed", "-1"), "--seed must be an integer from 0 to"),
+    ("evaluate-seed-2**64", nothing, evaluate("--seed", str(2**64)), "--seed must be an integer from 0 to"),
+    ("json-huge-counter", edit_json(f"{CKPT}.json", lambda d: {**d, "env_steps": 10**30}), resume(),
+     "malformed counter 'env_steps'"),
+    ("config-yaml-is-a-folder", config_folder, resume(), "config.yaml is a folder, not a regular file"),
 ]
 ENV_EXCEPTIONS = {"env-raises-in-step", "env-raises-in-reset"}  # at run time: traceback in RUN/error.log
 
@@ -250,3 +261,11 @@ def test_non_finite_mean_stops_with_one_line_and_keeps_the_last_good_checkpoint(
     assert meta["generation"] == 2 and all(np.isfinite(v).all() for v in arrays.values()
                                            if v.dtype.kind == "f")
     assert leftovers(run) == []
+
+
+def test_a_negative_number_after_its_option_is_taken(tmp_path, capsys):
+    run = tmp_path / "r"
+    assert main(["train", "--env", "CartPole-v1", *TRAIN, "--stop-at", "-1e9", "--out", str(run)]) == 0
+    from shaped_es.rundir.store import RunStore
+
+    assert RunStore(run).read_config().stop_at == -1e9

@@ -99,7 +99,7 @@ def _effective_spacing(env_id: str, env_kwargs: dict):
     """The spacing the env uses with these kwargs: an attribute of the env or of its config object, else
     the constructor's default; None if the env has no such setting."""
     import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import make_env
+    from shaped_es.rollout import close_env, make_env
 
     env = make_env(env_id, env_kwargs)
     try:
@@ -111,7 +111,7 @@ def _effective_spacing(env_id: str, env_kwargs: dict):
         p = inspect.signature(type(u).__init__).parameters.get(SPACING_KEY)
         return None if p is None or p.default is inspect.Parameter.empty else p.default
     finally:
-        env.close()
+        close_env(env)
 
 
 def run_configs(spec: BenchmarkSpec) -> dict[str, RunConfig]:

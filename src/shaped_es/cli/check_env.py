@@ -26,7 +26,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
-from shaped_es.rollout import make_env
+from shaped_es.rollout import close_env, make_env
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
@@ -66,7 +66,7 @@ def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, ma
         checks.append(_controller(env))
         return checks
     finally:
-        env.close()
+        close_env(env)
 
 
 def _gym_api(env_id: str, env_kwargs: dict | None) -> Check:
@@ -82,7 +82,7 @@ def _gym_api(env_id: str, env_kwargs: dict | None) -> Check:
             except Exception as exc:  # noqa: BLE001 - its verdict (what training needs is checked below)
                 return Check("gymnasium API", WARN, _line(f"its checker fails: {type(exc).__name__}: {exc}"))
     finally:
-        env.close()
+        close_env(env)
     notes = list(dict.fromkeys(_line(str(w.message)).removeprefix("WARN: ") for w in caught))
     if not notes:
         return Check("gymnasium API", OK, "gymnasium.utils.env_checker.check_env passes")
@@ -123,7 +123,7 @@ def _episodes(env, env_id, env_kwargs, episodes: int, max_steps: int, seed: int)
         runs = [_episode(env, seed + e, max_steps) for e in range(episodes)]
         again = [_episode(twin, seed + e, max_steps) for e in range(episodes)]
     finally:
-        twin.close()
+        close_env(twin)
     errors = [r["error"] for r in runs + again if r["error"]]
     if errors:
         return [Check("steps", FAIL, errors[0])]

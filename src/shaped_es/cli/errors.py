@@ -9,6 +9,7 @@ import errno
 import os
 import signal
 import subprocess
+import threading
 import sys
 import traceback
 import warnings
@@ -41,6 +42,35 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 
 def _run_dir(a: argparse.Namespace) -> str | None:
     return getattr(a, "out", None) or getattr(a, "run_dir", None)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the command is, so that it ends as on Ctrl-C: its clean-up runs (workers
+    ended, semaphores released, the lock freed) and it prints one line with the resume hint."""
+
+
+def on_signals() -> dict | None:
+    """Install the command's SIGINT/SIGTERM handlers (main thread only); the old ones, to restore. The
+    first signal raises (``KeyboardInterrupt`` / :class:`Terminated`); later ones are ignored, so that
+    a second Ctrl-C does not break the clean-up into tracebacks (the workers are killed, not awaited)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+
+    def handler(signum, frame):
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+    return {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+
+
+def restore_signals(old: dict | None) -> None:
+    """Put the old handlers back, unless a signal came (the process is ending: a late second Ctrl-C
+    must not end it by the signal, after its one line, with a traceback)."""
+    if old and signal.getsignal(signal.SIGINT) is signal.SIG_IGN and old[signal.SIGINT] is not signal.SIG_IGN:
+        return
+    for s, h in (old or {}).items():
+        signal.signal(s, h)
 
 
 def continue_hint(a: argparse.Namespace) -> str:
@@ -163,6 +193,16 @@ class WarningRoute:
             os.environ[warning_log.ENV] = self._env
 
 
+def config_data(a: argparse.Namespace) -> dict:
+    """The YAML of ``--config``, read once per command ({} without one): a pipe (``--config /dev/stdin``)
+    can be read only once."""
+    if not hasattr(a, "_config_data"):
+        from shaped_es.config import read_yaml
+
+        a._config_data = read_yaml(a.config) if getattr(a, "config", None) else {}
+    return a._config_data
+
+
 def mpi_spawn_command(a: argparse.Namespace) -> bool:
     """True for train/resume/benchmark runs that would spawn MPI workers from this process."""
     if os.environ.get(_SUPERVISED) or a.command not in ("train", "resume", "benchmark"):
@@ -173,9 +213,7 @@ def mpi_spawn_command(a: argparse.Namespace) -> bool:
 
         executor = RunStore(a.run_dir).read_config().executor
     if executor is None and a.command == "train" and getattr(a, "config", None):
-        from shaped_es.config import read_yaml
-
-        executor = read_yaml(a.config).get("executor")
+        executor = config_data(a).get("executor")
     if executor != "mpi":
         return False
     from shaped_es.executors.mpi_executor import under_mpiexec

@@ -15,11 +15,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 import warnings
 from pathlib import Path
 
-from shaped_es.cli.errors import WarningRoute, continue_hint, error_line, mpi_spawn_command, supervise
+from shaped_es.cli.errors import (Terminated, WarningRoute, config_data, continue_hint, error_line, mpi_spawn_command,
+                                  on_signals, restore_signals, supervise)
 
 
 
@@ -39,9 +41,9 @@ def _pairs_override(pairs: int | None, popsize: int | None) -> dict:
 
 def cmd_train(a: argparse.Namespace) -> int:
     from shaped_es.api import prepare_run
-    from shaped_es.config import build_config, merge, parse_set, read_yaml
+    from shaped_es.config import build_config, merge, parse_set
 
-    data = read_yaml(a.config) if a.config else {}
+    data = config_data(a)
     flags = {"env": a.env, "method": a.method, "generations": a.generations, "seed": a.seed,
              "executor": a.executor, "workers": a.workers, "address": a.address, "stop_at": a.stop_at,
              "wandb.enabled": a.wandb or None}
@@ -384,15 +386,45 @@ def _import_from_cwd() -> None:
         os.environ["PYTHONPATH"] = os.pathsep.join([cwd, *paths])
 
 
+_NEGATIVE = re.compile(r"-(\d+\.?\d*|\.\d+)(e[+-]?\d+)?|-inf(inity)?", re.IGNORECASE)
+
+
+def _numeric_flags(parser: argparse.ArgumentParser) -> set[str]:
+    """The options, of every subcommand, that take one number (``--stop-at R``)."""
+    out: set[str] = set()
+    for action in parser._actions:  # noqa: SLF001 - argparse has no public walk
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001
+            for sub in action.choices.values():
+                out |= _numeric_flags(sub)
+        elif action.type in (int, float) and action.nargs is None:
+            out.update(o for o in action.option_strings if o.startswith("--"))
+    return out
+
+
+def join_negative_numbers(argv: list[str], flags: set[str]) -> list[str]:
+    """``--stop-at -1e9`` as ``--stop-at=-1e9``: argparse takes a word like ``-1e9`` for an option."""
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i] in flags and i + 1 < len(argv) and _NEGATIVE.fullmatch(argv[i + 1]):
+            out.append(f"{argv[i]}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     _import_from_cwd()
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     parser = build_parser()
+    argv = join_negative_numbers(argv, _numeric_flags(parser))
     a = parser.parse_args([x for x in argv if x != "--debug"])
     old_show = warnings.showwarning
     route = WarningRoute(a, debug)
     warnings.showwarning = route.show
+    old_signals = on_signals()  # SIGTERM as Ctrl-C: clean-up, one line; a second signal: no more lines
     try:
         if mpi_spawn_command(a):
             return supervise(a, argv, debug)
@@ -400,11 +432,12 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the output's reader went away (| head): not an error of the command
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         hint = continue_hint(a)
         route.flush()
-        print(f"shaped-es: interrupted{'; ' + hint if hint else ''}", file=sys.stderr)
-        return 130
+        what, code = ("terminated (SIGTERM)", 143) if isinstance(exc, Terminated) else ("interrupted", 130)
+        print(f"shaped-es: {what}{'; ' + hint if hint else ''}", file=sys.stderr)
+        return code
     except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
         line, code = error_line(exc, a, debug)
         route.flush()  # other libraries' warnings: one line before the error's (their text in error.log)
@@ -413,6 +446,7 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         route.close()
         warnings.showwarning = old_show
+        restore_signals(old_signals)
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ An entry is ``--- TIME pid PID: warning from ORIGIN`` and the warning's usual te
 from __future__ import annotations
 
 import os
+import stat
 import time
 import warnings
 from pathlib import Path
@@ -26,12 +27,23 @@ def origin(filename: str) -> str:
     return Path(filename).stem
 
 
+def _open(log: Path, flags: int, mode: str):
+    """``log`` opened without waiting (a named pipe in its place would block): ``OSError`` unless it is
+    a regular file."""
+    fd = os.open(log, flags | os.O_NONBLOCK, 0o644)
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise OSError(f"{log} is not a regular file")
+    os.set_blocking(fd, True)
+    return os.fdopen(fd, mode)
+
+
 def append(log: Path, source: str, text: str) -> bool:
     """Append one entry to ``log`` if its directory exists; True if it was written."""
     if not log.parent.is_dir():
         return False
     try:
-        with log.open("a") as fh:
+        with _open(log, os.O_WRONLY | os.O_APPEND | os.O_CREAT, "a") as fh:
             fh.write(f"--- {time.strftime('%Y-%m-%d %H:%M:%S')} pid {os.getpid()}{MARK}{source}\n"
                      f"{text.rstrip()}\n")
     except OSError:
@@ -42,7 +54,7 @@ def append(log: Path, source: str, text: str) -> bool:
 def entries_since(log: Path, offset: int) -> list[str]:
     """The origins of the entries written to ``log`` past byte ``offset``, in order."""
     try:
-        with log.open("rb") as fh:
+        with _open(log, os.O_RDONLY, "rb") as fh:
             fh.seek(offset)
             text = fh.read().decode("utf-8", "replace")
     except OSError:

@@ -1,9 +1,12 @@
-"""The run directory's two primitives: its one error type and the atomic file write every write uses
-(temporary ``.NAME.*.tmp``, fsync, rename)."""
+"""The run directory's primitives: its one error type, the atomic file write every write uses
+(temporary ``.NAME.*.tmp``, fsync, rename), and reads and appends of regular files only (a named pipe in
+the run directory would make them wait forever: it is refused in one line)."""
 
 from __future__ import annotations
 
+import errno
 import os
+import stat
 import tempfile
 from pathlib import Path
 
@@ -32,3 +35,51 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
 
 def atomic_write_text(path: Path, text: str) -> None:
     atomic_write_bytes(path, text.encode())
+
+
+def _kind(mode: int) -> str:
+    return ("a named pipe" if stat.S_ISFIFO(mode) else "a folder" if stat.S_ISDIR(mode) else
+            "a socket" if stat.S_ISSOCK(mode) else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+            else "not a regular file")
+
+
+def not_regular(path: Path, mode: int) -> StoreError:
+    return StoreError(f"{path} is {_kind(mode)}, not a regular file (a run reads and writes regular files "
+                      f"only); move it away and restore the file")
+
+
+def check_regular(path: Path) -> None:
+    """``StoreError`` if ``path`` exists and is not a regular file (symlinks followed)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not stat.S_ISREG(mode):
+        raise not_regular(path, mode)
+
+
+def read_regular(path: Path) -> bytes:
+    """The bytes of ``path``, a regular file: opened without blocking, so a named pipe (or a folder,
+    a device) is ``StoreError`` at once; ``OSError`` as ``open`` raises it (absent, unreadable)."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    with os.fdopen(fd, "rb") as fh:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise not_regular(path, mode)
+        return fh.read()
+
+
+def open_append(path: Path, newline: str | None = None):
+    """``path`` opened to append text (created if absent), a regular file only (``StoreError``)."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NONBLOCK, 0o644)
+    except OSError as exc:
+        if exc.errno == errno.ENXIO:  # a named pipe nobody reads
+            raise not_regular(path, stat.S_IFIFO) from None
+        raise
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        raise not_regular(path, mode)
+    os.set_blocking(fd, True)
+    return os.fdopen(fd, "a", newline=newline)

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from shaped_es.rundir.atomic import StoreError, atomic_write_text
+from shaped_es.rundir.atomic import StoreError, atomic_write_text, check_regular, open_append, read_regular
 
 _NON_FLOAT = ("", "True", "False")  # empty: no value (None or NaN); booleans as csv writes them
 Table = tuple[list[str], list[dict[str, str]]]  # (header, rows)
@@ -31,7 +31,7 @@ def read_table(path: Path, repeats_ok: bool = False) -> Table:
     if not path.exists():
         return [], []
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_regular(path).decode("utf-8")
     except UnicodeDecodeError:
         raise StoreError(f"{path} is not a CSV text file (binary content)") from None
     except OSError as exc:
@@ -73,16 +73,16 @@ def read_table(path: Path, repeats_ok: bool = False) -> Table:
 
 def append_row(path: Path, row: dict[str, Any]) -> None:
     """Append one row (fsynced); the first row fixes the header (later rows may not add columns)."""
+    check_regular(path)
     new = not path.is_file() or path.stat().st_size == 0
     if new:
         fields = list(row)
     else:
-        with path.open(newline="") as fh:
-            fields = next(csv.reader(fh))
+        fields = next(csv.reader(io.StringIO(read_regular(path).decode("utf-8"), newline="")))
         extra = set(row) - set(fields)
         if extra:
             raise StoreError(f"metrics row has columns not in {path}: {sorted(extra)}")
-    with path.open("a", newline="") as fh:
+    with open_append(path, newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         if new:
             w.writeheader()
@@ -108,7 +108,7 @@ def write_rows(path: Path, header: list[str], rows: list[dict[str, str]]) -> boo
         w = csv.DictWriter(buf, fieldnames=header)  # "\r\n", as append_row writes
         w.writeheader()
         w.writerows(rows)
-    if not path.exists() or buf.getvalue().encode() == path.read_bytes():
+    if not path.exists() or buf.getvalue().encode() == read_regular(path):
         return False
     atomic_write_text(path, buf.getvalue())
     return True

@@ -6,7 +6,9 @@ Layout::
     RUN/run.json                 the run's id (random, written once when the run is created)
     RUN/metrics.csv              one row per generation (same columns for every method)
     RUN/tb/                      TensorBoard events of the same metrics
-    RUN/checkpoints/gen_NNNNNN.npz + .json    arrays (never pickle) + JSON metadata
+    RUN/checkpoints/gen_NNNNNN.npz + .json    arrays (never pickle) + JSON metadata; the arrays name the
+                                 run and generation (checkpoint/run_id, checkpoint/generation), the JSON
+                                 holds their sha256 (arrays_sha256): a file from elsewhere is refused
     RUN/checkpoints/latest.json  name of the newest complete checkpoint (written last)
     RUN/trajectories/            Parquet shards (shaped method)
     RUN/figures/                 plots
@@ -16,11 +18,15 @@ Layout::
 Crash safety: every file is written to a ``.NAME.*.tmp`` file, fsynced and renamed, and a checkpoint is
 its ``.npz`` then its ``.json``; a checkpoint is complete once both exist. A kill at any point leaves the
 previous complete checkpoint in force. :meth:`RunStore.recover` (resume) deletes what a killed writer
-left (``.tmp`` files, an ``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
+left (the temporaries of the files the run writes, :data:`RUN_FILES`, in their own folders only; an
+``.npz`` without its ``.json``), takes the newest complete checkpoint, whatever
 ``latest.json`` says (it only names the newest one for people and other tools, and is rewritten), and
 drops the ``metrics.csv`` rows the checkpoint does not cover, a torn last row included (repeated rows,
 which two writers at once leave, are reduced to the last of each generation; rows the checkpoint covers
 that are missing are an error: nothing is changed).
+
+A run directory is the run's own: ``train --out`` takes only a new or empty folder (or one a failed
+start left), never a folder of other files or the empty path (:meth:`RunStore.check_new`).
 
 One writer at a time: :meth:`RunStore.lock` takes an exclusive lock (``lock.py``: the run directory
 itself ``flock``-ed, so deleting ``RUN/.lock`` does not let a second writer in, and ``RUN/.lock`` naming
@@ -31,6 +37,7 @@ process holds it.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import io
 import json
 import os
@@ -49,17 +56,33 @@ import numpy as np
 from shaped_es.rundir import metrics_csv
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
 from shaped_es.rundir.lock import HELD, LOCK_NAME, acquire, probe, release
-from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_bytes, atomic_write_text
+from shaped_es.rundir.atomic import (StoreError, StoreWarning, atomic_write_bytes, atomic_write_text, check_regular,
+                                     open_append, read_regular)
 
 ERROR_LOG = "error.log"
+BIND_PREFIX = "checkpoint/"  # a checkpoint's arrays name their run and generation (bind())
+RUN_KEY, GEN_KEY = BIND_PREFIX + "run_id", BIND_PREFIX + "generation"
+DIGEST_KEY = "arrays_sha256"  # ... and its .json holds their digest (arrays_digest())
 _CKPT_RE = re.compile(r"gen_(\d{6,})")
 _RUN_ID_RE = re.compile(r"[0-9a-f]{16,64}")
-_TMP_RE = re.compile(r"\..+\.tmp")  # atomic_write_bytes' (and the trajectory store's) temporaries
+# What the run writes, folder by folder (relative to the run directory; ``*`` a ``gen_NNNNNN`` folder):
+# clean-up deletes only the temporaries of these names (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the
+# trajectory store's), never walking any other folder, so a run directory holds nothing else of value to it
+RUN_FILES = {
+    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id",
+    "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
+    "mphi_data": r"added_\d{6,}\.npz",
+    "trajectories/*": r"members_\d{4,}-\d{4,}\.parquet",
+}
+_TMP_RES = {d: re.compile(rf"\.(?:{names})\.[A-Za-z0-9_]+\.tmp") for d, names in RUN_FILES.items()}
+# what a start that failed before its config was written leaves: ``train --out`` may start there again
+_START_LEFTOVERS = re.compile(rf"{re.escape(LOCK_NAME)}|{re.escape(ERROR_LOG)}|run\.json|{_TMP_RES['.'].pattern}")
 
 
 class RunStore:
     def __init__(self, root: str | Path):
         self.root = Path(root)
+        self._empty_path = isinstance(root, str) and not root.strip()  # Path("") is the working folder
 
     # -- paths -------------------------------------------------------------------------------------
     @property
@@ -134,13 +157,32 @@ class RunStore:
     def exists(self) -> bool:
         return self.config_path.is_file()
 
-    def create(self, cfg: RunConfig) -> None:
+    def check_new(self) -> None:
+        """``StoreError`` unless the run directory can be a new run's: absent, empty, or holding only what
+        a start that failed left (a run directory is a folder the run owns: resume's clean-up deletes what
+        it wrote there, so a folder of other files is refused, and so is an empty path, the working one)."""
+        if self._empty_path:
+            raise StoreError("--out is empty; name a new folder for the run (e.g. --out runs/first)")
         if self.root.exists() and not self.root.is_dir():
             raise StoreError(f"--out {self.root} exists and is not a directory")
         if self.exists():
             raise StoreError(
                 f"{self.root} already holds a run; use 'shaped-es resume {self.root}' or another --out"
             )
+        if not self.root.is_dir():
+            return
+        try:
+            names = sorted(p.name for p in self.root.iterdir())
+        except OSError as exc:
+            raise StoreError(f"cannot list --out {self.root}: {exc.strerror or exc}") from None
+        foreign = [n for n in names if not _START_LEFTOVERS.fullmatch(n)]
+        if foreign:
+            shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+            raise StoreError(f"--out {self.root} is a folder that holds no run but other files ({shown}); a "
+                             f"run directory is the run's own: name a new or empty folder")
+
+    def create(self, cfg: RunConfig) -> None:
+        self.check_new()
         try:
             self.root.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -156,7 +198,7 @@ class RunStore:
         if not self.run_json.is_file():
             return None
         try:
-            data = json.loads(self.run_json.read_bytes().decode("utf-8"))
+            data = json.loads(read_regular(self.run_json).decode("utf-8"))
         except (OSError, ValueError):
             data = None
         rid = data.get("run_id") if isinstance(data, dict) else None
@@ -175,6 +217,7 @@ class RunStore:
         atomic_write_text(self.config_path, dump_config(cfg))
 
     def read_config(self) -> RunConfig:
+        check_regular(self.config_path)  # a folder or a named pipe: refused (a pipe would wait forever)
         if not self.exists():
             if not self.root.exists():
                 raise StoreError(f"{self.root} is not a run directory: it does not exist")
@@ -214,10 +257,12 @@ class RunStore:
         if self.ckpt_dir.exists() and not self.ckpt_dir.is_dir():
             raise StoreError(f"{self.ckpt_dir} is not a directory; move it away to resume")
         name = f"gen_{generation:06d}"
+        arrays = {k: np.asarray(v) for k, v in arrays.items()} | bind(self.run_id(), generation)
         buf = io.BytesIO()
-        np.savez(buf, **{k: np.asarray(v) for k, v in arrays.items()})
+        np.savez(buf, **arrays)
         atomic_write_bytes(self.ckpt_dir / f"{name}.npz", buf.getvalue())
-        atomic_write_text(self.ckpt_dir / f"{name}.json", json.dumps({**meta, "generation": generation}))
+        atomic_write_text(self.ckpt_dir / f"{name}.json", json.dumps({**meta, "generation": generation,
+                                                                      DIGEST_KEY: arrays_digest(arrays)}))
         atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
         olds = sorted(self.ckpt_dir.glob("gen_*.npz"))[:-keep]
         for old in olds:
@@ -242,7 +287,7 @@ class RunStore:
         anything but a checkpoint of this directory (``../../x``)."""
         latest = self.ckpt_dir / "latest.json"
         try:
-            data = json.loads(latest.read_bytes().decode("utf-8"))
+            data = json.loads(read_regular(latest).decode("utf-8"))
         except (OSError, ValueError):  # absent, binary or not JSON: it is advisory, the scan decides
             return None
         name = data.get("name") if isinstance(data, dict) else None
@@ -287,10 +332,10 @@ class RunStore:
             return None
         g = gens[-1]
         name = f"gen_{g:06d}"
-        older = f"; delete {name}.npz and {name}.json to resume from gen_{gens[-2]:06d}" if len(gens) > 1 else ""
+        older = self.fallback_hint(g)
         try:
-            meta = json.loads((self.ckpt_dir / f"{name}.json").read_bytes().decode("utf-8"))
-            with np.load(self.ckpt_dir / f"{name}.npz", allow_pickle=False) as z:
+            meta = json.loads(read_regular(self.ckpt_dir / f"{name}.json").decode("utf-8"))
+            with np.load(io.BytesIO(read_regular(self.ckpt_dir / f"{name}.npz")), allow_pickle=False) as z:
                 arrays = {k: z[k] for k in z.files}
         except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
             why = type(exc).__name__
@@ -298,20 +343,49 @@ class RunStore:
         if not isinstance(meta, dict) or type(meta.get("generation")) is not int or meta["generation"] != g:
             raise StoreError(f"checkpoint {name} in {self.ckpt_dir} is unreadable (its .json is not this "
                              f"checkpoint's metadata){older}")
-        return arrays, meta
+        why = self._foreign(arrays, meta, g)
+        if why:
+            raise StoreError(f"checkpoint {name} in {self.ckpt_dir} {why}{older}")
+        return {k: v for k, v in arrays.items() if not k.startswith(BIND_PREFIX)}, meta
+
+    def fallback_hint(self, g: int) -> str:
+        """``; delete gen_G.npz and gen_G.json to resume from gen_F`` (the newest checkpoint before ``g``),
+        or "" without one: what to do when checkpoint ``g`` cannot be taken."""
+        older = [x for x in self.checkpoints() if x < g]
+        name = f"gen_{g:06d}"
+        return f"; delete {name}.npz and {name}.json to resume from gen_{older[-1]:06d}" if older else ""
+
+    def _foreign(self, arrays: dict[str, np.ndarray], meta: dict, g: int) -> str | None:
+        """Why generation ``g``'s checkpoint (``arrays`` and ``meta`` as loaded) is not this run's own,
+        or None: its arrays must name this run and generation ``g`` (:func:`bind`) and hash to the digest
+        its ``.json`` holds. A checkpoint made before checkpoints were bound has neither (taken as is)."""
+        bound = {k for k in arrays if k.startswith(BIND_PREFIX)}
+        if not bound and DIGEST_KEY not in meta:
+            return None
+        if bound != {RUN_KEY, GEN_KEY} or not isinstance(meta.get(DIGEST_KEY), str):
+            return "has arrays and metadata that were not saved together (one of its files replaced?)"
+        rid, gen = arrays[RUN_KEY], arrays[GEN_KEY]
+        if rid.dtype.kind != "U" or rid.shape != () or gen.dtype.kind != "i" or gen.shape != ():
+            return "has malformed binding arrays (checkpoint/run_id, checkpoint/generation)"
+        if str(rid) != (self.run_id() or ""):
+            return f"holds the arrays of another run (run {str(rid) or 'without an id'}, not {self.run_id()})"
+        if int(gen) != g:
+            return f"holds generation {int(gen)}'s arrays, not generation {g}'s (an older checkpoint renamed?)"
+        if arrays_digest(arrays) != meta[DIGEST_KEY]:
+            return "holds arrays that are not the ones its .json was saved with (sha256 differs: edited or replaced?)"
+        return None
 
     # -- resume ------------------------------------------------------------------------------------
     def clean_temporaries(self) -> list[Path]:
         """Delete ``.*.tmp`` files a killed writer left in the run directory (and its sub-directories)
         and checkpoint files without their pair; returns what was deleted. Only for the lock holder."""
         removed = []
-        for dirpath, dirnames, filenames in os.walk(self.root):
-            dirnames[:] = [d for d in dirnames if d not in ("tb", "figures")]
-            for f in filenames:
-                if _TMP_RE.fullmatch(f):
-                    p = Path(dirpath) / f
-                    p.unlink(missing_ok=True)
-                    removed.append(p)
+        for folder, pattern in _TMP_RES.items():
+            for d in self._run_folders(folder):
+                for p in _listdir(d):
+                    if pattern.fullmatch(p.name) and p.is_file() and not p.is_symlink():
+                        p.unlink(missing_ok=True)
+                        removed.append(p)
         if self._check_ckpt_dir():
             names = {p.name for p in self.ckpt_dir.iterdir()}
             for n in names:
@@ -323,14 +397,51 @@ class RunStore:
                     removed.append(p)
         return removed
 
+    def check_writable_layout(self, columns: tuple[str, ...], tensorboard: bool) -> None:
+        """What a run (a resume) will write to, checked before it writes anything (``StoreError``, one
+        line, nothing changed): its files are regular files (not named pipes), ``metrics.csv`` has every column the run's rows fill (a cut header would
+        fail at the first row, after a checkpoint was pruned), and ``figures/``, ``tb/`` (with
+        ``tensorboard``) and ``checkpoints/`` are folders where they exist."""
+        header = metrics_csv.read_table(self.metrics_path, repeats_ok=True)[0]  # validates it (resume repairs repeats)
+        missing = [c for c in columns if header and c not in header]
+        if missing:
+            raise StoreError(f"{self.metrics_path} lacks the columns {missing} this run's rows fill (its header "
+                             f"was cut?); restore it to resume")
+        for f in (self.run_json, self.error_log, self.root / "wandb_id", self.ckpt_dir / "latest.json"):
+            check_regular(f)  # a named pipe would make a read or an append wait forever
+        for d in [self.figures_dir, self.ckpt_dir] + ([self.root / "tb"] if tensorboard else []):
+            if d.exists() and not d.is_dir():
+                raise StoreError(f"{d} is not a folder (the run writes {d.name}/ there); move it away to resume")
+
+    def _run_folders(self, folder: str) -> list[Path]:
+        """The folders ``folder`` (a :data:`RUN_FILES` key) stands for: ``trajectories/*`` is each of
+        ``trajectories/gen_NNNNNN``; only real folders (a symlink is not followed)."""
+        if folder.endswith("/*"):
+            parent = self.root / folder[:-2]
+            found = [p for p in _listdir(parent) if _CKPT_RE.fullmatch(p.name)] if _real_dir(parent) else []
+        elif folder == ".":
+            return [self.root] if self.root.is_dir() else []
+        else:
+            found = [self.root / folder]
+        return [p for p in found if _real_dir(p)]
+
     def recover(self, loaded: Any = ...) -> tuple[dict[str, np.ndarray], dict] | None:
         """Make the run directory consistent before a writer continues it (call with the lock held):
-        delete what a killed writer left, load the newest complete checkpoint (``load_checkpoint``, or
-        take ``loaded``, what it returned), point ``latest.json`` at it and keep the metrics rows it
-        covers (every row without a checkpoint; the rows still waiting for test episodes when it was
-        written are written again), one per generation: repeated rows, which two writers at once leave,
-        are reduced to the last of each (with a warning). ``StoreError``, with nothing changed, if
-        rows it covers are missing (a deleted ``metrics.csv``)."""
+        :meth:`prepare_recovery`, then its repair at once; returns the checkpoint it took."""
+        loaded, repair = self.prepare_recovery(loaded)
+        repair()
+        return loaded
+
+    def prepare_recovery(self, loaded: Any = ...):
+        """Check what :meth:`recover` repairs and delete what a killed writer left (temporaries, half
+        checkpoints: nothing a run reads); returns ``(loaded, repair)``: the newest complete checkpoint
+        (``load_checkpoint``, or ``loaded``, what it returned) and the function that points
+        ``latest.json`` at it and keeps the metrics rows it covers (every row without a checkpoint; the
+        rows still waiting for test episodes when it was written are written again), one per generation:
+        repeated rows, which two writers at once leave, are reduced to the last of each (with a warning).
+        The run loop calls ``repair`` once its first generation ran, so a resume that fails before
+        changes no saved file. ``StoreError``, with nothing changed, if rows it covers are missing (a
+        deleted ``metrics.csv``)."""
         self._check_writable()
         if loaded is ...:
             loaded = self.load_checkpoint()  # validates before anything is changed
@@ -344,17 +455,20 @@ class RunStore:
                              f"generations {_span(list(range(cut + 1)))}); restore it to resume, which would go "
                              f"on without those rows (evaluate and render work as the run is)")
         self.clean_temporaries()
-        if loaded is None:
-            if self.ckpt_dir.is_dir():
-                (self.ckpt_dir / "latest.json").unlink(missing_ok=True)
-        elif self._latest_named() != loaded[1]["generation"]:
-            name = f"gen_{loaded[1]['generation']:06d}"
-            atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
-        metrics_csv.write_rows(self.metrics_path, header, rows)
-        if repeats:
-            warnings.warn(f"{self.metrics_path} held {repeats} repeated rows (two writers at once?); kept the "
-                          f"last row of each generation", StoreWarning, stacklevel=2)
-        return loaded
+
+        def repair() -> None:
+            if loaded is None:
+                if self.ckpt_dir.is_dir():
+                    (self.ckpt_dir / "latest.json").unlink(missing_ok=True)
+            elif self._latest_named() != loaded[1]["generation"]:
+                name = f"gen_{loaded[1]['generation']:06d}"
+                atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
+            metrics_csv.write_rows(self.metrics_path, header, rows)
+            if repeats:
+                warnings.warn(f"{self.metrics_path} held {repeats} repeated rows (two writers at once?); kept "
+                              f"the last row of each generation", StoreWarning, stacklevel=3)
+
+        return loaded, repair
 
     # -- errors ------------------------------------------------------------------------------------
     def log_error(self, text: str) -> Path | None:
@@ -362,12 +476,40 @@ class RunStore:
         if not self.root.is_dir():
             return None
         try:
-            with self.error_log.open("a") as fh:
+            with open_append(self.error_log) as fh:
                 fh.write(f"--- {time.strftime('%Y-%m-%d %H:%M:%S')} pid {os.getpid()}: "
                          f"{' '.join(sys.argv)}\n{text.rstrip()}\n")
-        except OSError:
+        except (OSError, StoreError):
             return None
         return self.error_log
+
+
+def bind(run_id: str | None, generation: int) -> dict[str, np.ndarray]:
+    """The arrays that bind a checkpoint's ``.npz`` to its run and generation (no pickle: a str and an
+    int64 scalar)."""
+    return {RUN_KEY: np.array(run_id or ""), GEN_KEY: np.array(generation, dtype=np.int64)}
+
+
+def arrays_digest(arrays: dict[str, np.ndarray]) -> str:
+    """sha256 of every array (name, dtype, shape, bytes, in name order): the ``.json``'s proof that the
+    ``.npz`` beside it is the one saved with it."""
+    h = hashlib.sha256()
+    for k in sorted(arrays):
+        a = np.ascontiguousarray(arrays[k])
+        h.update(json.dumps([k, a.dtype.str, list(a.shape)]).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _real_dir(p: Path) -> bool:
+    return p.is_dir() and not p.is_symlink()
+
+
+def _listdir(d: Path) -> list[Path]:
+    try:
+        return sorted(d.iterdir())
+    except OSError:
+        return []
 
 
 def _rows_covered(loaded) -> int:

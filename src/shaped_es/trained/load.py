@@ -122,7 +122,7 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
     if which not in WHICH:
         raise ValueError(f"which must be one of {WHICH}, got {which!r}")
     import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import env_dims, make_env
+    from shaped_es.rollout import close_env, env_dims, make_env
 
     store = RunStore(run_dir)
     cfg = store.read_config()
@@ -132,7 +132,7 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
         obs_dim, act_dim = env_dims(env)
         obs_space, act_space = env.observation_space, env.action_space
     finally:
-        env.close()
+        close_env(env)
     common = dict(run_dir=Path(run_dir), method=cfg.method, which=which,
                   generation=policy_generation(store, meta, which), checkpoint_generation=int(meta["generation"]),
                   env_id=cfg.env, env_kwargs=dict(cfg.env_kwargs), max_steps=cfg.rollout.max_steps,

@@ -18,7 +18,8 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.rollout import DEFAULT_MAX_STEPS, EnvSpecError, env_time_limit, make_env
+from shaped_es.config import check_seed
+from shaped_es.rollout import DEFAULT_MAX_STEPS, EnvSpecError, close_env, env_time_limit, make_env
 from shaped_es.rundir.store import RunStore, StoreError
 from shaped_es.trained.load import load_policy
 
@@ -26,7 +27,7 @@ from shaped_es.trained.load import load_policy
 def _rgb_env(env_id: str, env_kwargs: dict) -> gym.Env:
     probe = make_env(env_id, env_kwargs)
     modes = probe.metadata.get("render_modes") or []
-    probe.close()
+    close_env(probe)
     if "rgb_array" not in modes:
         raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames (render modes: {modes})")
     try:
@@ -75,6 +76,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
     out = Path(out)
     if out.suffix.lower() != ".gif":
         raise StoreError(f"--out must name a .gif file, got {out}")
+    check_seed(seed)
     cfg = RunStore(run_dir).read_config()
     act = load_policy(run_dir, which).predict  # evaluate's actions, any method
     env = _rgb_env(cfg.env, cfg.env_kwargs)
@@ -93,7 +95,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
                     frames.append(_frame(env, cfg.env))
             returns.append(total)
     finally:
-        env.close()
+        close_env(env)
     _write_gif(frames, out, fps)
     return {"run_dir": str(run_dir), "out": str(out), "policy": which, "episodes": episodes,
             "frames": len(frames), "returns": returns}
