@@ -265,6 +265,8 @@ def first_error(exc: ValidationError) -> str:
     msg = " ".join(str(err["msg"]).removeprefix("Value error, ").split())
     if err.get("type") == "extra_forbidden":  # a misspelt key: name the section's fields it may mean
         msg = "unknown field" + _did_you_mean(err["loc"])
+    elif err.get("type") == "bool_type":  # YAML 1.1's yes/no/on/off are words here (safe_yaml)
+        msg = "Input should be a valid boolean, true or false"
     value = err.get("input")
     got = ""
     if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:

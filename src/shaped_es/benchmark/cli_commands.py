@@ -31,7 +31,7 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
     b.add_argument("--generations", type=int, help="generations per run (default: the config's)")
     b.add_argument("--out", help="benchmark directory (rerun to skip finished runs); required unless "
-                   "--estimate-only (with it: count that benchmark's finished runs as done)")
+                   "--estimate-only (default: none; with --estimate-only, its finished runs count as done)")
     b.add_argument("--preset", help="env preset (built-in envs: default, paper; default: the env's)")
     b.add_argument("--config", help="YAML config applied to every run, flags override it (default: none, "
                    "the built-in defaults)")

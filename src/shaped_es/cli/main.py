@@ -71,10 +71,41 @@ def cmd_resume(a: argparse.Namespace) -> int:
             raise ConfigError(f"{a.run_dir} has {done} generations done; --generations {a.generations} is "
                               f"fewer (a run cannot be shortened; evaluate it as it is, or train a new one)")
         changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
-                                     "workers": a.workers}.items() if v is not None}
+                                     "workers": a.workers, "stop_at": a.stop_at}.items() if v is not None}
+        if a.no_stop_at:
+            changes["stop_at"] = None
         # config.yaml takes the changes once the restore held up (the run loop writes it), not before
         cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
+        why = _nothing_to_run(cfg, loaded[1] if loaded else None, a)
+        if why:
+            print(f"shaped-es: {why}", file=sys.stderr)
         return _run(cfg, store, a)
+
+
+def _nothing_to_run(cfg, meta, a) -> str | None:
+    """Why ``resume`` will run no generation (None if it will): the run stopped at ``--stop-at`` (an
+    error when ``--generations`` asks for more: ``ConfigError``) or has every generation done; each with
+    the command that continues it."""
+    from shaped_es.config import ConfigError
+    from shaped_es.run_loop import stopped_at
+
+    if meta is None:
+        return None
+    done, run = int(meta["generation"]), a.run_dir
+    if stopped_at(cfg, meta):
+        best = float(meta["best_test_reward"])
+        more = a.generations is not None and a.generations > done
+        again = f"shaped-es resume {run}{f' --generations {a.generations}' if more else ''}"
+        why = (f"{run} ended as finished after {done} generations: a test reward of {best:.2f} reached its "
+               f"--stop-at {cfg.stop_at:g}, so nothing {'would run' if more else 'ran'}; to continue it: "
+               f"{again} --no-stop-at (or --stop-at R with R above {best:.2f})")
+        if more:  # asked for generations that would not run
+            raise ConfigError(why)
+        return why
+    if done >= cfg.generations:
+        return (f"{run} has all {done} generations done, so nothing ran; to continue it: shaped-es resume "
+                f"{run} --generations N (N above {done})")
+    return None
 
 
 def _fitting_checkpoint(cfg, store):
@@ -306,6 +337,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="extend the run to this many generations (default: the run's config)")
     r.add_argument("--executor", choices=tuple(EXECUTORS), help="where rollouts run (default: the run's config)")
     r.add_argument("--workers", type=int, help="worker count (default: the run's config)")
+    stop = r.add_mutually_exclusive_group()
+    stop.add_argument("--stop-at", type=float, metavar="R",
+                      help="end the run once a test reward reaches R; a run --stop-at ended continues if R is "
+                      "above its best test reward (default: the run's config)")
+    stop.add_argument("--no-stop-at", action="store_true",
+                      help="run every generation: continue a run that --stop-at ended")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(fn=cmd_resume)
 
