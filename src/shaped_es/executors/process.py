@@ -116,6 +116,9 @@ class ProcessExecutor(Executor):
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
+            from shaped_es.executors.main_guard import exit_if_unguarded
+
+            exit_if_unguarded(written=True)  # an unguarded script: its workers would run it again
             # Children inherit the environment at start: one BLAS/OpenMP/Numba thread per worker.
             for var in _THREAD_VARS:
                 os.environ.setdefault(var, "1")
