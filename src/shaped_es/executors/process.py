@@ -38,6 +38,10 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "N
 
 
 def _init_worker(owner_pid: int | None = None, counter=None, warning_log_path: str | None = None) -> None:
+    # Ctrl-C reaches the terminal's whole process group: the trainer handles it (one line and the resume
+    # command; ``shutdown`` then ends the workers), so a worker ignores it instead of printing a
+    # KeyboardInterrupt traceback from wherever it was waiting.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
     warning_log.to_log(warning_log_path)  # other libraries' warnings: the run's error.log, not the terminal
@@ -202,5 +206,9 @@ class ProcessExecutor(Executor):
 
     def shutdown(self) -> None:
         if self._pool is not None:
+            if isinstance(sys.exc_info()[1], KeyboardInterrupt):  # Ctrl-C: end the workers (they ignore
+                for p in list(getattr(self._pool, "_processes", {}).values()):  # it), not their tasks
+                    if p.is_alive():
+                        p.kill()
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
