@@ -139,3 +139,25 @@ def test_the_readme_says_how_to_bring_an_own_env_and_its_example_passes_check_en
                                   "'readme_noreg' imports but registers no 'ReadmeNoreg-v0': call gymnasium."
                                   "register('ReadmeNoreg-v0', entry_point=...) in it (README, \"Your own env\")"]
     assert not (tmp_path / "r").exists()
+
+
+def test_the_readmes_quickstart_ranges_are_the_committed_studys():
+    """The Quickstart's figures a newcomer checks are ranges over seeds taken from a committed study, and
+    the seed-0 values it quotes are that study's committed run (README, "What reproduces exactly")."""
+    import csv
+    import statistics
+
+    root = SRC.parent
+    readme = " ".join((root / "README.md").read_text().split())
+    study = root / "docs" / "benchmarks" / "labels_babble_20_seeds" / "summary.json"
+    shaped = json.loads(study.read_text())["methods"]["shaped"]
+    gens = shaped["to_threshold"]["generations"]["per_seed"]
+    finals = shaped["final_test_reward_per_seed"]
+    assert len(gens) == 20 and all(shaped["to_threshold"]["reached"])
+    assert (f"200 is passed after **{min(gens):.0f}-{max(gens):.0f} generations (median "
+            f"{statistics.median(gens):.0f})**") in readme
+    assert f"lie in {min(finals):.0f}-{max(finals):.0f}, median {statistics.median(finals):.0f}" in readme
+    assert "seed 0 (the Quickstart's) passes 200 at generation 13" in readme and gens[0] == 13
+    with open(root / "docs" / "benchmarks" / "labels_babble_walltime" / "runs" / "shaped_s0" / "metrics.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert f"is {float(rows[1]['test_reward_mean']):.5f} on the reference machine" in readme
