@@ -60,4 +60,7 @@ def train(config: RunConfig | dict[str, Any] | str | Path, out: str | Path, *, c
     store, probe = prepare_run(cfg, out)
     with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
         store.create(cfg)  # checks again, under the lock, that no other train got there first
-        return resolve(METHODS[cfg.method].train)(cfg, store, progress=progress, probe=probe, callback=callback)
+        from shaped_es.trained.video import with_video
+
+        return resolve(METHODS[cfg.method].train)(cfg, store, progress=progress, probe=probe,
+                                                  callback=with_video(cfg, callback, progress))

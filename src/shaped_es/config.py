@@ -249,6 +249,9 @@ class RunConfig(_Strict):
     tensorboard: Bool = Field(True, description="also write TensorBoard events")
     stop_at: Float | None = Field(None, description="end the run, as finished, once a test reward reaches "
                                   "this (None: run every generation)")
+    video_every: Int | None = Field(None, gt=0, description="every N generations, render the best policy so far "
+                                    "(one test episode, as shaped-es render) into RUN/videos/gen_NNNNNN.gif "
+                                    "(None: no videos)")
     wandb: WandbConfig = Field(default_factory=WandbConfig)
     policy: PolicyConfig = Field(default_factory=PolicyConfig)
     es: ESConfig = Field(default_factory=ESConfig)

@@ -118,8 +118,12 @@ class RunLoop:
                 if stop and not last:  # the rows still waiting for their test episodes, then stop
                     self._write_rows(self.finish(), rows, bar)
                     self.stopped = stop
-                if (g + 1) % self.cfg.checkpoint_every == 0 or last or self.stopped:
+                video = self.cfg.video_every is not None and (g + 1) % self.cfg.video_every == 0
+                if (g + 1) % self.cfg.checkpoint_every == 0 or last or self.stopped or video:
                     self.checkpoint()
+                if video:  # trained.video.VideoCallback renders from the checkpoint just written
+                    for cb in self.callbacks:
+                        cb.on_checkpoint(g + 1)
                 if self.stopped:
                     self._say_stopped(rows)
                     break

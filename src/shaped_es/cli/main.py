@@ -125,7 +125,10 @@ def _fitting_checkpoint(cfg, store):
 def _run(cfg, store, a, probe=None) -> int:
     from shaped_es.methods import METHODS, resolve
 
-    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe)
+    from shaped_es.trained.video import with_video
+
+    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe,
+                                       callback=with_video(cfg, progress=not a.quiet))
     from shaped_es.report import plot_runs
 
     fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)
