@@ -77,15 +77,16 @@ def cmd_resume(a: argparse.Namespace) -> int:
         # config.yaml takes the changes once the restore held up (the run loop writes it), not before
         cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
         why = _nothing_to_run(cfg, loaded[1] if loaded else None, a)
+        rc = _run(cfg, store, a)  # restores (and checks) the checkpoint even when nothing is left to run
         if why:
             print(f"shaped-es: {why}", file=sys.stderr)
-        return _run(cfg, store, a)
+        return rc
 
 
 def _nothing_to_run(cfg, meta, a) -> str | None:
-    """Why ``resume`` will run no generation (None if it will): the run stopped at ``--stop-at`` (an
-    error when ``--generations`` asks for more: ``ConfigError``) or has every generation done; each with
-    the command that continues it."""
+    """Why ``resume`` will run no generation although the run is not at its ``generations``: it stopped at
+    ``--stop-at`` (an error when ``--generations`` asks for more: ``ConfigError``), with the command that
+    continues it; None otherwise."""
     from shaped_es.config import ConfigError
     from shaped_es.run_loop import stopped_at
 
@@ -102,10 +103,7 @@ def _nothing_to_run(cfg, meta, a) -> str | None:
         if more:  # asked for generations that would not run
             raise ConfigError(why)
         return why
-    if done >= cfg.generations:
-        return (f"{run} has all {done} generations done, so nothing ran; to continue it: shaped-es resume "
-                f"{run} --generations N (N above {done})")
-    return None
+    return None  # a run with every generation done: resume reprints its result (--generations extends it)
 
 
 def _fitting_checkpoint(cfg, store):
