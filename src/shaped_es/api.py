@@ -13,6 +13,9 @@
 The config is a :class:`shaped_es.config.RunConfig`, a dict of its fields (dotted keys allowed, as
 ``--set``) or the path of a YAML file; everything is checked before anything is written, as for
 ``train``. ``callback``: a function or :class:`shaped_es.monitor.callbacks.Callback`, or a list of them.
+With the process executor (the default), a script must call ``train`` under ``if __name__ ==
+"__main__":`` (its workers import the script again); unguarded, it ends with one line saying so and
+exit code 2, before anything is written (``executors/main_guard.py``).
 """
 
 from __future__ import annotations
@@ -46,10 +49,17 @@ def prepare_run(cfg: RunConfig, out: str | Path):
 def train(config: RunConfig | dict[str, Any] | str | Path, out: str | Path, *, callback=None,
           progress: bool = False) -> list[dict]:
     """Train a new run into ``out`` (see the module docstring); returns its metrics rows."""
+    from shaped_es.executors.main_guard import exit_if_unguarded, refuse_in_worker
     from shaped_es.methods import METHODS, resolve
 
+    refuse_in_worker()  # a worker re-importing an unguarded script: never a second run
     cfg = as_config(config)
+    if cfg.executor == "process" and METHODS[cfg.method].strategy is not None:  # workers re-import __main__
+        exit_if_unguarded()  # one line naming the guard, exit 2, before anything is written
     store, probe = prepare_run(cfg, out)
     with store.lock():  # one writer; creates the directory (a failed start leaves it retryable)
         store.create(cfg)  # checks again, under the lock, that no other train got there first
-        return resolve(METHODS[cfg.method].train)(cfg, store, progress=progress, probe=probe, callback=callback)
+        from shaped_es.trained.video import with_video
+
+        return resolve(METHODS[cfg.method].train)(cfg, store, progress=progress, probe=probe,
+                                                  callback=with_video(cfg, callback, progress))

@@ -260,6 +260,9 @@ class RunConfig(_Strict):
     tensorboard: Bool = Field(True, description="also write TensorBoard events")
     stop_at: Float | None = Field(None, description="end the run, as finished, once a test reward reaches "
                                   "this (None: run every generation)")
+    video_every: Int | None = Field(None, gt=0, description="every N generations, render the best policy so far "
+                                    "(one test episode, as shaped-es render) into RUN/videos/gen_NNNNNN.gif "
+                                    "(None: no videos)")
     wandb: WandbConfig = Field(default_factory=WandbConfig)
     policy: PolicyConfig = Field(default_factory=PolicyConfig)
     es: ESConfig = Field(default_factory=ESConfig)
@@ -276,6 +279,8 @@ def first_error(exc: ValidationError) -> str:
     msg = " ".join(str(err["msg"]).removeprefix("Value error, ").split())
     if err.get("type") == "extra_forbidden":  # a misspelt key: name the section's fields it may mean
         msg = "unknown field" + _did_you_mean(err["loc"])
+    elif err.get("type") == "bool_type":  # YAML 1.1's yes/no/on/off are words here (safe_yaml)
+        msg = "Input should be a valid boolean, true or false"
     value = err.get("input")
     got = ""
     if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:

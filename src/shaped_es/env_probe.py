@@ -71,12 +71,32 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
             msg = _missing_module(env_id.split(":", 1)[0], exc) or msg
+        elif ":" in env_id and not _registered_as(env_id.split(":", 1)[1]):  # no version of it either
+            module, name = env_id.split(":", 1)
+            msg = (f"its module {module!r} imports but registers no {name!r}: call gymnasium.register"
+                   f"({name!r}, entry_point=...) in it (README, \"Your own env\")")
         raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
     except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
+        unexpected = [k for k in (env_kwargs or {}) if isinstance(exc, TypeError)
+                      and f"unexpected keyword argument '{k}'" in str(exc)]
+        if unexpected == ["preset"]:  # --preset on an env that has none
+            from shaped_es.envs import BUILTIN
+
+            raise EnvSpecError(f"env {env_id!r} has no presets: drop --preset (env_kwargs.preset); presets "
+                               f"exist for {', '.join(BUILTIN)} (shaped-es envs lists them)") from None
+        if unexpected:
+            raise EnvSpecError(f"cannot make env {env_id!r}: it takes no keyword argument {unexpected[0]!r} "
+                               f"(given in env_kwargs)") from None
         raise EnvError(f"cannot make env {env_id!r}: {exception_line(exc)}", traceback.format_exc()) from None
     except SystemExit as exc:  # a module that exits on import would end the command without a word
         raise EnvError(f"cannot make env {env_id!r}: importing or making it called sys.exit({exc.code!r})",
                        traceback.format_exc()) from None
+
+
+def _registered_as(name: str) -> bool:
+    """Some version of ``name`` (``MyEnv-v0``: ``MyEnv-v*``) is in Gymnasium's registry."""
+    base = name.rsplit("-v", 1)[0]
+    return any(k == name or k.rsplit("-v", 1)[0] == base for k in gym.registry)
 
 
 def _missing_module(module: str, exc: ModuleNotFoundError) -> str | None:

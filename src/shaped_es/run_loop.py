@@ -23,7 +23,8 @@ After each row the loop calls the run's callbacks (``callback``: a function ``ro
 :class:`shaped_es.monitor.callbacks.Callback`, or a list of them; ``False`` stops the run, as SB3's
 ``BaseCallback._on_step``), and ``stop_at`` (``--stop-at R``) ends the run once a test reward reaches
 ``R``. A stopped run completes the rows still waiting for their test episodes and checkpoints; one
-stopped by ``stop_at`` counts as finished (:func:`run_finished`) while its config keeps ``stop_at``.
+stopped by ``stop_at`` counts as finished (:func:`run_finished`) while its best test reward reaches its
+config's ``stop_at`` (``resume --no-stop-at`` or a higher ``--stop-at`` continues it).
 """
 
 from __future__ import annotations
@@ -60,6 +61,7 @@ class RunLoop:
         self.callbacks = as_callbacks(callback)
         self._restored_stop: str | None = None
         self._repair = lambda: None  # restore's repair of the run directory, once a first generation ran
+        self._crossed: tuple[int, float] | None = None  # (generation, test reward) that reached stop_at
         self._tb = None
         self._wandb = None
 
@@ -96,7 +98,7 @@ class RunLoop:
     def _loop(self) -> list[dict]:
         self.restore()
         rows: list[dict] = []
-        if self._restored_stop == STOP_AT and self.cfg.stop_at is not None:  # finished: nothing to do
+        if self._restored_stop == STOP_AT and reached_stop_at(self.cfg, self.c.best_test_reward):  # finished
             self._repair()
             self.close()
             return rows
@@ -119,8 +121,12 @@ class RunLoop:
                 if stop and not last:  # the rows still waiting for their test episodes, then stop
                     self._write_rows(self.finish(), rows, bar)
                     self.stopped = stop
-                if (g + 1) % self.cfg.checkpoint_every == 0 or last or self.stopped:
+                video = self.cfg.video_every is not None and (g + 1) % self.cfg.video_every == 0
+                if (g + 1) % self.cfg.checkpoint_every == 0 or last or self.stopped or video:
                     self.checkpoint()
+                if video:  # trained.video.VideoCallback renders from the checkpoint just written
+                    for cb in self.callbacks:
+                        cb.on_checkpoint(g + 1)
                 if self.stopped:
                     self._say_stopped(rows)
                     break
@@ -147,6 +153,8 @@ class RunLoop:
             bar.update(int(row["generation"]), row)
             test = row.get("test_reward_mean")
             if self.cfg.stop_at is not None and test is not None and test >= self.cfg.stop_at:
+                if self._crossed is None:  # the row that crossed, not a later one's (test rows may lag)
+                    self._crossed = (int(row["generation"]), float(test))
                 stop = stop or STOP_AT
             if any([cb.on_generation(row) is False for cb in self.callbacks]):  # every callback sees it
                 stop = stop or CALLBACK
@@ -164,8 +172,8 @@ class RunLoop:
 
     def _say_stopped(self, rows: list[dict]) -> None:
         if self.stopped == STOP_AT:
-            best = max(float(r["test_reward_mean"]) for r in rows if r.get("test_reward_mean") is not None)
-            why = f"a test reward of {best:.2f} reached --stop-at {self.cfg.stop_at:g}"
+            gen, test = self._crossed
+            why = f"gen {gen + 1}'s test reward of {test:.2f} reached --stop-at {self.cfg.stop_at:g}"
         else:
             why = "a callback returned False"
         if self.progress:
@@ -254,8 +262,18 @@ def run_finished(cfg: RunConfig, store: RunStore) -> bool:
     meta = store.checkpoint_meta()
     if meta is None:
         return False
-    return int(meta["generation"]) >= cfg.generations or (meta.get("stopped") == STOP_AT and
-                                                          cfg.stop_at is not None)
+    return int(meta["generation"]) >= cfg.generations or stopped_at(cfg, meta)
+
+
+def reached_stop_at(cfg: RunConfig, best: float | None) -> bool:
+    """A best test reward of ``best`` reaches ``cfg.stop_at`` (a stop_at of None is never reached)."""
+    return cfg.stop_at is not None and best is not None and best >= cfg.stop_at
+
+
+def stopped_at(cfg: RunConfig, meta: dict) -> bool:
+    """The checkpoint ``meta`` ended its run at ``stop_at`` and that still holds under ``cfg``: a resume
+    with ``stop_at`` None (``--no-stop-at``) or above the best test reward continues the run."""
+    return meta.get("stopped") == STOP_AT and reached_stop_at(cfg, meta.get("best_test_reward"))
 
 
 def read_counters(meta: dict) -> dict:

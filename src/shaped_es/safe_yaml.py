@@ -4,6 +4,7 @@ turns its errors into one ``ConfigError`` line."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import yaml
@@ -18,12 +19,24 @@ class AliasError(ValueError):
     """A recursive alias, or aliases past :data:`ALIAS_BUDGET`."""
 
 
+_BOOL = "tag:yaml.org,2002:bool"
+
+
 class _Loader(yaml.SafeLoader):
-    """``yaml.SafeLoader`` that refuses recursive aliases and aliases past :data:`ALIAS_BUDGET`."""
+    """``yaml.SafeLoader`` that refuses recursive aliases and aliases past :data:`ALIAS_BUDGET`, and reads
+    only ``true``/``false`` as booleans (YAML 1.2's core schema): YAML 1.1's ``yes``/``no``/``on``/``off``
+    stay words, so ``--set tensorboard=yes`` is refused by the config's boolean check, as the README says
+    (booleans are true/false), instead of silently meaning true."""
+
+    yaml_implicit_resolvers = {k: [r for r in v if r[0] != _BOOL]
+                               for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
 
     def construct_document(self, node):
         _check_aliases(node)
         return super().construct_document(node)
+
+
+_Loader.add_implicit_resolver(_BOOL, re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF"))
 
 
 def _check_aliases(root: yaml.Node) -> None:

@@ -2,6 +2,7 @@
 generation), the pace of a rerun's own runs, finished runs costing nothing, and the lines it prints.
 Nothing here asserts a speed: only that the estimate is made of what it says."""
 
+import json
 import pytest
 
 from helpers import CARTPOLE_TINY, train
@@ -87,3 +88,33 @@ def test_estimate_only_writes_nothing(tmp_path):
     assert len(said) == 3 and said[0].startswith("[benchmark] estimate: vanilla: 2 runs, 6 generations at ")
     assert said[1].startswith("[benchmark] estimate: cmaes: 2 runs") and said[2].startswith("[benchmark] estimate: total")
     assert not (tmp_path / "b").exists()
+
+
+def test_estimate_only_needs_no_out(tmp_path, monkeypatch, capsys):
+    """``benchmark --estimate-only`` writes nothing, so it asks for no ``--out``; without it, every run is
+    still to do. A real benchmark without ``--out`` is one line, exit 2."""
+    from shaped_es.cli.main import main
+
+    monkeypatch.chdir(tmp_path)
+    args = ["benchmark", "--env", "CartPole-v1", "--methods", "vanilla", "--seeds", "2", "--generations", "3",
+            "--executor", "inline", "--set", "es.pairs=4", "--set", "rollout.test_episodes=2"]
+    assert main([*args, "--estimate-only"]) == 0
+    out, err = capsys.readouterr()
+    assert set(json.loads(out)["estimate_s"]) == {"vanilla"}
+    assert "estimate: vanilla: 2 runs, 6 generations" in err
+    assert list(tmp_path.iterdir()) == []  # nothing written here
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["shaped-es: error: benchmark needs --out DIR, the benchmark directory (only --estimate-only, "
+                   "which writes nothing, runs without it)"]
+
+
+def test_estimate_only_without_out_as_a_process(tmp_path):
+    from helpers import popen_cli
+
+    p = popen_cli("benchmark", "--env", "CartPole-v1", "--methods", "vanilla", "--seeds", "1",
+                  "--generations", "2", "--executor", "inline", "--set", "es.pairs=4", "--estimate-only",
+                  cwd=tmp_path)
+    out, err = p.communicate(timeout=300)
+    assert p.returncode == 0, err
+    assert "estimate_s" in json.loads(out) and list(tmp_path.iterdir()) == []

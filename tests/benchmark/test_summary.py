@@ -96,8 +96,10 @@ def test_threshold_and_budget(runs):
     assert van["to_threshold"]["generations"]["per_seed"] == [2.0, 3.0]  # seed 1 not evaluated at gen 2
     assert cma["successes"] == 2 and cma["to_threshold"]["env_steps"]["mean"] == 300.0
     s = summarize(metrics, threshold=6.5, budget=10)
-    assert s["methods"]["vanilla"]["to_threshold"]["generations"] == {"mean": 11.0, "median": 11.0,
-                                                                       "per_seed": [11.0, 11.0]}
+    # each run is censored at its own generations (3) + 1, not at the budget's: it never ran 10
+    assert s["budget_generations"] == 10
+    assert s["methods"]["vanilla"]["to_threshold"]["generations"] == {"mean": 4.0, "median": 4.0,
+                                                                       "per_seed": [4.0, 4.0]}
     assert s["methods"]["shaped"]["to_threshold"]["generations"]["per_seed"] == [3.0]
 
 
@@ -140,7 +142,7 @@ def test_report_files(runs, tmp_path):
     assert "| vanilla | – | 1.00 [1.00, 1.00] | 0.00 – |" in md  # P(row > column); 1 shaped seed: no CI
     assert "| cmaes | 0.00 [0.00, 0.00] | – |" in md
     assert "no pair does" in md  # 2 seeds a side: the interval is [1, 1] but Mann-Whitney p = 0.22
-    assert "test reward >= 2.00 (--threshold)" in md and "3 + 1 = 4 generations" in md
+    assert "test reward >= 2.00 (--threshold)" in md and "3 + 1 = 4 for a run of 3 generations" in md
     assert "time_mphi_s" in md
     summary = json.loads((tmp_path / "rep" / "summary.json").read_text())
     assert set(summary["methods"]) == {"vanilla", "cmaes", "shaped"}

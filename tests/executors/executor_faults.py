@@ -47,10 +47,29 @@ class LostServer(ConnectionError):
     worker_fault = True
 
 
-def worker_index(_: object) -> str | None:
-    """The worker's ``$SHAPED_ES_WORKER_INDEX`` (sleeps so that concurrent tasks spread over workers)."""
-    time.sleep(0.3)
-    return os.environ.get("SHAPED_ES_WORKER_INDEX")
+def meet(folder: str, key: str, n: int, give_up_s: float = 120.0) -> str:
+    """Sign in as ``key`` in ``folder`` and wait until ``n`` distinct keys have (or ``give_up_s``); ``key``.
+
+    Concurrent tasks that each wait here until ``n`` different workers (or nodes) have signed in land on
+    ``n`` different ones whatever the machine's speed: a worker busy in one such task cannot take
+    another, so the others must (a sleep only makes that likely, and not on a loaded machine)."""
+    open(os.path.join(folder, key), "a").close()
+    deadline = time.monotonic() + give_up_s
+    while len(os.listdir(folder)) < n and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return key
+
+
+@dataclass
+class WorkerIndex:
+    """The worker's ``$SHAPED_ES_WORKER_INDEX``, once ``n`` workers run such a task (:func:`meet`)."""
+
+    folder: str  # an empty folder per map
+    n: int
+
+    def __call__(self, _: object) -> str | None:
+        index = os.environ.get("SHAPED_ES_WORKER_INDEX")
+        return meet(self.folder, str(index), self.n)
 
 
 def misbehave(mode: str) -> None:
@@ -114,9 +133,14 @@ class FaultyExecutor(Executor):
         self.inner.shutdown()
 
 
-def square_on_node(x: int) -> tuple[int, str]:
-    """(x*x, id of the Ray node that ran it); sleeps so that concurrent tasks spread over workers."""
-    import ray
+@dataclass
+class SquareOnNode:
+    """(x*x, id of the Ray node that ran it), once ``n`` nodes run such a task (:func:`meet`)."""
 
-    time.sleep(0.3)
-    return x * x, ray.get_runtime_context().get_node_id()
+    folder: str  # an empty folder per map
+    n: int
+
+    def __call__(self, x: int) -> tuple[int, str]:
+        import ray
+
+        return x * x, meet(self.folder, ray.get_runtime_context().get_node_id(), self.n)

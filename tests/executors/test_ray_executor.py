@@ -12,9 +12,9 @@ from executor_faults import (  # noqa: E402
     FailAlways,
     FailOnce,
     FaultyExecutor,
+    SquareOnNode,
     raise_on_three,
     square,
-    square_on_node,
 )
 from helpers import CARTPOLE_TINY, strip_time, train  # noqa: E402
 from loopback_check import listening_addresses, non_loopback  # noqa: E402
@@ -72,9 +72,9 @@ def test_two_loopback_nodes_and_nothing_listens_elsewhere(connect):
     assert listening and not non_loopback(listening), listening
 
 
-def test_map_uses_both_nodes_in_task_order(connect):
+def test_map_uses_both_nodes_in_task_order(connect, tmp_path):
     ex = connect()
-    out = ex.map(square_on_node, TASKS)
+    out = ex.map(SquareOnNode(str(tmp_path), 2), TASKS)  # each task waits until both nodes run one
     assert [v for v, _ in out] == EXPECTED
     assert len({node for _, node in out}) == 2
 
@@ -97,10 +97,14 @@ def test_worker_fault_raised_by_the_task_is_retried(connect, tmp_path):
 
 
 def test_hung_task_is_cancelled_and_retried(connect, tmp_path):
-    ex = connect(task_timeout_s=2.0)
+    # The timeout counts from submission, so on a loaded machine the tasks queued behind the hung one on
+    # the other node's one CPU may time out too and be retried like it (4 retries were seen): the verdict
+    # is that the hung attempt was cut off and its task retried (its 4 is in the results; it never
+    # returns), with retries to spare, whatever the machine's speed.
+    ex = connect(task_timeout_s=2.0, max_retries=10)
     marker = tmp_path / "hung"
     assert ex.map(FailOnce(square, str(marker), "hang", only_value=2), TASKS) == EXPECTED
-    assert marker.exists() and ex.retries == 1
+    assert marker.exists() and ex.retries >= 1
 
 
 def test_retries_run_out_with_one_line_error(connect):

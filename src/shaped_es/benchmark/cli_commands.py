@@ -30,7 +30,8 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
                    help="number of seeds per method (seeds FIRST..FIRST+N-1; default 10)")
     b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
     b.add_argument("--generations", type=int, help="generations per run (default: the config's)")
-    b.add_argument("--out", required=True, help="benchmark directory (rerun to skip finished runs)")
+    b.add_argument("--out", help="benchmark directory (rerun to skip finished runs); required unless "
+                   "--estimate-only (default: none; with --estimate-only, its finished runs count as done)")
     b.add_argument("--preset", help="env preset (built-in envs: default, paper; default: the env's)")
     b.add_argument("--config", help="YAML config applied to every run, flags override it (default: none, "
                    "the built-in defaults)")
@@ -167,10 +168,13 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
 
     if a.seeds <= 0 or a.first_seed < 0:
         raise ConfigError("--seeds must be positive and --first-seed non-negative")
+    if a.out is None and not a.estimate_only:
+        raise ConfigError("benchmark needs --out DIR, the benchmark directory (only --estimate-only, which "
+                          "writes nothing, runs without it)")
     base = read_yaml(a.config) if a.config else {}
     overrides = {k: v for k, v in {"executor": a.executor, "workers": a.workers, "address": a.address,
                                    "stop_at": a.stop_at}.items() if v is not None}
-    if a.wandb:
+    if a.wandb and a.out is not None:
         from pathlib import Path
 
         overrides.update({"wandb.enabled": True, "wandb.group": Path(a.out).resolve().name})
@@ -191,8 +195,15 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
         overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
         threshold=a.threshold, variants=variants,
     )
-    res = run_benchmark(spec, a.out, progress=not a.quiet, estimate=not a.no_estimate,
-                        estimate_only=a.estimate_only)
+    if a.out is None:  # --estimate-only without a benchmark directory: every run is still to do
+        import tempfile
+        from pathlib import Path
+
+        with tempfile.TemporaryDirectory(prefix="shaped-es-estimate-") as tmp:
+            res = run_benchmark(spec, Path(tmp) / "benchmark", progress=not a.quiet, estimate_only=True)
+    else:
+        res = run_benchmark(spec, a.out, progress=not a.quiet, estimate=not a.no_estimate,
+                            estimate_only=a.estimate_only)
     keys = ("estimate_s",) if a.estimate_only else ("report", "summary", "fig4", "profile", "fig5")
     print(json.dumps({k: res.get(k) for k in keys}))
     return 0

@@ -45,6 +45,18 @@ def _censored(d: dict, digits: int = 1) -> str:
     return f"{_num(d['mean'], digits)} / {_num(d['median'], digits)}"
 
 
+def _short_runs(methods: dict, runs: dict[str, list[str]], budget: int) -> list[str]:
+    """A paragraph naming the censored runs shorter than the longest (``budget``): each is censored at its
+    own budget, so the means of their methods are weaker lower bounds."""
+    short = [f"`{name}` ({n} generations)" for k, s in methods.items()
+             for name, n, hit in zip(runs.get(k, []), s["to_threshold"].get("budgets", []), s["to_threshold"]["reached"])
+             if n < budget and not hit]
+    if not short:
+        return []
+    return ["", f"Runs that never reached the threshold in fewer generations than the longest run ({budget}), each "
+            f"censored at its own budget + 1, not at {budget + 1}: " + ", ".join(short) + "."]
+
+
 def beats(poi: dict, alpha: float = 0.05) -> bool:
     """X beats Y: P(X > Y)'s bootstrap interval lies above 0.5 and the Mann-Whitney p-value < alpha."""
     ci, p = poi.get("ci"), poi.get("p_value")
@@ -93,9 +105,10 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
     out += ["## Success and cost to the threshold", "",
             f"Threshold: test reward >= {_num(thr['value'])} ({src}). A seed succeeds if any of its test "
             f"evaluations reaches it. Costs to the threshold are each seed's first evaluation reaching it, "
-            f"**censored**: a seed that never does counts as {budget} + 1 = {budget + 1} generations (the "
-            "budget + 1) and as its whole run's wall time and env steps, so the mean / median over all "
-            "seeds are lower bounds when seeds are censored (the median is exact while under half are).", ""]
+            f"**censored**: a seed that never does counts as its own run's generations + 1 (its budget + 1: "
+            f"{budget} + 1 = {budget + 1} for a run of {budget} generations) and as its whole run's wall time "
+            "and env steps, so the mean / median over all seeds are lower bounds when seeds are censored "
+            "(the median is exact while under half are).", *_short_runs(methods, runs, budget), ""]
     header = ["method", "seeds", "success", "generations to threshold (mean / median)",
               "wall time to threshold (s, mean / median)", "env steps to threshold (mean / median)"]
     rows = [[k, str(s["seeds"]), f"{s['successes']}/{s['seeds']} ({_num(s['success_rate'] * 100, 0)}%)",

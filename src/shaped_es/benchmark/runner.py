@@ -214,7 +214,9 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
         store.create(cfg)
         status = "new"
     with store.lock():  # held for the whole run (PPO included), not only around each write
-        resolve(METHODS[cfg.method].train)(cfg, store, progress=progress)
+        from shaped_es.trained.video import with_video
+
+        resolve(METHODS[cfg.method].train)(cfg, store, progress=progress, callback=with_video(cfg, progress=progress))
     return status
 
 

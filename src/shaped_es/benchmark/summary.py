@@ -8,8 +8,8 @@ Per method, over its seeds:
   over the test episodes; PPO: its deterministic policy);
 - ``success_rate`` / ``successes``: the seeds whose test reward reached the threshold at some evaluation;
 - ``to_threshold``: ``generations``, ``wall_time_s``, ``cpu_time_s``, ``env_steps`` at each seed's first
-  evaluation with test reward >= threshold, **censored**: a seed that never reaches it counts as
-  ``budget + 1`` generations and as its whole run's wall time / CPU time / env steps (lower bounds), so
+  evaluation with test reward >= threshold, **censored**: a seed that never reaches it counts as its own
+  run's generations + 1 and as its whole run's wall time / CPU time / env steps (lower bounds), so
   the ``mean`` and ``median`` over all seeds are censored statistics (the median is exact while fewer
   than half the seeds are censored); ``per_seed`` and ``reached`` list each seed;
 - ``wall_time_s``, ``cpu_time_s``, ``env_steps``, ``generations``: cost of a whole run, mean over seeds;
@@ -36,6 +36,7 @@ from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS
 from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement
 from shaped_es.report.plots import load_metrics
+from shaped_es.report.seeds import copies_line, distinct_seeds
 from shaped_es.report.stats import t_interval
 from shaped_es.rundir.store import RunStore, StoreError
 
@@ -72,7 +73,9 @@ def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
     stay apart; any other run by the method in its ``config.yaml``. Runs of one group that differ in
     their env or in a setting of their method (:func:`run_settings`) are not pooled: each setting is a
     group of its own, labelled by what differs (``shaped (UR5Reach-v0)``, ``shaped
-    (shaping.mechanism=subspace)``), with one :class:`ReportWarning` naming the differing keys."""
+    (shaping.mechanism=subspace)``), with one :class:`ReportWarning` naming the differing keys. Within a
+    group a seed counts once (``report/seeds.py``: a copied run, or one trained twice, is no second seed),
+    with one :class:`ReportWarning` naming the copies left out."""
     found: dict[str, list[tuple[Path, RunConfig]]] = {}
     for d in run_dirs:
         store = RunStore(d)
@@ -86,9 +89,20 @@ def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
     configs: dict[str, RunConfig] = {}
     for label, runs in found.items():
         for sub, members in _split(label, runs).items():
+            members, copies = distinct_seeds(members, _seed, _length)
+            if copies:
+                warnings.warn(ReportWarning(copies_line(sub, _seed, copies)), stacklevel=2)
             groups[sub] = [d for d, _ in members]
             configs[sub] = members[0][1]
     return groups, configs
+
+
+def _seed(run: tuple[Path, RunConfig]) -> int:
+    return run[1].seed
+
+
+def _length(run: tuple[Path, RunConfig]) -> int:
+    return len(RunStore(run[0]).read_metrics())
 
 
 def run_settings(cfg: RunConfig) -> dict:
@@ -192,14 +206,16 @@ def first_reach(m: Metrics, threshold: float) -> dict | None:
             **{k: float(m[k][i]) if k in m else math.nan for k in COST_COLUMNS}}
 
 
-def time_to_threshold(runs: list[Metrics], threshold: float, budget: int) -> dict:
-    """Per cost, each seed's cost to the first evaluation >= ``threshold``, censored at ``budget + 1``
-    generations (and the run's whole cost in the other units) for seeds that never reach it."""
+def time_to_threshold(runs: list[Metrics], threshold: float) -> dict:
+    """Per cost, each seed's cost to the first evaluation >= ``threshold``; a seed that never reaches it is
+    censored at its own run's budget: the generations it ran + 1 (and its whole cost in the other units),
+    so a short run is never credited with a longer run's budget. ``budgets``: each seed's generations."""
     hits = [first_reach(m, threshold) for m in runs]
-    out: dict = {"reached": [h is not None for h in hits]}
+    out: dict = {"reached": [h is not None for h in hits], "budgets": [run_generations(m) for m in runs]}
     for key in ("generations", *COST_COLUMNS):
         per_seed = [h[key] if h is not None else
-                    (float(budget + 1) if key == "generations" else last_finite(m.get(key, np.full(1, np.nan))))
+                    (float(run_generations(m) + 1) if key == "generations"
+                     else last_finite(m.get(key, np.full(1, np.nan))))
                     for h, m in zip(hits, runs)]
         v = np.asarray([x for x in per_seed if math.isfinite(x)], dtype=np.float64)
         out[key] = {"mean": float(v.mean()) if v.size else math.nan,
@@ -221,12 +237,11 @@ def run_generations(m: Metrics) -> int:
     return int(np.nanmax(g)) + 1 if g is not None and np.isfinite(g).any() else 0
 
 
-def summarize_method(runs: list[Metrics], threshold: float, budget: int, level: float,
-                     resamples: int = RESAMPLES) -> dict:
+def summarize_method(runs: list[Metrics], threshold: float, level: float, resamples: int = RESAMPLES) -> dict:
     finals = final_rewards(runs)
     mean, half = t_interval(finals, level)
     robust = iqm_with_ci(finals, level, resamples)
-    tt = time_to_threshold(runs, threshold, budget)
+    tt = time_to_threshold(runs, threshold)
     successes = int(sum(tt["reached"]))
     phases = sorted({k for m in runs for k in m if PHASE_COLUMN.match(k)})
     out = {
@@ -306,12 +321,12 @@ def summarize(groups: dict[str, list[Metrics]], level: float = 0.95, reference: 
               resamples: int = RESAMPLES) -> dict:
     """The summary of ``groups`` (method -> each seed's metrics). ``threshold``: see
     ``resolve_threshold`` (``config``: any run's, for the env's default); ``budget``: generations per
-    run for the censoring (default: the longest run's)."""
+    run, as reported (default: the longest run's; each run is censored at its own, ``time_to_threshold``)."""
     finals = {k: t_interval(final_rewards(runs), level)[0] for k, runs in groups.items()}
     thr = resolve_threshold(threshold, finals, config, reference)
     if budget is None:
         budget = max((run_generations(m) for runs in groups.values() for m in runs), default=0)
-    methods = {k: summarize_method(runs, thr["value"], budget, level, resamples) for k, runs in groups.items()}
+    methods = {k: summarize_method(runs, thr["value"], level, resamples) for k, runs in groups.items()}
     per_seed = {k: final_rewards(runs) for k, runs in groups.items()}
     poi = {x: {y: probability_of_improvement(per_seed[x], per_seed[y], level, resamples)
                for y in groups if y != x} for x in groups}

@@ -18,6 +18,8 @@ needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL`` (it cannot tra
 
 from __future__ import annotations
 
+import contextlib
+import importlib.util
 import re
 import warnings
 from dataclasses import asdict, dataclass
@@ -215,7 +217,7 @@ def describe_env(env_id: str) -> dict:
     out = {"id": env_id, "presets": _presets(env_id), "obs": None, "act": None, "time_limit": None,
            "waypoints": None, "error": None}
     try:
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), quiet_mujoco():
             warnings.simplefilter("ignore")
             probe = probe_env(env_id, reset=True)
     except Exception as exc:  # noqa: BLE001 - listed with its reason (EnvSpecError mostly)
@@ -226,6 +228,24 @@ def describe_env(env_id: str) -> dict:
     if POSITION_KEY in info and WAYPOINT_KEY in info:
         out["waypoints"] = int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
     return out
+
+
+@contextlib.contextmanager
+def quiet_mujoco():
+    """MuJoCo's own warnings (e.g. Gymnasium's v4 models use a deprecated ``settotalmass``) go nowhere
+    while inside: MuJoCo's default prints them to the terminal and appends them to ``MUJOCO_LOG.TXT`` in
+    the working folder, which a listing of envs must not do. A no-op without MuJoCo."""
+    if importlib.util.find_spec("mujoco") is None:
+        yield
+        return
+    import mujoco
+
+    old = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(lambda msg: None)
+    try:
+        yield
+    finally:
+        mujoco.set_mju_user_warning(old)
 
 
 def _presets(env_id: str) -> list[str]:

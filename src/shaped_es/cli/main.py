@@ -73,10 +73,39 @@ def cmd_resume(a: argparse.Namespace) -> int:
             raise ConfigError(f"{a.run_dir} has {done} generations done; --generations {a.generations} is "
                               f"fewer (a run cannot be shortened; evaluate it as it is, or train a new one)")
         changes = {k: v for k, v in {"generations": a.generations, "executor": a.executor,
-                                     "workers": a.workers}.items() if v is not None}
+                                     "workers": a.workers, "stop_at": a.stop_at}.items() if v is not None}
+        if a.no_stop_at:
+            changes["stop_at"] = None
         # config.yaml takes the changes once the restore held up (the run loop writes it), not before
         cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
-        return _run(cfg, store, a)
+        why = _nothing_to_run(cfg, loaded[1] if loaded else None, a)
+        rc = _run(cfg, store, a)  # restores (and checks) the checkpoint even when nothing is left to run
+        if why:
+            print(f"shaped-es: {why}", file=sys.stderr)
+        return rc
+
+
+def _nothing_to_run(cfg, meta, a) -> str | None:
+    """Why ``resume`` will run no generation although the run is not at its ``generations``: it stopped at
+    ``--stop-at`` (an error when ``--generations`` asks for more: ``ConfigError``), with the command that
+    continues it; None otherwise."""
+    from shaped_es.config import ConfigError
+    from shaped_es.run_loop import stopped_at
+
+    if meta is None:
+        return None
+    done, run = int(meta["generation"]), a.run_dir
+    if stopped_at(cfg, meta):
+        best = float(meta["best_test_reward"])
+        more = a.generations is not None and a.generations > done
+        again = f"shaped-es resume {run}{f' --generations {a.generations}' if more else ''}"
+        why = (f"{run} ended as finished after {done} generations: a test reward of {best:.2f} reached its "
+               f"--stop-at {cfg.stop_at:g}, so nothing {'would run' if more else 'ran'}; to continue it: "
+               f"{again} --no-stop-at (or --stop-at R with R above {best:.2f})")
+        if more:  # asked for generations that would not run
+            raise ConfigError(why)
+        return why
+    return None  # a run with every generation done: resume reprints its result (--generations extends it)
 
 
 def _fitting_checkpoint(cfg, store):
@@ -96,7 +125,10 @@ def _fitting_checkpoint(cfg, store):
 def _run(cfg, store, a, probe=None) -> int:
     from shaped_es.methods import METHODS, resolve
 
-    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe)
+    from shaped_es.trained.video import with_video
+
+    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe,
+                                       callback=with_video(cfg, progress=not a.quiet))
     from shaped_es.report import plot_runs
 
     fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)
@@ -318,6 +350,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="extend the run to this many generations (default: the run's config)")
     r.add_argument("--executor", choices=tuple(EXECUTORS), help="where rollouts run (default: the run's config)")
     r.add_argument("--workers", type=int, help="worker count (default: the run's config)")
+    stop = r.add_mutually_exclusive_group()
+    stop.add_argument("--stop-at", type=float, metavar="R",
+                      help="end the run once a test reward reaches R; a run --stop-at ended continues if R is "
+                      "above its best test reward (default: the run's config)")
+    stop.add_argument("--no-stop-at", action="store_true",
+                      help="run every generation: continue a run that --stop-at ended")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(fn=cmd_resume)
 

@@ -38,6 +38,10 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "N
 
 
 def _init_worker(owner_pid: int | None = None, counter=None, warning_log_path: str | None = None) -> None:
+    # Ctrl-C reaches the terminal's whole process group: the trainer handles it (one line and the resume
+    # command; ``shutdown`` then ends the workers), so a worker ignores it instead of printing a
+    # KeyboardInterrupt traceback from wherever it was waiting.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
     warning_log.to_log(warning_log_path)  # other libraries' warnings: the run's error.log, not the terminal
@@ -118,6 +122,9 @@ class ProcessExecutor(Executor):
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
+            from shaped_es.executors.main_guard import exit_if_unguarded
+
+            exit_if_unguarded(written=True)  # an unguarded script: its workers would run it again
             # Children inherit the environment at start: one BLAS/OpenMP/Numba thread per worker.
             for var in _THREAD_VARS:
                 os.environ.setdefault(var, "1")

@@ -31,6 +31,9 @@ class Callback:
     def on_end(self, rows: list[dict]) -> None:
         pass
 
+    def on_checkpoint(self, generation: int) -> None:
+        """After the checkpoint of ``generation`` generations that ``video_every`` asked for."""
+
 
 class FunctionCallback(Callback):
     """A plain function ``row -> bool | None`` as a :class:`Callback`."""

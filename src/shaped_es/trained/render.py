@@ -68,6 +68,16 @@ def _frame(env, env_id: str) -> np.ndarray:
     return frame[..., :3].astype(np.uint8)
 
 
+def check_renders(env_id: str, env_kwargs: dict) -> None:
+    """``EnvSpecError`` (one line) unless the env renders an ``rgb_array`` frame after ``reset``."""
+    env = _rgb_env(env_id, env_kwargs)
+    try:
+        env.reset(seed=0)
+        _frame(env, env_id)
+    finally:
+        env.close()
+
+
 def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: str = "best",
                seed: int = 12345, max_steps: int | None = None, fps: float = 30.0, every: int = 1) -> dict:
     """Roll out the run's policy for ``episodes`` episodes and write every ``every``-th frame to ``out``."""
