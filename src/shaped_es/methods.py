@@ -65,6 +65,8 @@ class Method:
     report_extra: str | None = None
     # ES methods: why ``es.obs_norm`` cannot be used with it yet (None: it can); preflight and the trainer
     # refuse the setting with this reason.
+    # check-env's checks (cli/check_env.py) this method needs to pass: "waypoints", "time limit"
+    needs: tuple[str, ...] = ()
     no_obs_norm: str | None = None
 
 
@@ -112,7 +114,7 @@ METHODS: dict[str, Method] = {
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
                      checks=("shaped_es.preflight:check_es", "shaped_es.preflight:check_waypoints",
                              "shaped_es.guides.shaped_setup:check_shaped"),
-                     knobs=("es.sigma", "es.lr", "shaping.eta"),
+                     knobs=("es.sigma", "es.lr", "shaping.eta"), needs=("waypoints",),
                      about="waypoint-shaped ES (the paper's method): action labels toward the env's waypoints "
                            "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "
                            "the population as a candidate mean (shaping.mechanism; needs info['position'] "
@@ -126,11 +128,11 @@ METHODS: dict[str, Method] = {
                                   "es.cmaes_diagonal_above", "es.obs_norm", "shaping"),
                            checks=("shaped_es.guides.shaped_setup:check_shaped",
                                    "shaped_es.guides.shaped_setup:check_candidate_only"),
-                           knobs=("es.sigma",),
+                           knobs=("es.sigma",), needs=("waypoints",),
                            about="the shaped method's candidate over CMA-ES (an accepted candidate becomes "
                                  "CMA's mean): for bodies where CMA-ES is the best baseline (arms)"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget
-    "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo"),
+    "ppo": Method(train="shaped_es.baselines.ppo:train_ppo", reads=("es.pairs", "ppo"), needs=("time limit",),
                   checks=("shaped_es.baselines.ppo_settings:check_ppo",),
                   policy_fields="shaped_es.baselines.ppo:policy_fields",
                   evaluate="shaped_es.baselines.ppo:ppo_returns",

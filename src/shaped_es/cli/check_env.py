@@ -48,8 +48,7 @@ def trains_with(checks: list[Check]) -> list[str]:
     by = {c.name: c.status for c in checks}
     if FAIL in by.values():
         return []
-    out = [m for m in METHODS if m != "shaped" and (m != "ppo" or by.get("time limit") == OK)]
-    return out + (["shaped"] if by.get("waypoints") == OK else [])
+    return [m for m, method in METHODS.items() if all(by.get(need) == OK for need in method.needs)]
 
 
 def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, max_steps: int = 200,
