@@ -107,11 +107,13 @@ def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
 
 
 def test_resume_is_exact_across_a_crash_while_asleep(tmp_path, monkeypatch):
-    cfg = {**CFG, "generations": 16}
+    cfg = {**CFG, "generations": 16, "shaping": {**CFG["shaping"], "history": 5}}
     full = train(tmp_path / "full", cfg).read_metrics()
     asleep = [int(r["generation"]) for r in full if r["shaping_awake"] == "0"]
     assert asleep, "the schedule should sleep within 16 generations"
-    c, store = new_run(tmp_path / "crashed", cfg)
-    run_until_crash(monkeypatch, c, store, asleep[1])
-    Trainer(c, store, progress=False).run()
-    assert strip_time(store.read_metrics()) == strip_time(full)
+    wake = next(g for g in range(asleep[0], 16) if g not in asleep)  # the first generation after a sleep
+    for crash_at in (asleep[1], wake):  # mid-sleep; and waking where history holds slept generations
+        c, store = new_run(tmp_path / f"crashed{crash_at}", cfg)
+        run_until_crash(monkeypatch, c, store, crash_at)
+        Trainer(c, store, progress=False).run()
+        assert strip_time(store.read_metrics()) == strip_time(full)

@@ -206,7 +206,8 @@ class ShapedGuide(NoGuide):
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""
         if generation in self._silent and generation not in self._cache:
-            return []  # slept through (label_budget.py): nothing was recorded
+            self._remember(generation, [])  # slept through (label_budget.py): nothing was recorded
+            return []
         if generation not in self._cache:
             trs = read_generation(self.traj_root, generation)
             if not trs:  # every generation's rollouts write a shard: this one was lost
@@ -418,12 +419,12 @@ class ShapedGuide(NoGuide):
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
             b = self.budget
-            print(f"shaped-es: warning: the labels' candidate won {b.accepted} of {b.judged} generations "
-                  f"(mean gain {b.gain_sum / b.judged:+.3g}): shaping backs off (sleeps {b.asleep_left} "
-                  f"generations, then longer, waking to try again; column shaping_awake): a sleeping "
-                  f"generation is the ES strategy's alone, at its price; try shaping.labels=controller (if the env has a "
-                  f"waypoint_controller) to tell the labels' quality from their use, another "
-                  f"shaping.inverse_dynamics.frame, or --method vanilla / cmaes", file=sys.stderr)
+            print(f"shaped-es: note: the labels' candidate lost {b.patience} judged generations in a row (won "
+                  f"{b.accepted} of {b.judged} so far): shaping backs off -- it sleeps {b.asleep_left} generations, "
+                  f"then tries again (longer sleeps while it keeps losing; column shaping_awake), each sleeping "
+                  f"generation at the ES strategy's own price. A run still improving has outpaced its labels; "
+                  f"if they never win on this env, compare shaping.labels=controller or --method vanilla / cmaes",
+                  file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
