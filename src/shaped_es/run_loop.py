@@ -106,6 +106,8 @@ class RunLoop:
             cb.on_start(self)
         bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress,
                               label=self.label)
+        if self.c.generation and self.progress:  # a resumed run's counters continue (labels accepted/judged)
+            bar.count_labels(self.store.read_metrics()[: self.c.generation])
         saved = False
         try:
             for g in range(self.c.generation, self.cfg.generations):

@@ -79,3 +79,16 @@ def test_steps_per_second_follow_the_rows_clock_over_the_run():
         bar.update(g, {**_row(g), "wall_time_s": wall, "gen_time_s": 4.0, "gen_env_steps": 2000})
     rates = [int(re.search(r"([\d,]+) steps/s", x).group(1).replace(",", "")) for x in out.getvalue().splitlines()]
     assert rates and set(rates) == {500}
+
+
+def test_a_resumed_display_counts_the_candidates_before_it():
+    import io
+
+    from shaped_es.monitor.progress import ProgressDisplay
+
+    out = io.StringIO()
+    bar = ProgressDisplay(4, 2, enabled=True, stream=out, console=None)
+    bar.count_labels([{"candidate_accepted": "1"}, {"candidate_accepted": "0"}])
+    bar.update(2, {"train_reward_mean": 1.0, "train_reward_max": 2.0, "candidate_accepted": "1",
+                   "shaping_awake": "1"})
+    assert "labels 2/3" in out.getvalue()

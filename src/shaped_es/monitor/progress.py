@@ -107,6 +107,12 @@ class ProgressDisplay:
             self._first = (now, done, self._steps)
             self._first_wall = _number(row.get("wall_time_s"))
 
+    def count_labels(self, rows: list[dict]) -> None:
+        """Count the candidates of rows shown before this display started (a resumed run)."""
+        for row in rows:
+            if "candidate_accepted" in row:
+                self._labels(row)
+
     def _labels(self, row: dict) -> str:
         """`` labels A/J`` (candidates accepted of judged, this display's rows) for candidate runs, with
         ``[backed off]`` while shaping sleeps (guides/label_budget.py); empty otherwise."""
