@@ -108,7 +108,10 @@ def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str
     base = {"env": env_id, "generations": warmup + generations, "executor": executor, "workers": workers,
             "tensorboard": False, "seed": 0}
     cfgs = {"vanilla": build_config({**base, "method": "vanilla"}),
-            "shaped": build_config(merge({**base, "method": "shaped"}, overrides or {}))}
+            # an awake shaped generation's price: the back-off (guides/label_budget.py) would mix in sleeping
+            # generations that cost what a vanilla one does
+            "shaped": build_config(merge({**base, "method": "shaped", "shaping": {"backoff_after": 0}},
+                                         overrides or {}))}
     with tempfile.TemporaryDirectory(prefix="shaped-es-bench-") as tmp, threadpool_limits(limits=1):
         from shaped_es.trainer import _limit_torch_threads
 
