@@ -65,7 +65,8 @@ def test_benchmark_writes_runs_summary_and_report(bench):
         assert m["final_test_reward_mean"] >= 1 and m["cpu_time_s"] > 0 and m["env_steps"] > 0
         lo, hi = m["final_test_reward_ci"]
         assert lo <= m["final_test_reward_mean"] <= hi
-        assert set(m["to_threshold"]) == {"reached", "generations", "wall_time_s", "cpu_time_s", "env_steps"}
+        assert set(m["to_threshold"]) == {"reached", "budgets", "generations", "wall_time_s", "cpu_time_s",
+                                          "env_steps"}
         lo, hi = m["final_test_reward_iqm_ci"]
         assert lo <= m["final_test_reward_iqm"] <= hi
     # CartPole has no default threshold: the best final mean (no 'shaped' in the set)
