@@ -179,3 +179,30 @@ def test_bad_input_is_one_clear_error(tmp_path):
     with pytest.raises(ConfigError, match="es.pairs"):
         _cli("benchmark", *TINY, "--methods", "vanilla", "--set", "es.pairs=0", "--out", tmp_path / "x")
     assert not (tmp_path / "x").exists()  # nothing written before the input is known good
+
+
+def test_grid_sweeps_every_combination_as_a_variant():
+    from shaped_es.benchmark.cli_commands import grid_variants
+
+    v = grid_variants(["vanilla"], ["es.sigma=0.05,0.1", "es.lr=0.01,0.02"])
+    assert list(v) == ["vanilla-sigma0.05-lr0.01", "vanilla-sigma0.05-lr0.02", "vanilla-sigma0.1-lr0.01",
+                       "vanilla-sigma0.1-lr0.02"]
+    assert v["vanilla-sigma0.1-lr0.02"] == {"method": "vanilla", "es.sigma": 0.1, "es.lr": 0.02}
+    drawn = grid_variants(["vanilla"], ["es.sigma=0.05,0.1", "es.lr=0.01,0.02"], sample=2, seed=3)
+    assert len(drawn) == 2 and set(drawn) <= set(v)
+    assert drawn == grid_variants(["vanilla"], ["es.sigma=0.05,0.1", "es.lr=0.01,0.02"], sample=2, seed=3)
+    for bad in (["es.sigma"], ["es.sigma=0.1", "es.sigma=0.2"]):
+        with pytest.raises(ConfigError):
+            grid_variants(["vanilla"], bad)
+    with pytest.raises(ConfigError, match="--sample"):
+        grid_variants(["vanilla"], ["es.sigma=0.05,0.1"], sample=5)
+
+
+def test_a_sweep_is_one_benchmark(tmp_path):
+    out = tmp_path / "sweep"
+    assert _cli("benchmark", *tiny(seeds=1, generations=1), "--methods", "vanilla", "--grid",
+                "es.sigma=0.05,0.1", "--out", out) == 0
+    assert sorted(d.name for d in (out / "runs").iterdir()) == ["vanilla-sigma0.05_s0", "vanilla-sigma0.1_s0"]
+    s = json.loads((out / "summary.json").read_text())
+    assert list(s["methods"]) == ["vanilla-sigma0.05", "vanilla-sigma0.1"]
+    assert "sigma: 0.05" in (out / "runs" / "vanilla-sigma0.05_s0" / "config.yaml").read_text()

@@ -26,6 +26,12 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     b.add_argument("--variant", action="append", default=[], metavar="NAME=METHOD,KEY=VALUE,...",
                    help="a named setting of a method, compared as a method of its own, e.g. "
                         "lean=shaped,shaping.cloning.steps=5 (repeatable)")
+    b.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
+                   help="a sweep: every combination of these values (repeatable, one key each) becomes a "
+                        "variant of each --methods method, named METHOD-key1V1-key2V2 (default: none)")
+    b.add_argument("--sample", type=int, metavar="N",
+                   help="with --grid: N combinations drawn at random (seeded by --first-seed) instead of all "
+                        "(default: all)")
     b.add_argument("--seeds", type=int, default=10,
                    help="number of seeds per method (seeds FIRST..FIRST+N-1; default 10)")
     b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
@@ -162,6 +168,43 @@ def _split_top_level(text: str) -> list[str]:
     return parts + [text[start:]]
 
 
+def grid_variants(methods: list[str], grid: list[str], sample: int | None = None,
+                  seed: int = 0) -> dict[str, dict]:
+    """``--grid`` as benchmark variants: each combination of the keys' values (all, or ``sample`` drawn
+    without replacement) for each method, named ``METHOD-<key>V-...`` by each key's last part (its whole
+    dotted path where two keys share a last part). One entry per combination: ``{"method": m, key: v}``."""
+    import itertools
+
+    import numpy as np
+
+    from shaped_es.config import ConfigError, parse_set
+
+    axes: list[tuple[str, list[str]]] = []
+    for text in grid:
+        key, sep, values = text.partition("=")
+        vals = [v.strip() for v in _split_top_level(values) if v.strip()] if sep else []
+        if not key.strip() or not vals:
+            raise ConfigError(f"--grid {text!r}: expected KEY=V1,V2,... (e.g. es.sigma=0.05,0.1)")
+        if key.strip() in [k for k, _ in axes]:
+            raise ConfigError(f"--grid names {key.strip()!r} twice; give its values in one --grid")
+        axes.append((key.strip(), vals))
+    lasts = [k.rsplit(".", 1)[-1] for k, _ in axes]
+    names = [k.rsplit(".", 1)[-1] if lasts.count(k.rsplit(".", 1)[-1]) == 1 else k.replace(".", "_")
+             for k, _ in axes]
+    combos = list(itertools.product(*[v for _, v in axes]))
+    if sample is not None:
+        if not 0 < sample <= len(combos):
+            raise ConfigError(f"--sample must be between 1 and the grid's {len(combos)} combinations, got {sample}")
+        pick = np.random.default_rng(seed).choice(len(combos), size=sample, replace=False)
+        combos = [combos[i] for i in sorted(pick)]
+    out = {}
+    for m in methods:
+        for combo in combos:
+            label = "-".join([m] + [f"{n}{v}".replace("/", "_") for n, v in zip(names, combo)])
+            out[label] = {"method": m, **parse_set([f"{k}={v}" for (k, _), v in zip(axes, combo)])}
+    return out
+
+
 def cmd_benchmark(a: argparse.Namespace) -> int:
     from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
     from shaped_es.config import ConfigError, RunConfig, parse_set, read_yaml
@@ -189,8 +232,15 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
         label, _, rest = text.partition("=")
         method, *sets = [x.strip() for x in _split_top_level(rest)] if rest else [""]
         variants[label.strip()] = {"method": method, **parse_set([x for x in sets if x])}
+    methods = tuple(m.strip() for m in a.methods.split(",") if m.strip())
+    if a.sample is not None and not a.grid:
+        raise ConfigError("--sample draws from a --grid; give one (e.g. --grid es.sigma=0.05,0.1)")
+    if a.grid:  # a sweep: the grid's combinations are the methods compared
+        swept = grid_variants([m for m in methods if m not in variants], a.grid, a.sample, a.first_seed)
+        variants.update(swept)
+        methods = tuple(swept)
     spec = BenchmarkSpec(
-        env=a.env, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),
+        env=a.env, methods=methods,
         seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=int(generations), base=base,
         overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
         threshold=a.threshold, variants=variants,
