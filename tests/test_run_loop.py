@@ -106,6 +106,7 @@ def test_the_checkpoint_names_the_best_policys_generation(full):
     assert meta["best_generation"] == best + 1 < meta["generation"] and meta["stopped"] is None
 
 
+@pytest.mark.slow  # 11-19 s of real processes: the full suite runs it (CI's fast suite stays under 10 min)
 def test_ppo_shares_callbacks_and_stop_at(tmp_path):
     from shaped_es.baselines.ppo import train_ppo
 

@@ -256,6 +256,7 @@ def test_resume_keeps_the_last_of_rows_two_writers_interleaved(tmp_path, tmp_pat
     assert RunStore(run).read_metrics() == RunStore(base).read_metrics()
 
 
+@pytest.mark.slow  # 11-19 s of real processes: the full suite runs it (CI's fast suite stays under 10 min)
 @pytest.mark.timeout(300)
 def test_runs_sharing_a_trajectory_root_keep_their_shards_apart(tmp_path, faults_path):
     shared = {**config("shaped")["shaping"], "trajectory_root": str(tmp_path / "shared")}

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from shaped_es.speed.shaping_cost import PHASES, bench_shaping, format_table
 from shaped_es.cli.main import main
 
 
+@pytest.mark.slow  # 11-19 s of real processes: the full suite runs it (CI's fast suite stays under 10 min)
 def test_side_by_side_report_has_ratio_phases_and_lower_bound():
     over = {"shaping.inverse_dynamics.filter": "none", "shaping.inverse_dynamics.steps_per_generation": 20,
             "shaping.cloning.steps": 2}
