@@ -116,6 +116,9 @@ class InverseDynamicsSettings(_Strict):
         _MPHI.query_scale, description="label queries: w_t - p_t (paper), or its direction at the length of "
         "the step the agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the "
         "heading)")
+    query_mix: Float = Field(_MPHI.query_mix, gt=0, le=1, description="label queries: (1 - mix) x the last step "
+                             "p_t - p_{t-1} + mix x (w_t - p_t), the current motion turned toward the waypoint "
+                             "(1: w_t - p_t, the paper)")
     babble: Int = Field(16, ge=0, le=10_000, description="motor babbling (labels=mphi only: M_phi's data): this many random "
                         "policies (weights ~ N(0, babble_sigma^2)) roll out beside the population in the "
                         "first babble_generations generations; their steps are M_phi's data (and the "

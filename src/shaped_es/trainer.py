@@ -334,6 +334,10 @@ class Trainer(RunLoop):
         returns the rows completed now (this one unless it waits for its test episodes)."""
         master_cpu = time.process_time() - cpu0
         steps = int(sum(r.lengths.sum() for r in results))
+        pre_steps, pre_s = self.guide.startup  # work done before generation 0 (the label probe): in the totals
+        self.guide.startup = (0, 0.0)
+        self.c.env_steps += int(pre_steps)
+        self.c.wall_time_s += float(pre_s)
         worker_cpu = sum(r.cpu_time_s for r in results)
         worker_cpu += float(extra.get("clone_cpu_time_s") or 0.0)  # shaped: cloning ran on the workers
         self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps

@@ -88,7 +88,9 @@ gym.register("NoisyWaypoints-v0", entry_point=NoisyWaypoints, max_episode_steps=
 CFG = {"env": "NoisyWaypoints-v0", "executor": "inline", "method": "shaped", "generations": 40, "seed": 3,
        "es": {"pairs": 4}, "policy": {"hidden": [4]},
        "rollout": {"episodes": 2, "test_episodes": 2, "test_every": 5},
-       "shaping": {"inverse_dynamics": {"steps_per_generation": 20, "babble": 0}, "history": 2,
+       # frame set: no label probe (guides/label_probe.py; its fixed 32 + 40 episodes are 2 generations of
+       # this 8-member population), so the env steps measure the back-off alone
+       "shaping": {"inverse_dynamics": {"steps_per_generation": 20, "babble": 0, "frame": "both"}, "history": 2,
                    "backoff_after": 3, "backoff_max": 16,
                    "mean_clone": {"steps": 10, "batch_size": 16}},
        "tensorboard": False}

@@ -26,6 +26,9 @@ class NoGuide:
     # es.obs_norm: the normalizer the next generation's members see (policies.ObsNorm; None: off), set by
     # the trainer before each after_tell (the shaped guide fits its clones through it)
     obs_norm = None
+    # env steps and seconds the guide spent before generation 0 (the shaped guide's label probe); the
+    # trainer counts them in the first generation it runs, then sets this to (0, 0.0)
+    startup: tuple[int, float] = (0, 0.0)
 
     def begin_generation(self, generation: int) -> None:
         """Called before the rollouts start (background work may start here)."""

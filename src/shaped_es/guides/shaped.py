@@ -35,6 +35,7 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import sys
 import threading
@@ -64,6 +65,7 @@ from shaped_es.shaping.trajectories import (TrajectoryStoreError, delete_generat
 from shaped_es.shaping.trajectories import read_generation, write_shard
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
+from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
@@ -101,6 +103,15 @@ class ShapedGuide(NoGuide):
         frame = mp.frame if mp.frame != "auto" else ("both" if pos_dim >= 2 else "world")
         self.mphi_cfg = from_section(InverseDynamicsConfig, mp, frame=frame,
                                      seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
+        self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
+        self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
+        if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
+            res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
+            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
+            self.query_clip = res.query_clip
+            if fresh:
+                self.startup = (res.env_steps, res.seconds)
+                print(f"shaped-es: {res.line()}", file=sys.stderr)
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
         # M_phi exists (and trains) only when it is the label source
@@ -260,8 +271,9 @@ class ShapedGuide(NoGuide):
         return MemberRows([blk.big.state for blk in blocks], [blk.queries for blk in blocks], spans)
 
     def labels_max_displacement(self) -> float | None:
-        """M_phi's query clip (``inverse_dynamics.query_clip`` times the mean training displacement)."""
-        qc = self.sh.inverse_dynamics.query_clip
+        """M_phi's query clip (``inverse_dynamics.query_clip``, or the label probe's, times the mean
+        training displacement)."""
+        qc = self.query_clip
         return None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
 
     def _write(self, trs: list[Transitions], stacked: Transitions | None = None) -> float:

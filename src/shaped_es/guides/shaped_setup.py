@@ -109,7 +109,7 @@ def label_source(cfg: RunConfig, spec: MLPSpec, mphi, mphi_cfg, reference, probe
 
     check_labels(cfg, spec, probe)
     if cfg.shaping.labels == "mphi":
-        return MphiLabels(mphi, mphi_cfg.frame, mphi_cfg.query_scale)
+        return MphiLabels(mphi, mphi_cfg.frame, mphi_cfg.query_scale, mphi_cfg.query_mix)
     if cfg.shaping.labels == "reference":
         return ReferenceLabels(reference)
     return ControllerLabels()

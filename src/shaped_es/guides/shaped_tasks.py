@@ -68,12 +68,12 @@ def member_data(traj_root: str, members, generations) -> dict[int, list[Transiti
 
 
 def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_dim: int,
-                       scale: str = "raw") -> tuple[np.ndarray, np.ndarray]:
+                       scale: str = "raw", mix: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """One member's ``D_i`` as states ``(T, obs)`` and M_phi's queries ``(T, d)`` (before any clip)."""
     if not hist:
         return np.zeros((0, obs_dim), np.float32), np.zeros((0, frame_dim(frame, pos_dim)), np.float32)
     s = np.concatenate([h.state for h in hist])
-    q = np.concatenate([query_displacement(h, frame, scale) for h in hist])
+    q = np.concatenate([query_displacement(h, frame, scale, mix) for h in hist])
     return s, q.astype(np.float32)
 
 
@@ -127,7 +127,7 @@ def label_and_clone(task: CloneTask) -> CloneOutput:
     else:
         mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
         sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
-                                 task.mphi_config.query_scale)
+                                 task.mphi_config.query_scale, task.mphi_config.query_mix)
               for m in task.members]
         label = labeller(mphi, task.max_displacement)
     rows = MemberRows.from_lists([s for s, _ in sq], [q for _, q in sq])

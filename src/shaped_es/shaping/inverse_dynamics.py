@@ -100,16 +100,40 @@ def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, n
     return target_pairs(tr, frame, "one_step")
 
 
-def query_displacement(tr: Transitions, frame: str = "world", scale: str = "raw") -> np.ndarray:
+def last_step(tr: Transitions) -> np.ndarray:
+    """``position_t - position_{t-1}`` ``(T, d)`` within each episode (zero at an episode's first step)."""
+    out = np.zeros(tr.position.shape, np.float64)
+    if len(tr) > 1:
+        same = (tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1)  # (T-1,)
+        out[1:] = np.where(same[:, None], tr.position[1:] - tr.position[:-1], 0.0)
+    return out
+
+
+def mixed_query(toward: np.ndarray, last: np.ndarray, mix: float) -> np.ndarray:
+    """``(1 - mix) * last + mix * toward`` ``(..., d)``: the last step turned a share ``mix`` of the way to
+    the waypoint (``mix = 1``: the paper's ``w_t - p_t``). Continuing the current motion is something
+    the body can do next (a torque-driven arm cannot stop or start within a step, a unicycle cannot move
+    sideways), so a query near it stays inside M_phi's training data, where its labels hold, and the
+    labels change smoothly with the state, which the clone can fit."""
+    if mix == 1.0:
+        return toward
+    return (1.0 - mix) * last + mix * toward
+
+
+def query_displacement(tr: Transitions, frame: str = "world", scale: str = "raw", mix: float = 1.0) -> np.ndarray:
     """The displacement ``(T, d)`` M_phi is asked to produce from ``s_t``.
 
-    - ``raw`` (paper): ``waypoint_t - position_t``;
+    - ``raw`` (paper): ``waypoint_t - position_t``, with ``mix < 1`` mixed with the last step
+      (:func:`mixed_query`);
     - ``own_step``: its direction, at the length of the step the agent actually took from ``s_t``
       (``|position_{t+1} - position_t|``; an episode's last step takes the one before it): "head for the
       waypoint at the pace you go", a query inside the one-step training data by construction, whose label
       corrects the heading and keeps the member's own pace.
     """
-    q = to_frame(tr, (tr.waypoint - tr.position).astype(np.float32), frame)  # (T, d)
+    toward = tr.waypoint - tr.position
+    if mix != 1.0 and len(tr):
+        toward = mixed_query(toward.astype(np.float64), last_step(tr), mix)
+    q = to_frame(tr, toward.astype(np.float32), frame)  # (T, d)
     if scale == "raw" or len(tr) == 0:
         return q
     if scale != "own_step":
@@ -325,7 +349,8 @@ class InverseDynamics:
 
     def label_transitions(self, tr: Transitions) -> np.ndarray:
         """Labels ``(T, act)`` for every step of ``tr``: ``M_phi(s_t, waypoint_t - position_t)``."""
-        return self.label(tr.state, query_displacement(tr, self.config.frame, self.config.query_scale))
+        c = self.config
+        return self.label(tr.state, query_displacement(tr, c.frame, c.query_scale, c.query_mix))
 
     def test_loss(self, states: np.ndarray, displacement: np.ndarray, reference_actions: np.ndarray) -> float:
         """Mean Euclidean distance between labels and reference actions (paper, Fig. 5 test loss)."""

@@ -63,8 +63,8 @@ class MphiLabels(LabelSource):
 
     name = "mphi"
 
-    def __init__(self, mphi: InverseDynamics, frame: str, query_scale: str = "raw"):
-        self.mphi, self.frame, self.query_scale = mphi, frame, query_scale
+    def __init__(self, mphi: InverseDynamics, frame: str, query_scale: str = "raw", query_mix: float = 1.0):
+        self.mphi, self.frame, self.query_scale, self.query_mix = mphi, frame, query_scale, query_mix
         self.max_displacement: float | None = None  # set by the guide from the training displacements
 
     @property
@@ -72,7 +72,7 @@ class MphiLabels(LabelSource):
         return self.mphi.iterations > 0
 
     def inputs(self, tr: Transitions) -> np.ndarray:
-        return query_displacement(tr, self.frame, self.query_scale)  # (T, d)
+        return query_displacement(tr, self.frame, self.query_scale, self.query_mix)  # (T, d)
 
     def __call__(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         return self.mphi.label(states, clip_norm(inputs, self.max_displacement))

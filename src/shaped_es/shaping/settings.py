@@ -36,6 +36,7 @@ class InverseDynamicsConfig:
     horizon: int = 8  # hindsight/matched: at most this many steps ahead
     filter: str = "none"  # which return min_return tests: none (keep all) | positive (paper) | total
     query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
+    query_mix: float = 1.0  # label queries: (1 - mix) (p_t - p_{t-1}) + mix (w_t - p_t) (mixed_query; 1: paper)
     seed: int = 0  # seeds weight init and minibatch sampling
 
     def __post_init__(self):
@@ -45,6 +46,8 @@ class InverseDynamicsConfig:
             raise ValueError("lr, batch_size, max_dataset and clip_input must be positive")
         if self.frame not in FRAMES:
             raise ValueError(f"frame must be one of {FRAMES}, got {self.frame!r}")
+        if not 0.0 < self.query_mix <= 1.0:
+            raise ValueError(f"query_mix must be in (0, 1], got {self.query_mix}")
         if self.query_scale not in QUERY_SCALES:
             raise ValueError(f"query_scale must be one of {QUERY_SCALES}, got {self.query_scale!r}")
         if self.targets not in TARGETS or self.filter not in FILTERS or self.horizon < 1:

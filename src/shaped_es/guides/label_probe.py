@@ -1,0 +1,221 @@
+"""M_phi's frame and query clip chosen by driving the body with its own labels (``frame: auto``).
+
+Which displacement frame makes M_phi's labels useful depends on the body, and no one setting holds on all
+of them. Measured closed loop (M_phi's labels ``a_t = M_phi(s_t, q_t)`` driving the env, 20 episodes,
+``docs/shaped-results.md``): ``both`` (world + motion frame) drives CarNav-v0 to 162 where ``world`` stays
+at -33, while on the torque-driven ReacherWay-v0 ``both`` scores -53, far below zero torque's -10.8, and
+``world`` with the query clipped to twice the mean training step scores -7.5 (its controller: -5.7). On
+a second-order arm a one-step displacement is mostly the velocity, so motion-frame training inputs sit
+near ``(|v|, 0)`` and a waypoint query lands far outside them.
+
+So before the first generation a shaped run with ``frame: auto`` (and a waypoint space of at least two
+dimensions) probes: it rolls out :data:`GENERATIONS` generations' worth of motor babbling and members
+around the initial mean (as the run's first generations would; about 0.7 of a default generation's
+episodes), trains one M_phi per frame on them, and drives :data:`EPISODES` episodes with each variant's
+labels. The incumbent (``both``, the query as
+asked: the default that the suite's other bodies measured best) is replaced only by a variant whose
+return beats it by more than two standard errors of the paired per-episode differences (same seeds). The
+probe is seeded by the run's seed, takes 0.2-1 s on the built-in envs, and its env steps and wall time
+are counted in the run's totals (``env_steps``, ``wall_time_s``) from the first generation on. Measured
+on 6 seeds each, it chose ``world`` on ReacherWay-v0 every time and ``both`` on CarNav-v0 every time. Its result is kept in ``RUN/label_probe.json`` so a
+resumed run reuses it.
+
+Written by hand: no library drives an env with an inverse-dynamics model's labels.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es import seeding
+from shaped_es.config import ConfigError, RunConfig
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
+from shaped_es.policies import MLPSpec
+from shaped_es.rollout import RolloutTask, run_task, to_space
+from shaped_es.rundir.atomic import atomic_write_text, read_regular
+from shaped_es.shaping.frames import frame_dim
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, mixed_query
+from shaped_es.shaping.labels import clip_norm
+from shaped_es.shaping.settings import InverseDynamicsConfig
+
+GENERATIONS = 2  # generations of probe data (babblers + members around the initial mean)
+MEMBERS = 8  # members around the initial mean per probe generation (at es.sigma)
+BABBLERS = 8  # babbling policies per probe generation (weights ~ N(0, babble_sigma^2))
+EPISODES = 10  # closed-loop episodes per variant (the same seeds for every variant)
+CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
+PROBE_KEY = 1_000_011  # seed key of the probe's streams
+FILE = "label_probe.json"
+
+
+@dataclass
+class ProbeResult:
+    """What the probe measured and chose; ``returns``: variant name -> per-episode returns."""
+
+    frame: str
+    query_clip: float | None
+    returns: dict[str, list[float]]
+    env_steps: int
+    seconds: float
+    reason: str
+
+    def line(self) -> str:
+        means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
+        return (f"labels: frame={self.frame}, query_clip={self.query_clip} ({self.reason}; label-driven "
+                f"return over {EPISODES} episodes: {means}; {self.env_steps} env steps, {self.seconds:.1f} s)")
+
+
+def variant_name(frame: str, query_clip: float | None) -> str:
+    return frame if query_clip is None else f"{frame}+clip{query_clip:g}"
+
+
+def variants(user_clip: float | None) -> list[tuple[str, float | None]]:
+    """The probed ``(frame, query_clip)`` pairs, the incumbent first; a clip the user set is kept."""
+    clips = [user_clip] if user_clip is not None else [None, CLIP]
+    return [(f, c) for f in ("both", "world") for c in clips]
+
+
+def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray):
+    """The probe's recorded rollouts: per generation, members around ``x0`` and babblers; returns
+    ``(transitions per generation, env steps)``."""
+    sigma_b = cfg.shaping.inverse_dynamics.babble_sigma
+    out, steps = [], 0
+    for g in range(GENERATIONS):
+        rng = np.random.default_rng(seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, g))
+        near = x0 + cfg.es.sigma * rng.standard_normal((MEMBERS, spec.num_params))  # (MEMBERS, n)
+        bab = sigma_b * rng.standard_normal((BABBLERS, spec.num_params))  # (BABBLERS, n)
+        P = np.concatenate([near, bab]).astype(np.float32)  # (m, n)
+        seeds = rng.integers(0, 2**31 - 1, size=(P.shape[0], cfg.rollout.episodes))  # (m, E)
+        res = run_task(RolloutTask(cfg.env, dict(cfg.env_kwargs), spec, P, np.arange(P.shape[0]), seeds,
+                                   generation=g, record=True, max_steps=cfg.rollout.max_steps))
+        out.append(res.transitions)
+        steps += int(res.lengths.sum())
+    return out, steps
+
+
+def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: float = 1.0) -> np.ndarray:
+    """M_phi's query ``(B, d)`` or ``(B, 2d)`` online, as ``query_displacement`` offline: ``w_t - p_t``
+    mixed with the last step (``mixed_query``) in ``frame`` (the motion frame: the angle of
+    ``p_t - p_{t-1}``, 0 at an episode's first step, as ``shaping/frames.py``)."""
+    d = mixed_query((wp - pos).astype(np.float64), (pos - prev).astype(np.float64), mix)  # (B, d)
+    if frame == "world":
+        return d.astype(np.float32)
+    v = pos[:, :2] - prev[:, :2]  # (B, 2) the last step
+    a = np.arctan2(v[:, 1], v[:, 0])  # 0 where the agent did not move (first step)
+    c, s = np.cos(a), np.sin(a)
+    m = d.copy()
+    m[:, 0], m[:, 1] = c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]
+    return np.concatenate([d, m], axis=1).astype(np.float32)  # (B, 2d)
+
+
+def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0) -> tuple[np.ndarray, int]:
+    """Returns ``(E,)`` of episodes driven by ``label(obs (B, obs), query) -> (B, act)`` and their steps;
+    batched through the env's core when it has one, else one Gymnasium env episode by episode."""
+    env = gym.make(cfg.env, **cfg.env_kwargs)
+    try:
+        core = get_batch_core(env)
+        if core is not None:
+            return _drive_core(core, cfg, label, frame, seeds, mix)
+        rets, steps = [], 0
+        for s in seeds:
+            obs, info = env.reset(seed=int(s))
+            pos = prev = np.asarray(info[POSITION_KEY], np.float64).reshape(1, -1)
+            ret, t = 0.0, 0
+            while True:
+                wp = np.asarray(info[WAYPOINT_KEY], np.float64).reshape(1, -1)
+                a = label(np.asarray(obs, np.float32).reshape(1, -1), query(pos, wp, prev, frame, mix))[0]
+                obs, r, term, trunc, info = env.step(to_space(env.action_space, np.clip(a, -1, 1)))
+                ret, t = ret + float(r), t + 1
+                if term or trunc or (cfg.rollout.max_steps is not None and t >= cfg.rollout.max_steps):
+                    break
+                prev, pos = pos, np.asarray(info[POSITION_KEY], np.float64).reshape(1, -1)
+            rets.append(ret)
+            steps += t
+        return np.array(rets), steps
+    finally:
+        env.close()
+
+
+def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float) -> tuple[np.ndarray, int]:
+    state, obs, info = core.reset(np.asarray(seeds, np.int64))
+    B = len(seeds)
+    limit = core.max_steps if cfg.rollout.max_steps is None else min(core.max_steps, cfg.rollout.max_steps)
+    rets, alive, steps = np.zeros(B), np.ones(B, bool), 0
+    pos = prev = np.asarray(info[POSITION_KEY], np.float64).reshape(B, -1)  # (B, d)
+    for _ in range(limit):
+        wp = np.asarray(info[WAYPOINT_KEY], np.float64).reshape(B, -1)
+        a = np.clip(label(np.asarray(obs, np.float32).reshape(B, -1), query(pos, wp, prev, frame, mix)), -1, 1)
+        state, obs, r, term, trunc, info = core.step(state, a.astype(np.float32))
+        rets += np.where(alive, r, 0.0)
+        steps += int(alive.sum())
+        alive &= ~(np.asarray(term) | np.asarray(trunc))
+        if not alive.any():
+            break
+        prev, pos = pos, np.asarray(info[POSITION_KEY], np.float64).reshape(B, -1)
+    return rets, steps
+
+
+def choose(returns: dict[str, np.ndarray], incumbent: str) -> tuple[str, str]:
+    """``(variant, reason)``: the incumbent unless another beats it by more than two standard errors of
+    the paired per-episode differences (the best such one)."""
+    base = np.asarray(returns[incumbent])
+    best, best_gain = incumbent, 0.0
+    for name, r in returns.items():
+        diff = np.asarray(r) - base  # (E,) same seeds
+        se = diff.std(ddof=1) / np.sqrt(diff.size) if diff.size > 1 else np.inf
+        if diff.mean() > 2 * se and diff.mean() > best_gain:
+            best, best_gain = name, float(diff.mean())
+    if best == incumbent:
+        return best, "the default; no variant beat it by 2 standard errors"
+    return best, f"beat the default {incumbent} by {best_gain:.2f} return (> 2 standard errors, paired)"
+
+
+def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig) -> ProbeResult:
+    """Run the probe (module docstring) and return what it chose."""
+    t0 = time.perf_counter()
+    x0 = spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
+    data, steps = collect(cfg, spec, x0)
+    seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
+    vs = variants(cfg.shaping.inverse_dynamics.query_clip)
+    returns: dict[str, list[float]] = {}
+    models: dict[str, tuple[InverseDynamics, float]] = {}
+    for frame, clip in vs:
+        if frame not in models:
+            m = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, replace(mphi_cfg, frame=frame))
+            for trs in data:
+                m.add(trs)
+                m.train()
+            x = m.newest(m.dataset_size)[0][:, spec.obs_dim:]  # (N, d') training displacements
+            models[frame] = (m, float(np.linalg.norm(x, axis=1).mean()) if len(x) else 0.0)
+        m, step = models[frame]
+        max_d = None if clip is None or step == 0 else clip * step
+        label = lambda s, q, m=m, max_d=max_d: m.label(s, clip_norm(q, max_d))  # noqa: E731
+        r, n = drive(cfg, label, frame, seeds, mphi_cfg.query_mix)
+        returns[variant_name(frame, clip)] = [float(v) for v in r]
+        steps += n
+    name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]))
+    frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
+    return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason)
+
+
+def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
+                  mphi_cfg: InverseDynamicsConfig) -> tuple[ProbeResult, bool]:
+    """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path``."""
+    if path.exists():
+        try:
+            d = json.loads(read_regular(path).decode())
+            res = ProbeResult(**d)
+            if res.frame not in ("both", "world"):
+                raise ValueError(f"frame {res.frame!r}")
+        except (ValueError, TypeError, UnicodeDecodeError) as exc:
+            raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to "
+                              f"probe again") from None
+        return res, False
+    res = probe(cfg, spec, pos_dim, mphi_cfg)
+    atomic_write_text(path, json.dumps(asdict(res), indent=1))
+    return res, True

@@ -1,0 +1,105 @@
+"""The label probe (guides/label_probe.py): its choice rule, its online queries against the offline ones
+the labels use, and a shaped run with ``frame: auto``: it probes once, counts the probe's env steps,
+keeps its choice for a resume, and refuses a damaged probe file in one line."""
+
+import json
+
+import numpy as np
+import pytest
+
+from helpers import new_run, run_until_crash, strip_time, train
+from shaped_es.config import ConfigError
+from shaped_es.data import Transitions
+from shaped_es.guides import label_probe
+from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
+from shaped_es.shaping.inverse_dynamics import last_step, mixed_query, query_displacement
+from shaped_es.trainer import Trainer
+
+POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
+         "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
+
+
+def test_choose_keeps_the_incumbent_unless_a_variant_wins_by_two_standard_errors():
+    base = np.array([1.0, 2.0, 3.0, 4.0])
+    noisy = base + np.array([0.5, -0.4, 0.6, -0.5])  # higher mean, not beyond 2 SE
+    clear = base + np.array([1.0, 1.1, 0.9, 1.0])  # clearly better on every episode
+    assert choose({"both": base, "world": noisy}, "both")[0] == "both"
+    name, reason = choose({"both": base, "world": noisy, "world+clip2": clear}, "both")
+    assert name == "world+clip2" and "beat the default" in reason
+    assert choose({"both": base}, "both")[0] == "both"
+
+
+def test_variants_keep_a_clip_the_user_set():
+    assert variants(None) == [("both", None), ("both", 2.0), ("world", None), ("world", 2.0)]
+    assert variants(3.0) == [("both", 3.0), ("world", 3.0)]
+
+
+def _episode(rng, T=6, d=2) -> Transitions:
+    pos = np.cumsum(rng.normal(size=(T, d)), axis=0).astype(np.float32)  # (T, d)
+    wp = (pos + rng.normal(size=(T, d))).astype(np.float32)
+    z = np.zeros((T, 1), np.float32)
+    return Transitions(0, 0, np.zeros(T, np.int32), np.arange(T, dtype=np.int32), z, pos, wp, z,
+                       np.zeros(T, np.float32))
+
+
+@pytest.mark.parametrize("frame", ["world", "both"])
+@pytest.mark.parametrize("mix", [1.0, 0.25])
+def test_online_queries_equal_the_offline_ones(frame, mix):
+    """The probe drives with the queries the run's labels read from recorded steps."""
+    tr = _episode(np.random.default_rng(0))
+    offline = query_displacement(tr, frame, "raw", mix)  # (T, d')
+    prev = np.concatenate([tr.position[:1], tr.position[:-1]])  # p_{t-1}; p_0 at the first step
+    online = query(tr.position.astype(np.float64), tr.waypoint.astype(np.float64), prev.astype(np.float64),
+                   frame, mix)
+    np.testing.assert_allclose(online, offline, rtol=1e-5, atol=1e-5)
+
+
+def test_mixed_query_turns_the_last_step_toward_the_waypoint():
+    tr = _episode(np.random.default_rng(1))
+    last = last_step(tr)
+    assert np.all(last[0] == 0) and np.allclose(last[1:], np.diff(tr.position, axis=0))
+    toward = np.array([[1.0, 0.0]])
+    np.testing.assert_allclose(mixed_query(toward, np.array([[0.0, 2.0]]), 0.25), [[0.25, 1.5]])
+    assert mixed_query(toward, np.array([[5.0, 5.0]]), 1.0) is toward
+
+
+def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, capsys, monkeypatch):
+    full = train(tmp_path / "full", {**POINT, "generations": 3}).read_metrics()
+    assert capsys.readouterr().err.count("labels: frame=") == 1
+    res = ProbeResult(**json.loads((tmp_path / "full" / FILE).read_text()))
+    assert res.frame in ("both", "world") and res.env_steps > 0
+    assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
+    # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
+    assert int(full[0]["env_steps"]) > res.env_steps
+    # killed after generation 1, resumed: the saved choice is read (no second probe), the run is exact
+    cfg, store = new_run(tmp_path / "crashed", {**POINT, "generations": 3})
+    run_until_crash(monkeypatch, cfg, store, 2)
+    capsys.readouterr()
+    Trainer(cfg, store, progress=False).run()
+    assert "labels: frame=" not in capsys.readouterr().err
+    assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_an_explicit_frame_skips_the_probe(tmp_path, capsys):
+    train(tmp_path / "run", {**POINT, "shaping": {"inverse_dynamics": {"frame": "world"}}})
+    assert "labels: frame=" not in capsys.readouterr().err
+    assert not (tmp_path / "run" / FILE).exists()
+
+
+def test_a_damaged_probe_file_is_one_clear_error(tmp_path):
+    cfg, store = new_run(tmp_path / "run", POINT)
+    (tmp_path / "run" / FILE).write_text("{not json")
+    with pytest.raises(ConfigError, match="not a label probe"):
+        Trainer(cfg, store, progress=False)
+    assert (tmp_path / "run" / FILE).read_text() == "{not json"  # nothing rewritten
+
+
+def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):
+    """Envs without a batched core are driven episode by episode through Gymnasium."""
+    from shaped_es.config import build_config
+
+    cfg = build_config({**POINT, "env": "PointVel-v0"})
+    monkeypatch.setattr(label_probe, "get_batch_core", lambda env: None)
+    seeds = np.array([5, 6])
+    r, steps = label_probe.drive(cfg, lambda s, q: np.zeros((s.shape[0], 2), np.float32), "both", seeds)
+    assert r.shape == (2,) and steps > 0
