@@ -2,9 +2,10 @@
 
 Reads runs/<method>_s<seed>/metrics.csv next to this file (stdlib + NumPy only) and prints JSON:
 
-- per seed and method: ``wall_time_s``, ``generations`` (generation index + 1) and ``env_steps`` at the first
+- per seed and method: ``wall_time_s``, ``cpu_time_s`` (the process's CPU seconds: less sensitive to a
+  shared machine's load), ``generations`` (generation index + 1) and ``env_steps`` at the first
   row whose ``test_reward_mean`` >= the threshold; a run that never reaches it is **censored**: its last
-  row's wall time and env steps, and its generations + 1 (as ``summary.json`` does), ``reached`` false;
+  row's wall time, CPU time and env steps, and its generations + 1 (as ``summary.json`` does), ``reached`` false;
 - per method: median (and mean) over seeds, seeds reached, censored count;
 - ``ratio_of_medians``: shaped's median / vanilla's median;
 - ``paired_ratio``: per seed shaped / vanilla (same seed), and their median.
@@ -41,10 +42,10 @@ def to_threshold(metrics: Path, threshold: float) -> dict:
     last = rows[-1]
     for r in rows:
         if _f(r["test_reward_mean"]) >= threshold:
-            return {"reached": True, "wall_time_s": _f(r["wall_time_s"]),
+            return {"reached": True, "wall_time_s": _f(r["wall_time_s"]), "cpu_time_s": _f(r["cpu_time_s"]),
                     "generations": int(r["generation"]) + 1, "env_steps": int(_f(r["env_steps"])),
                     "run_generations": len(rows), "run_wall_time_s": _f(last["wall_time_s"])}
-    return {"reached": False, "wall_time_s": _f(last["wall_time_s"]),
+    return {"reached": False, "wall_time_s": _f(last["wall_time_s"]), "cpu_time_s": _f(last["cpu_time_s"]),
             "generations": int(last["generation"]) + 2, "env_steps": int(_f(last["env_steps"])),
             "run_generations": len(rows), "run_wall_time_s": _f(last["wall_time_s"])}
 
@@ -64,7 +65,7 @@ def main() -> None:
             per.setdefault(m["method"], {})[int(m["seed"])] = to_threshold(d / "metrics.csv", a.threshold)
 
     out: dict = {"threshold": a.threshold, "methods": {}}
-    keys = ("wall_time_s", "generations", "env_steps")
+    keys = ("wall_time_s", "cpu_time_s", "generations", "env_steps")
     for method, seeds in per.items():
         s = {"seeds": sorted(seeds), "reached": sum(v["reached"] for v in seeds.values()),
              "censored": [k for k, v in sorted(seeds.items()) if not v["reached"]],
