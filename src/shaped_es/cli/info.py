@@ -15,6 +15,8 @@ import textwrap
 import typing
 from typing import Any
 
+import numpy as np
+
 from pydantic import BaseModel
 
 WRAP = 100  # config comments wrap at this width
@@ -93,6 +95,9 @@ def add_parsers(sub) -> None:
     k.add_argument("--episodes", type=int, default=2, help="random-action episodes, each run twice (seeding)")
     k.add_argument("--max-steps", type=int, default=200, help="cap on steps per episode")
     k.add_argument("--json", action="store_true", help="one JSON object: the checks and the methods")
+    k.add_argument("--labels", action="store_true", help="also drive the env with M_phi's labels, as a shaped run "
+                   "with shaping.inverse_dynamics.frame=auto does before its first generation: the label-driven "
+                   "return per frame and query clip against zero action, and the choice a run makes")
     k.set_defaults(fn=cmd_check_env)
 
 
@@ -236,13 +241,29 @@ def cmd_check_env(a: argparse.Namespace) -> int:
     checks = check_env(a.env_id, parse_set(a.set), episodes=a.episodes, max_steps=a.max_steps)
     methods = trains_with(checks)
     failed = any(c.status == FAIL for c in checks)
+    labels = None
+    if a.labels and "shaped" in methods:
+        from shaped_es.guides.label_probe import check_labels
+
+        labels = check_labels(a.env_id, parse_set(a.set))
     if a.json:
-        print(json.dumps({"env": a.env_id, "checks": as_dicts(checks), "trains_with": methods}))
+        print(json.dumps({"env": a.env_id, "checks": as_dicts(checks), "trains_with": methods}
+                         | ({"labels": labels} if labels is not None else {})))
     else:
         width = max(len(c.name) for c in checks)
         for c in checks:
             print(f"{c.status:<4}  {c.name:<{width}}  {c.detail}")
         print(f"{a.env_id} trains with: {', '.join(methods)}" if methods else
               f"{a.env_id} cannot train here: fix the FAIL line(s) above")
+        if labels is not None:
+            means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels.get("returns", {}).items())
+            print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero action "
+                  f"{np.mean(labels['zero_action']):.2f}")
+            if "chosen" in labels:
+                c = labels["chosen"]
+                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={c['query_clip']} ({c['reason']})")
+            print(f"labels: {labels['verdict']}")
+        elif a.labels:
+            print("labels: no waypoint contract, so no labels to probe (only --method shaped needs them)")
     sys.stdout.flush()
     return 1 if failed else 0

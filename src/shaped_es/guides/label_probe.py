@@ -219,3 +219,36 @@ def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
     res = probe(cfg, spec, pos_dim, mphi_cfg)
     atomic_write_text(path, json.dumps(asdict(res), indent=1))
     return res, True
+
+
+def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
+    """``shaped-es check-env ID --labels``: the probe a shaped run with ``frame: auto`` would run, and the
+    zero-action policy on the same episodes. Returns ``{"chosen", "returns", "zero_action", "verdict"}``."""
+    from shaped_es.guides.shaped_setup import from_section, waypoint_dim
+    from shaped_es.config import build_config
+    from shaped_es.rollout import policy_spec, probe_env
+
+    cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
+    env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
+    spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
+    mphi_cfg = from_section(InverseDynamicsConfig, cfg.shaping.inverse_dynamics, frame="both" if pos_dim >= 2
+                            else "world", seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
+    res = probe(cfg, spec, pos_dim, mphi_cfg) if pos_dim >= 2 else None
+    seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
+    zero, _ = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
+    out = {"env": env_id, "zero_action": [float(v) for v in zero]}
+    if res is None:
+        out["verdict"] = "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"
+        return out
+    best = variant_name(res.frame, res.query_clip)
+    diff = np.asarray(res.returns[best]) - zero  # (E,) paired
+    se = diff.std(ddof=1) / np.sqrt(diff.size)
+    pays = diff.mean() > 2 * se
+    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
+            "returns": res.returns, "env_steps": res.env_steps, "seconds": res.seconds,
+            "verdict": (f"labels drive the body: {best} beats zero action by {diff.mean():.2f} return (paired, "
+                        f"> 2 standard errors)" if pays else
+                        f"on the probe's data ({GENERATIONS} generations) {best} is not clearly better than zero "
+                        f"action ({diff.mean():+.2f} +- {2 * se:.2f} return, paired): its candidates may rarely win "
+                        f"(a shaped run backs off when they keep losing); compare --method vanilla / cmaes")}
+    return out
