@@ -44,9 +44,11 @@ def _episode(rng, T=6, d=2) -> Transitions:
 
 @pytest.mark.parametrize("frame", ["world", "both"])
 @pytest.mark.parametrize("mix", [1.0, 0.25])
-def test_online_queries_equal_the_offline_ones(frame, mix):
-    """The probe drives with the queries the run's labels read from recorded steps."""
-    tr = _episode(np.random.default_rng(0))
+@pytest.mark.parametrize("d", [2, 3])
+def test_online_queries_equal_the_offline_ones(frame, mix, d):
+    """The probe drives with the queries the run's labels read from recorded steps (a 3-D waypoint space,
+    as UR5Reach-v0's: the motion frame turns the first two coordinates)."""
+    tr = _episode(np.random.default_rng(0), d=d)
     offline = query_displacement(tr, frame, "raw", mix)  # (T, d')
     prev = np.concatenate([tr.position[:1], tr.position[:-1]])  # p_{t-1}; p_0 at the first step
     online = query(tr.position.astype(np.float64), tr.waypoint.astype(np.float64), prev.astype(np.float64),

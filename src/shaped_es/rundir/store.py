@@ -11,6 +11,8 @@ Layout::
                                  holds their sha256 (arrays_sha256): a file from elsewhere is refused
     RUN/checkpoints/latest.json  name of the newest complete checkpoint (written last)
     RUN/trajectories/            Parquet shards (shaped method)
+    RUN/mphi_data/               M_phi's training rows, one part per generation (shaped method)
+    RUN/label_probe.json         the frame the label probe chose (shaped method, frame auto)
     RUN/figures/                 plots
     RUN/.lock                    pid of the process writing the run (train, resume, benchmark)
     RUN/error.log                full tracebacks of errors the command line reported in one line
@@ -69,7 +71,7 @@ _RUN_ID_RE = re.compile(r"[0-9a-f]{16,64}")
 # clean-up deletes only the temporaries of these names (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the
 # trajectory store's), never walking any other folder, so a run directory holds nothing else of value to it
 RUN_FILES = {
-    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id",
+    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json",
     "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
     "mphi_data": r"added_\d{6,}\.npz",
     "trajectories/*": r"members_\d{4,}-\d{4,}\.parquet",
