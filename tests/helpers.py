@@ -107,9 +107,10 @@ def strip_time(rows: list[dict]) -> list[dict]:
 
 
 def popen_cli(*args, **kw) -> subprocess.Popen:
-    """``python -m shaped_es.cli.main *args`` as a child process (so that it can be SIGKILLed), text pipes."""
+    """``python -m shaped_es.cli.commands *args`` as a child process (so that it can be SIGKILLed), text
+    pipes."""
     env = {**os.environ, "PYTHONPATH": str(SRC)}
-    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", *args], env=env,
+    return subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", *args], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
 

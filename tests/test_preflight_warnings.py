@@ -6,7 +6,7 @@ import warnings
 
 import pytest
 
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.config import ConfigWarning, build_config
 from shaped_es.preflight import check_run, warn_ignored
 

@@ -2,7 +2,7 @@
 
 import sys
 
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 if __name__ == "__main__":
     sys.exit(main())

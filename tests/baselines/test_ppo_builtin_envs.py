@@ -6,7 +6,7 @@ import pytest
 
 import shaped_es  # noqa: F401 - registers the envs
 from shaped_es.baselines.ppo import env_time_limit
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.config import build_config
 from shaped_es.rundir.store import RunStore
 

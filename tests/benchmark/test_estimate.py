@@ -93,7 +93,7 @@ def test_estimate_only_writes_nothing(tmp_path):
 def test_estimate_only_needs_no_out(tmp_path, monkeypatch, capsys):
     """``benchmark --estimate-only`` writes nothing, so it asks for no ``--out``; without it, every run is
     still to do. A real benchmark without ``--out`` is one line, exit 2."""
-    from shaped_es.cli.main import main
+    from shaped_es.cli.commands import main
 
     monkeypatch.chdir(tmp_path)
     args = ["benchmark", "--env", "CartPole-v1", "--methods", "vanilla", "--seeds", "2", "--generations", "3",

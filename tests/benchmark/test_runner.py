@@ -11,7 +11,7 @@ import pytest
 
 from shaped_es.benchmark.cli_commands import add_benchmark_parser
 from shaped_es.benchmark.runner import BenchmarkSpec, run_configs
-from shaped_es.cli.main import add_report_parser
+from shaped_es.cli.commands import add_report_parser
 from shaped_es.config import ConfigError
 from shaped_es.rundir.store import StoreError
 

@@ -8,7 +8,7 @@ import pytest
 
 from shaped_es.benchmark.suite import SUITES, acceptance, run_suite, suite_tasks, write_suite_report
 from shaped_es.benchmark.summary import builtin_threshold
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.config import ConfigError
 from shaped_es.rundir.store import StoreError
 

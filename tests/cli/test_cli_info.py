@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from helpers import POINT_ENV_MODULE, SRC
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.config import RunConfig
 
 

@@ -15,7 +15,7 @@ import yaml
 
 from helpers import POINT_ENV_MODULE, SRC
 from shaped_es import __version__
-from shaped_es.cli.main import build_parser, main
+from shaped_es.cli.commands import build_parser, main
 
 TINY = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1",
         "--set", "rollout.test_episodes=2", "--set", "policy.hidden=[4]", "--set", "tensorboard=false",

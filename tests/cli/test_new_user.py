@@ -11,7 +11,7 @@ import sys
 import pytest
 
 from helpers import CARTPOLE_TINY, SRC, new_run, popen_cli, strip_time, train
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.config import ConfigError, build_config, merge, parse_set
 from shaped_es.rundir.store import RunStore
 from shaped_es.trainer import Trainer
@@ -103,7 +103,7 @@ def test_booleans_are_true_or_false(word, tmp_path, capsys):
 def test_envs_prints_no_mujoco_warnings(tmp_path):
     pytest.importorskip("mujoco")
     env = {**os.environ, "PYTHONPATH": str(SRC)}
-    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.main", "envs"], cwd=tmp_path, env=env,
+    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.commands", "envs"], cwd=tmp_path, env=env,
                          capture_output=True, text=True, timeout=600)
     assert res.returncode == 0 and "Ant-v5" in res.stdout  # a MuJoCo env, made and listed
     assert "WARNING" not in res.stdout + res.stderr and res.stderr == ""

@@ -55,7 +55,7 @@ def test_a_few_steps_on_the_server(address):
 
 
 def test_train_two_generations(address, tmp_path):
-    from shaped_es.cli.main import main
+    from shaped_es.cli.commands import main
 
     host, port = address
     code = main(["train", "--env", "CarlaNav-v0", "--method", "shaped", "--executor", "inline",

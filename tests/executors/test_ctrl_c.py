@@ -32,7 +32,7 @@ def test_ctrl_c_prints_only_the_resume_line(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(SRC)}
     args = ["--env", "CartPole-v1", "--method", "vanilla", "--executor", "process", "--workers", "2",
             "--pairs", "4", "--set", "tensorboard=false", "--quiet"]
-    p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", "train", *args, "--generations", "1000",
+    p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", "train", *args, "--generations", "1000",
                           "--out", str(run)], env=env, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True, start_new_session=True)  # its own process group, as a terminal's job
     deadline = time.monotonic() + 240
@@ -43,7 +43,7 @@ def test_ctrl_c_prints_only_the_resume_line(tmp_path):
     assert p.returncode == 130, err
     assert err.splitlines() == [f"shaped-es: interrupted; continue with: shaped-es resume {run}"]
     more = _rows(run) + 2  # the resume continues from the last checkpoint (rows past it are redone)
-    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.main", "resume", str(run), "--generations",
+    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.commands", "resume", str(run), "--generations",
                           str(more), "--quiet"], env=env, capture_output=True, text=True, timeout=240)
     assert res.returncode == 0, res.stderr
     assert _rows(run) == more

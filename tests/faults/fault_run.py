@@ -51,7 +51,7 @@ def run_cli(*args, timeout: float = 300, cwd=None, prefix=None, memory_gib: floa
             ) -> subprocess.CompletedProcess:
     """The command line in a process of its own (``memory_gib``: its address space is capped there, so
     that a case that would blow up fails there rather than take the machine's memory)."""
-    cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli.main"]), *map(str, args)]
+    cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli.commands"]), *map(str, args)]
 
     def cap() -> None:  # pragma: no cover - runs in the child
         import resource
@@ -64,7 +64,7 @@ def run_cli(*args, timeout: float = 300, cwd=None, prefix=None, memory_gib: floa
 
 
 def popen_cli(*args, prefix=None, **kw) -> subprocess.Popen:
-    cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli.main"]), *map(str, args)]
+    cmd = [sys.executable, *(prefix or ["-m", "shaped_es.cli.commands"]), *map(str, args)]
     return subprocess.Popen(cmd, env=env(), cwd=HERE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, **kw)
 

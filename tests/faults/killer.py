@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 import shaped_es.rundir.store as store
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 POINTS = ("npz_tmp", "npz_rename", "json_rename", "latest", "metrics_append")
 

@@ -19,7 +19,7 @@ import pytest
 from fault_run import (drop, edit_json, edit_npz, edit_text, leftovers, module, nothing, replace_with_file,
                         snapshot, write)
 
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 TRAIN = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1",
          "--set", "rollout.test_episodes=1", "--set", "policy.hidden=[4]", "--set", "tensorboard=false",

@@ -22,7 +22,7 @@ from fault_run import (config, edit_json, edit_npz, edit_text, module, nothing, 
                        write, write_config)
 from helpers import strip_time
 
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.rundir.store import RunStore
 
 TRAIN = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1",

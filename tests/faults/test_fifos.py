@@ -87,7 +87,7 @@ def test_config_yaml_that_is_a_folder_is_named(base, tmp_path):
 def test_config_from_stdin_is_read(tmp_path):
     cfg = {"env": "Pendulum-v1", "generations": 1, "es": {"pairs": 2}, "executor": "inline",
            "tensorboard": False, "policy": {"hidden": [4]}, "rollout": {"test_episodes": 1}}
-    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.main", "train", "--config", "/dev/stdin", "--out",
+    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.commands", "train", "--config", "/dev/stdin", "--out",
                           str(tmp_path / "run"), "--quiet"], input=yaml.safe_dump(cfg), env=env(), cwd=HERE,
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr

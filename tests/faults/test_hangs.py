@@ -13,7 +13,7 @@ from fault_run import config, popen_cli, write_config
 from helpers import strip_time, train
 
 from shaped_es import seeding
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 FAULTY = "fault_envs:Faulty-v0"
 

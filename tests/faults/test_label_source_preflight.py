@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 TINY = ["--method", "shaped", "--generations", "1", "--pairs", "4", "--executor", "inline", "--set",
         "rollout.episodes=1", "--set", "rollout.test_episodes=1", "--set", "tensorboard=false", "--quiet"]

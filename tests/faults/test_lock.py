@@ -11,7 +11,7 @@ import time
 import pytest
 from fault_run import config, env, one_error_line, popen_cli, run_cli, snapshot, write_config
 
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.rundir.store import RunStore, StoreError
 
 HOLD = """

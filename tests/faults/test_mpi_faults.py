@@ -65,7 +65,7 @@ def test_spawn_mode_listeners_are_loopback_only():
 def test_killed_mpi_worker_is_one_line_with_the_resume_command(tmp_path):
     cfg = write_config(tmp_path / "c.yaml", config("vanilla", generations=400, executor="mpi", workers=2))
     run = tmp_path / "r"
-    p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", "train", "--config", str(cfg), "--out",
+    p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", "train", "--config", str(cfg), "--out",
                           str(run), "--quiet"], env=_mpi_env(), cwd=HERE, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 120
@@ -112,7 +112,7 @@ def test_mpi_workers_stuck_in_env_step_die_with_a_killed_trainer(tmp_path):
     cfg = write_config(tmp_path / "c.yaml", config(
         "vanilla", env="fault_envs:Faulty-v0", generations=4, executor="mpi", workers=2,
         env_kwargs={"fault": "hang", "marker": str(marker)}))
-    p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", "train", "--config", str(cfg), "--out",
+    p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", "train", "--config", str(cfg), "--out",
                           str(tmp_path / "r"), "--quiet"], env=_mpi_env(), cwd=HERE,
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 120

@@ -66,7 +66,7 @@ def test_rows_go_to_wandb_under_the_tensorboard_tags(tmp_path, fake_wandb):
 def test_without_the_package_train_says_how_to_get_it(tmp_path, monkeypatch, capsys):
     import importlib.util
 
-    from shaped_es.cli.main import main
+    from shaped_es.cli.commands import main
 
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "wandb" else real(name, *a))

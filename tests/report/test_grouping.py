@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from shaped_es.benchmark.summary import ReportWarning, group_runs
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.config import build_config
 from shaped_es.rundir.store import RunStore
 

@@ -10,7 +10,7 @@ import sys
 
 from helpers import SRC
 from report.test_grouping import make_run
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.report.seeds import distinct_seeds
 
 
@@ -54,7 +54,7 @@ def test_report_counts_a_seed_once_and_censors_each_run_at_its_own_budget(tmp_pa
 
 def test_report_of_copies_as_a_process(tmp_path):
     dirs = _runs(tmp_path)[:3]
-    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.main", "report", *map(str, dirs),
+    res = subprocess.run([sys.executable, "-m", "shaped_es.cli.commands", "report", *map(str, dirs),
                           "--out", str(tmp_path / "rep" / "report.md")], capture_output=True, text=True,
                          env={"PYTHONPATH": str(SRC), "PATH": "/usr/bin:/bin", "MPLBACKEND": "Agg"}, timeout=300)
     assert res.returncode == 0, res.stderr

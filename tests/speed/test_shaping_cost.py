@@ -7,7 +7,7 @@ import json
 import pytest
 
 from shaped_es.speed.shaping_cost import PHASES, bench_shaping, format_table
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 
 @pytest.mark.slow  # 11-19 s of real processes: the full suite runs it (CI's fast suite stays under 10 min)

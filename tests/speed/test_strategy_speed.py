@@ -6,7 +6,7 @@ import json
 import pytest
 
 from shaped_es.speed.strategy_speed import cmaes_bytes, parse_size, parse_sizes
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 
 PHASES = {"ask_ms", "tell_ms", "gen_ms"}
 

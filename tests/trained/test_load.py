@@ -8,7 +8,7 @@ import pytest
 import torch
 
 from shaped_es import evaluation_seeds, load_policy
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.trained.evaluate import evaluate_run
 
 EPISODES, SEED = 3, 12345

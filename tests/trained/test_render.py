@@ -11,7 +11,7 @@ from helpers import train
 from PIL import Image
 
 from shaped_es.baselines.ppo_settings import PPOSettings
-from shaped_es.cli.main import add_render_parser
+from shaped_es.cli.commands import add_render_parser
 from shaped_es.config import build_config
 from shaped_es.rollout import EnvSpecError
 from shaped_es.rundir.store import StoreError
@@ -110,7 +110,7 @@ def test_render_cartpole_headless(tmp_path, method):
 
 
 def test_render_classic_control_without_pygame_names_the_render_extra(tmp_path, monkeypatch, capsys):
-    from shaped_es.cli.main import main
+    from shaped_es.cli.commands import main
 
     run = _run(tmp_path, "CartPole-v1")
     monkeypatch.setitem(sys.modules, "pygame", None)  # import pygame -> ImportError, as if not installed

@@ -5,7 +5,7 @@ before the first generation."""
 import json
 
 from helpers import strip_time
-from shaped_es.cli.main import main
+from shaped_es.cli.commands import main
 from shaped_es.rundir.store import RunStore
 
 ARGS = ["--env", "CarNav-v0", "--method", "vanilla", "--executor", "inline", "--generations", "4", "--pairs", "2",

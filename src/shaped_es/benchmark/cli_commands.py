@@ -1,5 +1,5 @@
-"""``shaped-es benchmark``: its parser and handler for ``cli/main.py`` to wire in, and the ``--threshold``
-option it shares with ``shaped-es report`` (in ``cli/main.py``).
+"""``shaped-es benchmark``: its parser and handler for ``cli/commands.py`` to wire in, and the
+``--threshold`` option it shares with ``shaped-es report`` (in ``cli/commands.py``).
 
 ``cmd_benchmark`` returns an exit code and prints one JSON line; bad input raises ``ConfigError`` /
 ``StoreError`` / ``EnvSpecError``, which the CLI prints as one line with exit code 2.

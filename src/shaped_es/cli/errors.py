@@ -240,7 +240,7 @@ def supervise(a: argparse.Namespace, argv: list[str], debug: bool) -> int:
 
             ctypes.CDLL(None).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
 
-    child = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.main", *argv], env=env,
+    child = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", *argv], env=env,
                              stderr=subprocess.PIPE, text=True, errors="replace", preexec_fn=die_with_parent)
     old_int = signal.signal(signal.SIGINT, signal.SIG_IGN)  # the child gets the terminal's Ctrl-C
     old_term = signal.signal(signal.SIGTERM, lambda *_: child.terminate())

@@ -36,17 +36,14 @@ reach that gets most of the way to the target early. Calibration (default settin
 
 from __future__ import annotations
 
-import os
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
-import mujoco
 import numpy as np
-from gymnasium.utils import seeding
-from mujoco import batch as mj_batch
 
 from shaped_es.envs.batch_env import BatchCoreEnv
 from shaped_es.envs.core import limited_entry_point
+from shaped_es.envs.mujoco_batch import FrameSkipConfig, MujocoBatchCore
 from shaped_es.envs.presets import preset_config
 from shaped_es.envs.vector import vector_entry_point
 
@@ -56,15 +53,8 @@ LINKS = (0.1, 0.11)  # Reacher-v5's link lengths: joint0 -> joint1, joint1 -> fi
 OBS_DIM, ACT_DIM, POS_DIM = 10, 2, 2
 
 
-def reacher_xml() -> str:
-    """Reacher-v5's model file in Gymnasium's assets."""
-    import gymnasium.envs.mujoco as gym_mujoco
-
-    return os.path.join(os.path.dirname(gym_mujoco.__file__), "assets", "reacher.xml")
-
-
 @dataclass(frozen=True)
-class ReacherWayConfig:
+class ReacherWayConfig(FrameSkipConfig):
     max_steps: int = 50  # Reacher-v5's time limit
     reach_steps: int = 15  # the schedule reaches the target after this many steps
     frame_skip: int = 2  # Reacher-v5's physics steps per env step (dt = 0.02 s)
@@ -72,17 +62,10 @@ class ReacherWayConfig:
     reward_control_weight: float = 1.0  # Reacher-v5's
     threads: int = 1  # MuJoCo batch threads (no effect on results)
 
-    @property
-    def dt(self) -> float:
-        return 0.01 * self.frame_skip
-
     def validate(self) -> "ReacherWayConfig":
         if self.max_steps <= 0 or self.reach_steps <= 0 or self.frame_skip <= 0 or self.threads < 0:
             raise ValueError(f"{ENV_ID}: max_steps, reach_steps and frame_skip must be positive")
         return self
-
-    def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
 
 
 PRESETS = {"default": ReacherWayConfig()}
@@ -137,24 +120,15 @@ class ReacherState:
         return int(self.qpos.shape[0])
 
 
-class ReacherWayCore:
+class ReacherWayCore(MujocoBatchCore):
     """``B`` Reacher-v5 episodes at once (``BatchCore`` protocol of ``envs/core.py``)."""
 
     obs_dim, act_dim, pos_dim = OBS_DIM, ACT_DIM, POS_DIM
+    config_cls, asset, bind_outputs = ReacherWayConfig, "reacher.xml", ("xipos",)
 
     def __init__(self, config: ReacherWayConfig | None = None):
-        self.config = (config or ReacherWayConfig()).validate()
-        self.max_steps = self.config.max_steps
-        self.model = mujoco.MjModel.from_xml_path(reacher_xml())
+        super().__init__(config)
         self._tip, self._target = self.model.body("fingertip").id, self.model.body("target").id
-        self._batches: dict[int, mj_batch.Batch] = {}
-
-    def _batch(self, n: int) -> mj_batch.Batch:
-        if n not in self._batches:
-            b = mj_batch.Batch(self.model, n, nthread=self.config.threads)
-            b.bind("xipos")  # outputs are filled only once bound
-            self._batches[n] = b
-        return self._batches[n]
 
     def _obs(self, qpos, qvel, tip, target) -> np.ndarray:
         return np.concatenate([np.cos(qpos[:, :2]), np.sin(qpos[:, :2]), qpos[:, 2:], qvel[:, :2],
@@ -165,20 +139,22 @@ class ReacherWayCore:
         return {"position": state.tip[:, :2].copy(), "target": state.target[:, :2].copy(), "waypoint_index": k,
                 "waypoint": timed_waypoint(state.start, state.target[:, :2], k, self.config.reach_steps)}
 
+    def draw_reset(self, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """Reacher-v5's reset_model, draw for draw."""
+        m = self.model
+        qpos = rng.uniform(low=-0.1, high=0.1, size=m.nq) + m.qpos0
+        while True:
+            goal = rng.uniform(low=-0.2, high=0.2, size=2)
+            if np.linalg.norm(goal) < 0.2:
+                break
+        qpos[-2:] = goal
+        qvel = rng.uniform(low=-0.005, high=0.005, size=m.nv)
+        qvel[-2:] = 0
+        return qpos, qvel
+
     def reset(self, seeds: np.ndarray):
-        seeds = np.asarray(seeds, dtype=np.int64).reshape(-1)
-        B, m = seeds.shape[0], self.model
-        qpos, qvel = np.empty((B, m.nq)), np.empty((B, m.nv))
-        for i, s in enumerate(seeds):  # Reacher-v5's reset_model, draw for draw
-            rng = seeding.np_random(int(s))[0]
-            qpos[i] = rng.uniform(low=-0.1, high=0.1, size=m.nq) + m.qpos0
-            while True:
-                goal = rng.uniform(low=-0.2, high=0.2, size=2)
-                if np.linalg.norm(goal) < 0.2:
-                    break
-            qpos[i, -2:] = goal
-            qvel[i] = rng.uniform(low=-0.005, high=0.005, size=m.nv)
-            qvel[i, -2:] = 0
+        qpos, qvel = self.reset_joints(seeds)
+        B = qpos.shape[0]
         b = self._batch(B)
         b.bind("qpos")[:], b.bind("qvel")[:] = qpos, qvel
         b.forward()
@@ -191,18 +167,9 @@ class ReacherWayCore:
     def step(self, state: ReacherState, action: np.ndarray):
         cfg = self.config
         B = state.batch_size
-        act = np.clip(np.asarray(action, dtype=np.float64).reshape(B, ACT_DIM), -1.0, 1.0)  # (B, 2)
-        alive = ~state.done
-        b = self._batch(B)
-        b.bind("qpos")[:], b.bind("qvel")[:], b.bind("ctrl")[:] = state.qpos, state.qvel, act
-        ids = None if alive.all() else np.flatnonzero(alive)
-        xipos = np.zeros((B, self.model.nbody, 3))
-        if ids is None or ids.size:
-            # Reacher-v5 reads the bodies after mj_step, i.e. the kinematics of the last substep's start
-            rec = b.rollout(cfg.frame_skip, record=("xipos",), ids=ids)["xipos"][:, -1]  # (n, nbody, 3)
-            xipos[alive if ids is not None else slice(None)] = rec
-        qpos = np.where(alive[:, None], b.bind("qpos"), state.qpos)  # (B, 4)
-        qvel = np.where(alive[:, None], b.bind("qvel"), state.qvel)
+        act = self.clip_action(action, B)  # (B, 2)
+        # Reacher-v5 reads the bodies after mj_step, i.e. the kinematics of the last substep's start
+        alive, qpos, qvel, xipos = self.advance(state, act, record="xipos")  # xipos: (B, nbody, 3)
         tip = np.where(alive[:, None], xipos[:, self._tip], state.tip)  # (B, 3)
         target = np.where(alive[:, None], xipos[:, self._target], state.target)
         r_dist = np.where(alive, -np.linalg.norm(tip - target, axis=1) * cfg.reward_dist_weight, 0.0)

@@ -35,17 +35,14 @@ scores 0.5 (the start's velocity noise).
 from __future__ import annotations
 
 import math
-import os
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
-import mujoco
 import numpy as np
-from gymnasium.utils import seeding
-from mujoco import batch as mj_batch
 
 from shaped_es.envs.batch_env import BatchCoreEnv
 from shaped_es.envs.core import limited_entry_point
+from shaped_es.envs.mujoco_batch import FrameSkipConfig, MujocoBatchCore
 from shaped_es.envs.presets import preset_config
 from shaped_es.envs.vector import vector_entry_point
 
@@ -54,14 +51,8 @@ REWARD_THRESHOLD = 30.0  # see the module docstring
 OBS_DIM, ACT_DIM, POS_DIM = 8, 2, 2
 
 
-def swimmer_xml() -> str:
-    import gymnasium.envs.mujoco as gym_mujoco
-
-    return os.path.join(os.path.dirname(gym_mujoco.__file__), "assets", "swimmer.xml")
-
-
 @dataclass(frozen=True)
-class SwimmerWayConfig:
+class SwimmerWayConfig(FrameSkipConfig):
     max_steps: int = 100  # the episode is truncated after this many steps (Swimmer-v5: 1000)
     waypoint_speed: float = 0.2  # the waypoints move along +x at this speed (m/s)
     frame_skip: int = 4  # Swimmer-v5's (dt = 0.04 s)
@@ -72,17 +63,10 @@ class SwimmerWayConfig:
     gait_phase: float = -math.pi / 3  # the controller's second joint's phase lag (rad)
     threads: int = 1  # MuJoCo batch threads (no effect on results)
 
-    @property
-    def dt(self) -> float:
-        return 0.01 * self.frame_skip
-
     def validate(self) -> "SwimmerWayConfig":
         if self.max_steps <= 0 or self.frame_skip <= 0 or self.threads < 0 or self.reset_noise_scale < 0:
             raise ValueError(f"{ENV_ID}: max_steps and frame_skip must be positive, reset_noise_scale >= 0")
         return self
-
-    def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
 
 
 PRESETS = {"default": SwimmerWayConfig()}
@@ -105,21 +89,11 @@ class SwimmerState:
         return int(self.qpos.shape[0])
 
 
-class SwimmerWayCore:
+class SwimmerWayCore(MujocoBatchCore):
     """``B`` Swimmer-v5 episodes at once (``BatchCore`` protocol of ``envs/core.py``)."""
 
     obs_dim, act_dim, pos_dim = OBS_DIM, ACT_DIM, POS_DIM
-
-    def __init__(self, config: SwimmerWayConfig | None = None):
-        self.config = (config or SwimmerWayConfig()).validate()
-        self.max_steps = self.config.max_steps
-        self.model = mujoco.MjModel.from_xml_path(swimmer_xml())
-        self._batches: dict[int, mj_batch.Batch] = {}
-
-    def _batch(self, n: int) -> mj_batch.Batch:
-        if n not in self._batches:
-            self._batches[n] = mj_batch.Batch(self.model, n, nthread=self.config.threads)
-        return self._batches[n]
+    config_cls, asset = SwimmerWayConfig, "swimmer.xml"
 
     @staticmethod
     def _obs(qpos, qvel) -> np.ndarray:
@@ -134,14 +108,14 @@ class SwimmerWayCore:
         return {"position": state.qpos[:, :2].copy(), "waypoint": self.waypoint(state),
                 "waypoint_index": state.steps + 1}
 
+    def draw_reset(self, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """Swimmer-v5's reset_model, draw for draw."""
+        m, c = self.model, self.config.reset_noise_scale
+        return m.qpos0 + rng.uniform(low=-c, high=c, size=m.nq), rng.uniform(low=-c, high=c, size=m.nv)
+
     def reset(self, seeds: np.ndarray):
-        seeds = np.asarray(seeds, dtype=np.int64).reshape(-1)
-        B, m, c = seeds.shape[0], self.model, self.config.reset_noise_scale
-        qpos, qvel = np.empty((B, m.nq)), np.empty((B, m.nv))
-        for i, s in enumerate(seeds):  # Swimmer-v5's reset_model, draw for draw
-            rng = seeding.np_random(int(s))[0]
-            qpos[i] = m.qpos0 + rng.uniform(low=-c, high=c, size=m.nq)
-            qvel[i] = rng.uniform(low=-c, high=c, size=m.nv)
+        qpos, qvel = self.reset_joints(seeds)
+        B = qpos.shape[0]
         state = SwimmerState(qpos=qpos, qvel=qvel, start=qpos[:, :2].copy(), steps=np.zeros(B, dtype=np.int64),
                              done=np.zeros(B, dtype=bool))
         return state, self._obs(qpos, qvel), self._info(state)
@@ -149,15 +123,8 @@ class SwimmerWayCore:
     def step(self, state: SwimmerState, action: np.ndarray):
         cfg = self.config
         B = state.batch_size
-        act = np.clip(np.asarray(action, dtype=np.float64).reshape(B, ACT_DIM), -1.0, 1.0)  # (B, 2)
-        alive = ~state.done
-        b = self._batch(B)
-        b.bind("qpos")[:], b.bind("qvel")[:], b.bind("ctrl")[:] = state.qpos, state.qvel, act
-        ids = None if alive.all() else np.flatnonzero(alive)
-        if ids is None or ids.size:
-            b.rollout(cfg.frame_skip, record=(), ids=ids)
-        qpos = np.where(alive[:, None], b.bind("qpos"), state.qpos)  # (B, 5)
-        qvel = np.where(alive[:, None], b.bind("qvel"), state.qvel)
+        act = self.clip_action(action, B)  # (B, 2)
+        alive, qpos, qvel, _ = self.advance(state, act)  # (B, 5) each
         x_vel = (qpos[:, 0] - state.qpos[:, 0]) / cfg.dt  # (B,)
         r_fwd = np.where(alive, cfg.forward_reward_weight * x_vel, 0.0)
         r_ctrl = np.where(alive, -cfg.ctrl_cost_weight * np.square(act).sum(axis=1), 0.0)

@@ -11,7 +11,7 @@ Two ways to get workers:
   or ``ray`` (whose laptop mode is loopback-only);
 - **mpiexec** (a cluster, or a fixed allocation)::
 
-      mpiexec -n 5 python -m mpi4py.futures -m shaped_es.cli.main train --executor mpi ...
+      mpiexec -n 5 python -m mpi4py.futures -m shaped_es.cli.commands train --executor mpi ...
 
   rank 0 runs the trainer and ranks 1..4 are the workers (``workers`` is then the world size - 1).
 

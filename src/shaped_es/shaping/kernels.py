@@ -61,6 +61,17 @@ def _view(buf, l, stride, B, w):
     return buf[l * stride : l * stride + B * w].reshape(B, w)
 
 
+@nb.njit(cache=True, error_model="numpy")
+def _layer_buffers(sizes, B):
+    """``(stride, H)``: the activations' flat scratch for ``B`` rows, one block of ``stride = B * max
+    width`` per layer input and output (``(L + 1) * stride`` float32 zeros; blocks by :func:`_view`)."""
+    maxw = 0
+    for s in sizes:
+        maxw = max(maxw, s)
+    stride = B * maxw
+    return stride, np.zeros(sizes.shape[0] * stride, np.float32)
+
+
 @nb.njit(cache=True, error_model="numpy", fastmath=_FM)
 def _forward(theta, sizes, relu, H, stride, B):
     """Forward pass of ``B`` rows: layer ``l``'s input is ``_view(H, l, ...)`` ``(B, in_l)`` (``l = 0``:
@@ -164,12 +175,7 @@ def fit_mphi(theta, m, v, t0, sizes, X, Y, idx, shift, scale, clip, lr, b1, b2, 
     loss of every step goes to ``losses`` ``(steps,)``."""
     steps, B = idx.shape
     n_in, n_act = X.shape[1], Y.shape[1]
-    maxw = 0
-    for s in sizes:
-        maxw = max(maxw, s)
-    L = sizes.shape[0] - 1
-    stride = B * maxw
-    H = np.zeros((L + 1) * stride, np.float32)
+    stride, H = _layer_buffers(sizes, B)
     x0 = _view(H, 0, stride, B, n_in)
     y = np.empty((B, n_act), np.float32)
     G = np.zeros(stride, np.float32)
@@ -200,12 +206,7 @@ def fit_population(theta, S, A, weight, adam, lr, b1, b2, eps, sizes):
     steps, P, B = S.shape[0], S.shape[1], S.shape[2]
     n_obs, n_act = S.shape[3], A.shape[3]
     n = theta.shape[1]
-    maxw = 0
-    for s in sizes:
-        maxw = max(maxw, s)
-    L = sizes.shape[0] - 1
-    stride = B * maxw
-    H = np.zeros((L + 1) * stride, np.float32)
+    stride, H = _layer_buffers(sizes, B)
     x0 = _view(H, 0, stride, B, n_obs)
     G = np.zeros(stride, np.float32)
     Gp = np.zeros(stride, np.float32)
@@ -235,13 +236,9 @@ def label_mphi(theta, sizes, S, Q, shift, scale, clip, out):
     """``M_phi``'s labels (``InverseDynamics.label``): rows of states ``S`` ``(N, obs)`` and queries ``Q``
     ``(N, d)``, standardized and clipped as in :func:`fit_mphi`, through the net; ``out`` ``(N, act)``."""
     N, n_obs, d = S.shape[0], S.shape[1], Q.shape[1]
-    maxw = 0
-    for s in sizes:
-        maxw = max(maxw, s)
     L = sizes.shape[0] - 1
     CH = 256  # rows per forward pass (cache-sized)
-    stride = CH * maxw
-    H = np.zeros((L + 1) * stride, np.float32)
+    stride, H = _layer_buffers(sizes, CH)
     c = _F32(clip)
     for r0 in range(0, N, CH):
         nr = min(CH, N - r0)

@@ -5,5 +5,6 @@ drive: forward speed and turn rate).
 They share one task (``task.py``): a random start and goal per episode, spatial waypoints every
 ``waypoint_spacing`` on the start-goal line (consumed when reached or passed), a dense progress reward,
 and one batched NumPy core (``core.py``) whose body (``pointvel.py``, ``pointforce.py``, ``unicycle.py``)
-supplies only its dynamics, its observation and its waypoint controller.
+supplies only its dynamics, its observation and its waypoint controller; ``env.py`` holds the Gymnasium
+side they share (the env base, ``make_config`` over a body's presets, the registered entry points).
 """

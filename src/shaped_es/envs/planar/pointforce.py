@@ -27,16 +27,12 @@ the goal reached with a path's step cost well above the controller's, or nearly 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from shaped_es.envs.batch_env import BatchCoreEnv
-from shaped_es.envs.core import limited_entry_point
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
+from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
 from shaped_es.envs.planar.task import PlanarTaskConfig, unit_norm
-from shaped_es.envs.presets import preset_config
-from shaped_es.envs.vector import vector_entry_point
 
 ENV_ID = "PointForce-v0"
 REWARD_THRESHOLD = 8.5  # the controller's 9.38 (20 episodes) less a margin: see the module docstring
@@ -54,10 +50,7 @@ class PointForceConfig(PlanarTaskConfig):
 
 
 PRESETS = {"default": PointForceConfig()}
-
-
-def make_config(preset: str = "default", **overrides: Any) -> PointForceConfig:
-    return preset_config(ENV_ID, PRESETS, preset, overrides)
+make_config = config_maker(ENV_ID, PRESETS)
 
 
 class PointForceCore(PlanarCore):
@@ -82,12 +75,10 @@ class PointForceCore(PlanarCore):
         return unit_norm(gain * (v_des - state.vel) + v_des / v_max).astype(np.float32)
 
 
-class PointForceEnv(BatchCoreEnv):
-    metadata = {"render_modes": [], "render_fps": 10}
+class PointForceEnv(PlanarEnv):
     env_id = ENV_ID
     core_cls = PointForceCore
     make_config = staticmethod(make_config)
 
 
-make_limited = limited_entry_point(PointForceEnv)  # the registered entry point
-PointForceVectorEnv = vector_entry_point(PointForceEnv)  # the registered vector_entry_point
+make_limited, PointForceVectorEnv = entry_points(PointForceEnv)  # the registered entry points

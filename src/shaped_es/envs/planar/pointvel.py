@@ -20,16 +20,12 @@ the goal reached with a path's step cost well above the controller's, or nearly 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from shaped_es.envs.batch_env import BatchCoreEnv
-from shaped_es.envs.core import limited_entry_point
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
+from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
 from shaped_es.envs.planar.task import PlanarTaskConfig, unit_norm
-from shaped_es.envs.presets import preset_config
-from shaped_es.envs.vector import vector_entry_point
 
 ENV_ID = "PointVel-v0"
 REWARD_THRESHOLD = 8.5  # the controller's 9.53 (20 episodes) less a margin: see the module docstring
@@ -41,10 +37,7 @@ class PointVelConfig(PlanarTaskConfig):
 
 
 PRESETS = {"default": PointVelConfig()}
-
-
-def make_config(preset: str = "default", **overrides: Any) -> PointVelConfig:
-    return preset_config(ENV_ID, PRESETS, preset, overrides)
+make_config = config_maker(ENV_ID, PRESETS)
 
 
 class PointVelCore(PlanarCore):
@@ -62,12 +55,10 @@ class PointVelCore(PlanarCore):
         return unit_norm(g).astype(np.float32)
 
 
-class PointVelEnv(BatchCoreEnv):
-    metadata = {"render_modes": [], "render_fps": 10}
+class PointVelEnv(PlanarEnv):
     env_id = ENV_ID
     core_cls = PointVelCore
     make_config = staticmethod(make_config)
 
 
-make_limited = limited_entry_point(PointVelEnv)  # the registered entry point
-PointVelVectorEnv = vector_entry_point(PointVelEnv)  # the registered vector_entry_point
+make_limited, PointVelVectorEnv = entry_points(PointVelEnv)  # the registered entry points

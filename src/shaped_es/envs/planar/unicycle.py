@@ -27,16 +27,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
-from shaped_es.envs.batch_env import BatchCoreEnv
-from shaped_es.envs.core import limited_entry_point
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
+from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
 from shaped_es.envs.planar.task import PlanarTaskConfig
-from shaped_es.envs.presets import preset_config
-from shaped_es.envs.vector import vector_entry_point
 
 ENV_ID = "Unicycle-v0"
 REWARD_THRESHOLD = 8.5  # the controller's 9.49 (20 episodes) less a margin: see the module docstring
@@ -54,10 +50,7 @@ class UnicycleConfig(PlanarTaskConfig):
 
 
 PRESETS = {"default": UnicycleConfig()}
-
-
-def make_config(preset: str = "default", **overrides: Any) -> UnicycleConfig:
-    return preset_config(ENV_ID, PRESETS, preset, overrides)
+make_config = config_maker(ENV_ID, PRESETS)
 
 
 def wrap(angle: np.ndarray) -> np.ndarray:
@@ -93,12 +86,10 @@ class UnicycleCore(PlanarCore):
         return np.stack([fwd, turn], axis=1).astype(np.float32)
 
 
-class UnicycleEnv(BatchCoreEnv):
-    metadata = {"render_modes": [], "render_fps": 10}
+class UnicycleEnv(PlanarEnv):
     env_id = ENV_ID
     core_cls = UnicycleCore
     make_config = staticmethod(make_config)
 
 
-make_limited = limited_entry_point(UnicycleEnv)  # the registered entry point
-UnicycleVectorEnv = vector_entry_point(UnicycleEnv)  # the registered vector_entry_point
+make_limited, UnicycleVectorEnv = entry_points(UnicycleEnv)  # the registered entry points
