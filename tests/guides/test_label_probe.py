@@ -19,14 +19,18 @@ POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, 
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
 
 
-def test_choose_keeps_the_incumbent_unless_a_variant_wins_by_two_standard_errors():
-    base = np.array([1.0, 2.0, 3.0, 4.0])
-    noisy = base + np.array([0.5, -0.4, 0.6, -0.5])  # higher mean, not beyond 2 SE
-    clear = base + np.array([1.0, 1.1, 0.9, 1.0])  # clearly better on every episode
-    assert choose({"both": base, "world": noisy}, "both")[0] == "both"
-    name, reason = choose({"both": base, "world": noisy, "world+clip2": clear}, "both")
-    assert name == "world+clip2" and "beat the default" in reason
-    assert choose({"both": base}, "both")[0] == "both"
+def test_choose_replaces_the_default_only_where_zero_action_beats_its_labels():
+    zero = np.array([0.0, 0.0, 0.0, 0.0])
+    good = np.array([1.0, 2.0, 3.0, 4.0])  # the default's labels drive the body: kept, whatever else wins
+    better = good + 5.0
+    assert choose({"both": good, "world": better}, "both", zero)[0] == "both"
+    bad = np.array([-5.0, -6.0, -5.5, -6.5])  # worse than zero action on every episode
+    noisy = bad + np.array([4.0, -3.0, 5.0, -4.0])  # not beyond 2 SE of the default
+    clear = bad + np.array([4.0, 4.2, 3.9, 4.1])
+    name, reason = choose({"both": bad, "world": noisy, "world+clip2": clear}, "both", zero)
+    assert name == "world+clip2" and reason.startswith("zero action drives the body better")
+    name, reason = choose({"both": bad, "world": noisy}, "both", zero)
+    assert name == "both" and "no variant beat them" in reason
 
 
 def test_variants_keep_a_clip_the_user_set():

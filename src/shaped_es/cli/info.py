@@ -256,10 +256,10 @@ def cmd_check_env(a: argparse.Namespace) -> int:
         print(f"{a.env_id} trains with: {', '.join(methods)}" if methods else
               f"{a.env_id} cannot train here: fix the FAIL line(s) above")
         if labels is not None:
-            means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels.get("returns", {}).items())
-            print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero action "
-                  f"{np.mean(labels['zero_action']):.2f}")
             if "chosen" in labels:
+                means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["returns"].items())
+                print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "
+                      f"action {np.mean(labels['zero_action']):.2f}")
                 c = labels["chosen"]
                 print(f"labels: a shaped run picks frame={c['frame']}, query_clip={c['query_clip']} ({c['reason']})")
             print(f"labels: {labels['verdict']}")
