@@ -435,7 +435,8 @@ class ShapedGuide(NoGuide):
                   f"{b.accepted} of {b.judged} so far): shaping backs off -- it sleeps {b.asleep_left} generations, "
                   f"then tries again (longer sleeps while it keeps losing; column shaping_awake), each sleeping "
                   f"generation at the ES strategy's own price. A run still improving has outpaced its labels; "
-                  f"if they never win on this env, compare shaping.labels=controller or --method vanilla / cmaes",
+                  f"if they never win on this env, `shaped-es check-env {self.cfg.env} --labels` shows whether its labels "
+                  f"drive the body at all; compare shaping.labels=controller or --method vanilla / cmaes",
                   file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
