@@ -120,9 +120,11 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert lines[-3].startswith("labels: label-driven return over 10 episodes: both ")
     assert "zero action -1.00" in lines[-3]
     assert lines[-2].startswith("labels: a shaped run picks frame=")
-    assert lines[-1].startswith("labels: labels drive the body: ")  # a velocity point: labels pay
+    assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
     assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0
     text = _out(capsys, ["check-env", "CartPole-v1", "--labels"]).out
     assert text.strip().splitlines()[-1].startswith("labels: no waypoint contract")
+    out = json.loads(_out(capsys, ["check-env", "CartPole-v1", "--labels", "--json"]).out)
+    assert out["labels"]["verdict"].startswith("no waypoint contract")

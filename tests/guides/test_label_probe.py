@@ -28,9 +28,9 @@ def test_choose_replaces_the_default_only_where_zero_action_beats_its_labels():
     noisy = bad + np.array([4.0, -3.0, 5.0, -4.0])  # not beyond 2 SE of the default
     clear = bad + np.array([4.0, 4.2, 3.9, 4.1])
     name, reason = choose({"both": bad, "world": noisy, "world+clip2": clear}, "both", zero)
-    assert name == "world+clip2" and reason.startswith("zero action drives the body better")
+    assert name == "world+clip2" and reason.startswith("zero action beats the default")
     name, reason = choose({"both": bad, "world": noisy}, "both", zero)
-    assert name == "both" and "no variant beat them" in reason
+    assert name == "both" and "no variant beats" in reason
 
 
 def test_variants_keep_a_clip_the_user_set():
@@ -92,12 +92,29 @@ def test_an_explicit_frame_skips_the_probe(tmp_path, capsys):
     assert not (tmp_path / "run" / FILE).exists()
 
 
-def test_a_damaged_probe_file_is_one_clear_error(tmp_path):
+GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_steps": 5, "seconds": 0.1,
+        "reason": "r", "zero_action": [0.0]}
+
+
+@pytest.mark.parametrize("text", ["{not json", "[]", "null", json.dumps({**GOOD, "frame": "motion"}),
+                                  json.dumps({**GOOD, "query_clip": "abc"}), json.dumps({**GOOD, "query_clip": -1}),
+                                  json.dumps({**GOOD, "env_steps": "x"}), json.dumps({**GOOD, "extra": 1}),
+                                  json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
+def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
-    (tmp_path / "run" / FILE).write_text("{not json")
-    with pytest.raises(ConfigError, match="not a label probe"):
+    path = tmp_path / "run" / FILE
+    if text == "DIR":
+        path.mkdir()
+    else:
+        path.write_text(text)
+    with pytest.raises(ConfigError, match="is not a label probe this version wrote") as err:
         Trainer(cfg, store, progress=False)
-    assert (tmp_path / "run" / FILE).read_text() == "{not json"  # nothing rewritten
+    assert "\n" not in str(err.value)
+    assert path.is_dir() if text == "DIR" else path.read_text() == text  # nothing rewritten
+
+
+def test_a_saved_probe_parses():
+    assert label_probe.parse(json.dumps(GOOD).encode()).frame == "both"
 
 
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):

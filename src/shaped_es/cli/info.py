@@ -94,7 +94,8 @@ def add_parsers(sub) -> None:
                    "(repeatable; default: none)")
     k.add_argument("--episodes", type=int, default=2, help="random-action episodes, each run twice (seeding)")
     k.add_argument("--max-steps", type=int, default=200, help="cap on steps per episode")
-    k.add_argument("--json", action="store_true", help="one JSON object: the checks and the methods")
+    k.add_argument("--json", action="store_true", help="one JSON object: the checks and the methods (and "
+                   "with --labels the probe's returns, choice and verdict under 'labels')")
     k.add_argument("--labels", action="store_true", help="also drive the env with M_phi's labels, as a shaped run "
                    "with shaping.inverse_dynamics.frame=auto does before its first generation: the label-driven "
                    "return per frame and query clip against zero action, and the choice a run makes")
@@ -246,6 +247,9 @@ def cmd_check_env(a: argparse.Namespace) -> int:
         from shaped_es.guides.label_probe import check_labels
 
         labels = check_labels(a.env_id, parse_set(a.set))
+    elif a.labels:
+        labels = {"env": a.env_id, "verdict": "no waypoint contract, so no labels to probe (only --method shaped "
+                                              "needs them)"}
     if a.json:
         print(json.dumps({"env": a.env_id, "checks": as_dicts(checks), "trains_with": methods}
                          | ({"labels": labels} if labels is not None else {})))
@@ -261,9 +265,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                 print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "
                       f"action {np.mean(labels['zero_action']):.2f}")
                 c = labels["chosen"]
-                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={c['query_clip']} ({c['reason']})")
+                clip = "none" if c["query_clip"] is None else f"{c['query_clip']:g}"
+                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={clip}: {c['reason']}")
             print(f"labels: {labels['verdict']}")
-        elif a.labels:
-            print("labels: no waypoint contract, so no labels to probe (only --method shaped needs them)")
     sys.stdout.flush()
     return 1 if failed else 0

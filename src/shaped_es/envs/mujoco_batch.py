@@ -19,10 +19,12 @@ from mujoco import batch as mj_batch
 
 
 def gym_asset(name: str) -> str:
-    """Path of the model file ``name`` (e.g. ``"reacher.xml"``) in Gymnasium's MuJoCo assets."""
-    import gymnasium.envs.mujoco as gym_mujoco
+    """Path of the model file ``name`` (e.g. ``"reacher.xml"``) in Gymnasium's MuJoCo assets, found without
+    importing ``gymnasium.envs.mujoco`` (its ``__init__`` imports ``imageio``, an optional dependency
+    that the batched cores do not need)."""
+    import gymnasium
 
-    return os.path.join(os.path.dirname(gym_mujoco.__file__), "assets", name)
+    return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", name)
 
 
 class FrameSkipConfig:

@@ -21,7 +21,8 @@ arm better than ``both``'s (47.6 against 12.9, 6 seeds) and the runs that used t
 seeds; ``docs/shaped-results.md``). So the probe only replaces a default whose labels fail outright,
 as ``both`` does on the Reacher.
 
-The probe is seeded by the run's seed, takes 0.2-1 s on the built-in envs, and its env steps and wall time
+The probe is seeded by the run's seed, takes 0.1-1 s on the built-in envs once the shaping kernels are
+compiled (the first run after an install compiles them: a few seconds more), and its env steps and wall time
 are counted in the run's totals (``env_steps``, ``wall_time_s``) from the first generation on. Its result
 is kept in ``RUN/label_probe.json`` so a resumed run reuses it. ``shaped-es check-env ID --labels`` runs
 it for any env.
@@ -33,7 +34,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
 import gymnasium as gym
@@ -44,7 +45,7 @@ from shaped_es.config import ConfigError, RunConfig
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task, to_space
-from shaped_es.rundir.atomic import atomic_write_text, read_regular
+from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import frame_dim
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, mixed_query
 from shaped_es.shaping.labels import clip_norm
@@ -74,8 +75,9 @@ class ProbeResult:
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
         means += f", zero action {np.mean(self.zero_action):.2f}" if self.zero_action else ""
-        return (f"labels: frame={self.frame}, query_clip={self.query_clip} ({self.reason}; label-driven "
-                f"return over {EPISODES} episodes: {means}; {self.env_steps} env steps, {self.seconds:.1f} s)")
+        clip = "none" if self.query_clip is None else f"{self.query_clip:g}"
+        return (f"labels: frame={self.frame}, query_clip={clip}: {self.reason}. Label-driven return over "
+                f"{EPISODES} episodes: {means} ({self.env_steps} env steps, {self.seconds:.1f} s)")
 
 
 def variant_name(frame: str, query_clip: float | None) -> str:
@@ -181,17 +183,17 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray) -> 
     two paired standard errors); then the variant that beats the incumbent by the most, if one does."""
     worse, by = beats(zero, returns[incumbent])
     if not worse:
-        return incumbent, "the default: its labels drive the body no worse than zero action"
+        return incumbent, "the default: zero action does not beat its labels by 2 paired standard errors"
     best, best_gain = incumbent, 0.0
     for name, r in returns.items():
         ok, gain = beats(r, returns[incumbent])
         if ok and gain > best_gain:
             best, best_gain = name, gain
     if best == incumbent:
-        return best, (f"the default: zero action drives the body better than its labels (by {by:.2f} return), "
-                      f"and no variant beat them by 2 standard errors")
-    return best, (f"zero action drives the body better than the default {incumbent}'s labels (by {by:.2f} "
-                  f"return); {best} beat them by {best_gain:.2f} (paired, > 2 standard errors)")
+        return best, (f"the default: zero action beats its labels by {by:.2f} return, and no variant beats "
+                      f"the default's labels by 2 paired standard errors")
+    return best, (f"zero action beats the default {incumbent}'s labels by {by:.2f} return; {best} beats the "
+                  f"default's labels by {best_gain:.2f} (> 2 paired standard errors)")
 
 
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig) -> ProbeResult:
@@ -224,18 +226,38 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero])
 
 
+def parse(raw: bytes) -> ProbeResult:
+    """A saved probe, checked field by field (``ValueError`` naming the first bad one)."""
+    d = json.loads(raw.decode())
+    if not isinstance(d, dict):
+        raise ValueError("not a JSON object")
+    known = {f.name for f in fields(ProbeResult)}
+    if set(d) - known or {"frame", "query_clip", "returns", "env_steps", "seconds", "reason"} - set(d):
+        raise ValueError(f"fields {sorted(d)}")
+    clip, steps = d["query_clip"], d["env_steps"]
+    checks = [
+        (d["frame"] in ("both", "world"), "frame"),
+        (clip is None or (isinstance(clip, (int, float)) and not isinstance(clip, bool) and clip > 0), "query_clip"),
+        (isinstance(d["returns"], dict) and all(isinstance(v, list) for v in d["returns"].values()), "returns"),
+        (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 0, "env_steps"),
+        (isinstance(d["seconds"], (int, float)) and isinstance(d["reason"], str), "seconds/reason"),
+        (isinstance(d.get("zero_action", []), list), "zero_action"),
+    ]
+    bad = next((name for ok, name in checks if not ok), None)
+    if bad is not None:
+        raise ValueError(f"bad {bad}")
+    return ProbeResult(**d)
+
+
 def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
                   mphi_cfg: InverseDynamicsConfig) -> tuple[ProbeResult, bool]:
     """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path``."""
-    if path.exists():
+    if path.exists() or path.is_symlink():
         try:
-            d = json.loads(read_regular(path).decode())
-            res = ProbeResult(**d)
-            if res.frame not in ("both", "world"):
-                raise ValueError(f"frame {res.frame!r}")
-        except (ValueError, TypeError, UnicodeDecodeError) as exc:
-            raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to "
-                              f"probe again") from None
+            res = parse(read_regular(path))
+        except (ValueError, TypeError, UnicodeDecodeError, OSError, StoreError) as exc:
+            raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to probe "
+                              f"again (the new probe's env steps then count in the next generation)") from None
         return res, False
     res = probe(cfg, spec, pos_dim, mphi_cfg)
     atomic_write_text(path, json.dumps(asdict(res), indent=1))
@@ -263,12 +285,17 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     best = variant_name(res.frame, res.query_clip)
     diff = np.asarray(res.returns[best]) - zero  # (E,) paired
     se = diff.std(ddof=1) / np.sqrt(diff.size)
-    pays = diff.mean() > 2 * se
+    if diff.mean() > 2 * se:
+        verdict = f"{best}'s labels drive the body: they beat zero action by {diff.mean():.2f} return"
+    elif -diff.mean() > 2 * se:
+        verdict = (f"{best}'s labels drive the body worse than zero action (by {-diff.mean():.2f} return): its "
+                   f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
+                   f"shaping.labels=controller, --method vanilla / cmaes")
+    else:
+        verdict = (f"{best}'s labels are not clearly better or worse than zero action ({diff.mean():+.2f} return, "
+                   f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
+                   f"they keep losing)")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
             "returns": res.returns, "env_steps": res.env_steps, "seconds": res.seconds,
-            "verdict": (f"labels drive the body: {best} beats zero action by {diff.mean():.2f} return (paired, "
-                        f"> 2 standard errors)" if pays else
-                        f"on the probe's data ({GENERATIONS} generations) {best} is not clearly better than zero "
-                        f"action ({diff.mean():+.2f} +- {2 * se:.2f} return, paired): its candidates may rarely win "
-                        f"(a shaped run backs off when they keep losing); compare --method vanilla / cmaes")}
+            "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
