@@ -242,10 +242,10 @@ def cmd_check_env(a: argparse.Namespace) -> int:
     checks = check_env(a.env_id, parse_set(a.set), episodes=a.episodes, max_steps=a.max_steps)
     methods = trains_with(checks)
     failed = any(c.status == FAIL for c in checks)
+    from shaped_es.guides.label_probe import check_labels, clip_text
+
     labels = None
     if a.labels and "shaped" in methods:
-        from shaped_es.guides.label_probe import check_labels
-
         labels = check_labels(a.env_id, parse_set(a.set))
     elif a.labels:
         labels = {"env": a.env_id, "verdict": "no waypoint contract, so no labels to probe (only --method shaped "
@@ -265,8 +265,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                 print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "
                       f"action {np.mean(labels['zero_action']):.2f}")
                 c = labels["chosen"]
-                clip = "none" if c["query_clip"] is None else f"{c['query_clip']:g}"
-                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={clip}: {c['reason']}")
+                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={clip_text(c['query_clip'])}: "
+                      f"{c['reason']}")
             print(f"labels: {labels['verdict']}")
     sys.stdout.flush()
     return 1 if failed else 0

@@ -46,7 +46,7 @@ from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
-from shaped_es.shaping.frames import frame_dim
+from shaped_es.shaping.frames import rotate
 from shaped_es.shaping.inverse_dynamics import InverseDynamics, mixed_query
 from shaped_es.shaping.labels import clip_norm
 from shaped_es.shaping.settings import InverseDynamicsConfig
@@ -75,9 +75,12 @@ class ProbeResult:
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
         means += f", zero action {np.mean(self.zero_action):.2f}" if self.zero_action else ""
-        clip = "none" if self.query_clip is None else f"{self.query_clip:g}"
-        return (f"labels: frame={self.frame}, query_clip={clip}: {self.reason}. Label-driven return over "
+        return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
                 f"{EPISODES} episodes: {means} ({self.env_steps} env steps, {self.seconds:.1f} s)")
+
+
+def clip_text(query_clip: float | None) -> str:
+    return "none" if query_clip is None else f"{query_clip:g}"
 
 
 def variant_name(frame: str, query_clip: float | None) -> str:
@@ -112,14 +115,11 @@ def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: fl
     """M_phi's query ``(B, d)`` or ``(B, 2d)`` online, as ``query_displacement`` offline: ``w_t - p_t``
     mixed with the last step (``mixed_query``) in ``frame`` (the motion frame: the angle of
     ``p_t - p_{t-1}``, 0 at an episode's first step, as ``shaping/frames.py``)."""
-    d = mixed_query((wp - pos).astype(np.float64), (pos - prev).astype(np.float64), mix)  # (B, d)
+    last = (pos - prev).astype(np.float64)  # (B, d) the last step
+    d = mixed_query((wp - pos).astype(np.float64), last, mix)  # (B, d)
     if frame == "world":
         return d.astype(np.float32)
-    v = pos[:, :2] - prev[:, :2]  # (B, 2) the last step
-    a = np.arctan2(v[:, 1], v[:, 0])  # 0 where the agent did not move (first step)
-    c, s = np.cos(a), np.sin(a)
-    m = d.copy()
-    m[:, 0], m[:, 1] = c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]
+    m = rotate(d, np.arctan2(last[:, 1], last[:, 0]))  # motion frame; angle 0 where the agent did not move
     return np.concatenate([d, m], axis=1).astype(np.float32)  # (B, 2d)
 
 
@@ -170,12 +170,17 @@ def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix:
     return rets, steps
 
 
-def beats(a: np.ndarray, b: np.ndarray) -> tuple[bool, float]:
-    """``(a beats b, mean gain)``: the mean of the paired per-episode differences ``a - b`` (same seeds)
-    exceeds two standard errors."""
+def paired(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """``(mean, standard error)`` of the paired per-episode differences ``a - b`` (same seeds)."""
     diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
     se = diff.std(ddof=1) / np.sqrt(diff.size) if diff.size > 1 else np.inf
-    return bool(diff.mean() > 2 * se), float(diff.mean())
+    return float(diff.mean()), float(se)
+
+
+def beats(a: np.ndarray, b: np.ndarray) -> tuple[bool, float]:
+    """``(a beats b, mean gain)``: the mean paired difference ``a - b`` exceeds two standard errors."""
+    mean, se = paired(a, b)
+    return mean > 2 * se, mean
 
 
 def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray) -> tuple[str, str]:
@@ -280,19 +285,17 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         return {"env": env_id, "zero_action": [],
                 "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
     res = probe(cfg, spec, pos_dim, mphi_cfg)
-    zero = np.asarray(res.zero_action)
     out = {"env": env_id, "zero_action": res.zero_action}
     best = variant_name(res.frame, res.query_clip)
-    diff = np.asarray(res.returns[best]) - zero  # (E,) paired
-    se = diff.std(ddof=1) / np.sqrt(diff.size)
-    if diff.mean() > 2 * se:
-        verdict = f"{best}'s labels drive the body: they beat zero action by {diff.mean():.2f} return"
-    elif -diff.mean() > 2 * se:
-        verdict = (f"{best}'s labels drive the body worse than zero action (by {-diff.mean():.2f} return): its "
+    gain, se = paired(res.returns[best], res.zero_action)
+    if gain > 2 * se:
+        verdict = f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return"
+    elif -gain > 2 * se:
+        verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
                    f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
                    f"shaping.labels=controller, --method vanilla / cmaes")
     else:
-        verdict = (f"{best}'s labels are not clearly better or worse than zero action ({diff.mean():+.2f} return, "
+        verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
                    f"they keep losing)")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},

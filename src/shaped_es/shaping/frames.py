@@ -37,15 +37,19 @@ def frame_dim(frame: str, d: int) -> int:
     return 2 * d if frame == "both" else d
 
 
+def last_step(tr: Transitions) -> np.ndarray:
+    """``position_t - position_{t-1}`` ``(T, d)`` float64 within each episode (zero at an episode's first step)."""
+    out = np.zeros(tr.position.shape, np.float64)
+    if len(tr) > 1:
+        same = (tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1)  # (T-1,)
+        out[1:] = np.where(same[:, None], tr.position[1:] - tr.position[:-1], 0.0)
+    return out
+
+
 def motion_angle(tr: Transitions) -> np.ndarray:
     """Angle ``(T,)`` of ``position_t - position_{t-1}`` within each episode (0 at an episode's first step)."""
-    ang = np.zeros(len(tr), dtype=np.float64)
-    if len(tr) < 2:
-        return ang
-    prev_same = (tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1)  # (T-1,)
-    d = (tr.position[1:, :2] - tr.position[:-1, :2]).astype(np.float64)  # (T-1, 2)
-    ang[1:] = np.where(prev_same, np.arctan2(d[:, 1], d[:, 0]), 0.0)
-    return ang
+    v = last_step(tr)  # (T, d)
+    return np.arctan2(v[:, 1], v[:, 0]) if len(tr) else np.zeros(0)  # arctan2(0, 0) = 0 where it did not move
 
 
 def waypoint_angle(tr: Transitions) -> np.ndarray:
@@ -65,8 +69,14 @@ def to_frame(tr: Transitions, disp: np.ndarray, frame: str) -> np.ndarray:
     if frame == "both":
         return np.concatenate([disp, to_frame(tr, disp, "motion")], axis=1)  # (T, 2d)
     a = motion_angle(tr) if frame == "motion" else waypoint_angle(tr)
-    c, s = np.cos(a), np.sin(a)
+    return rotate(disp, a).astype(disp.dtype)
+
+
+def rotate(disp: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """``disp`` ``(T, d)`` as float64 with its first two coordinates turned by ``-angle`` ``(T,)``: x along
+    the angle's direction, y to its left (further coordinates as they are)."""
+    c, s = np.cos(angle), np.sin(angle)
     out = disp.astype(np.float64, copy=True)
-    out[:, 0] = c * disp[:, 0] + s * disp[:, 1]  # rotate by -angle: x along the motion
-    out[:, 1] = -s * disp[:, 0] + c * disp[:, 1]  # y to its left
-    return out.astype(disp.dtype)
+    out[:, 0] = c * disp[:, 0] + s * disp[:, 1]
+    out[:, 1] = -s * disp[:, 0] + c * disp[:, 1]
+    return out

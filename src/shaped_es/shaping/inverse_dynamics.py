@@ -29,7 +29,7 @@ import numpy as np
 
 from shaped_es.data import Transitions
 from shaped_es.shaping import kernels
-from shaped_es.shaping.frames import frame_dim, to_frame
+from shaped_es.shaping.frames import frame_dim, last_step, to_frame
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.settings import QUERY_SCALES, TARGETS, InverseDynamicsConfig
 
@@ -98,15 +98,6 @@ def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, n
     """``(s_t, position_{t+1} - position_t, a_t)`` for every step with a successor in its episode (the
     paper's pairs: :func:`target_pairs` with ``targets="one_step"``)."""
     return target_pairs(tr, frame, "one_step")
-
-
-def last_step(tr: Transitions) -> np.ndarray:
-    """``position_t - position_{t-1}`` ``(T, d)`` within each episode (zero at an episode's first step)."""
-    out = np.zeros(tr.position.shape, np.float64)
-    if len(tr) > 1:
-        same = (tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1)  # (T-1,)
-        out[1:] = np.where(same[:, None], tr.position[1:] - tr.position[:-1], 0.0)
-    return out
 
 
 def mixed_query(toward: np.ndarray, last: np.ndarray, mix: float) -> np.ndarray:
