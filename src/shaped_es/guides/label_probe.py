@@ -272,19 +272,17 @@ def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
 def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
     """``shaped-es check-env ID --labels``: the probe a shaped run with ``frame: auto`` would run, and the
     zero-action policy on the same episodes. Returns ``{"chosen", "returns", "zero_action", "verdict"}``."""
-    from shaped_es.guides.shaped_setup import from_section, waypoint_dim
+    from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
     from shaped_es.config import build_config
     from shaped_es.rollout import policy_spec, probe_env
 
     cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
     env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
     spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
-    mphi_cfg = from_section(InverseDynamicsConfig, cfg.shaping.inverse_dynamics, frame="both" if pos_dim >= 2
-                            else "world", seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
     if pos_dim < 2:
         return {"env": env_id, "zero_action": [],
                 "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
-    res = probe(cfg, spec, pos_dim, mphi_cfg)
+    res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
     out = {"env": env_id, "zero_action": res.zero_action}
     best = variant_name(res.frame, res.query_clip)
     gain, se = paired(res.returns[best], res.zero_action)

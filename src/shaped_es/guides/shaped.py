@@ -46,7 +46,6 @@ from pathlib import Path
 
 import numpy as np
 
-from shaped_es import seeding
 from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
 from shaped_es.guides import NoGuide
@@ -58,7 +57,7 @@ from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.shared_rows import SharedRows
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig
+from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.shaping.trajectories import (TrajectoryStoreError, delete_generations, list_generations,
                                           run_root)
@@ -69,7 +68,8 @@ from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.shaped_setup import check_obs_norm, from_section, label_source, placement, waypoint_dim
+from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
+                                          waypoint_dim)
 
 MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size",
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
@@ -100,9 +100,7 @@ class ShapedGuide(NoGuide):
         self.placement = placement(cfg, spec)
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
-        frame = mp.frame if mp.frame != "auto" else ("both" if pos_dim >= 2 else "world")
-        self.mphi_cfg = from_section(InverseDynamicsConfig, mp, frame=frame,
-                                     seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
+        self.mphi_cfg = mphi_config(cfg, pos_dim)
         self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
         self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py

@@ -40,6 +40,17 @@ def placement(cfg: RunConfig, spec: MLPSpec) -> str:
     return "master" if one_machine and population * spec.num_params <= MASTER_MAX_PARAMS else "workers"
 
 
+def mphi_config(cfg: RunConfig, pos_dim: int):
+    """M_phi's settings for this run: its config section, ``frame: auto`` resolved before any probe
+    (``both`` for 2-D and larger waypoint spaces, ``world`` for 1-D), the seed derived from the root seed."""
+    from shaped_es import seeding
+    from shaped_es.shaping.settings import InverseDynamicsConfig
+
+    mp = cfg.shaping.inverse_dynamics
+    frame = mp.frame if mp.frame != "auto" else ("both" if pos_dim >= 2 else "world")
+    return from_section(InverseDynamicsConfig, mp, frame=frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
+
+
 def from_section(cls, section, **resolved):
     """The shaping dataclass ``cls`` from its config ``section``: every field both have, then ``resolved``
     (the section's defaults are the dataclass's own, ``config.py``)."""
