@@ -117,12 +117,14 @@ def test_list_fields_name_their_item_type(capsys):
 def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     """``--labels``: the label probe of a shaped run with frame auto, against zero action, with its choice."""
     lines = _out(capsys, ["check-env", "PointVel-v0", "--labels"]).out.strip().splitlines()
-    assert lines[-3].startswith("labels: label-driven return over 10 episodes: both ")
-    assert "zero action -1.00" in lines[-3]
+    assert lines[-4].startswith("labels: label-driven return over 10 episodes: both ")
+    assert "zero action -1.00" in lines[-4]
+    assert lines[-3].startswith("labels: the simulated candidate's return (the initial mean cloned toward ")
     assert lines[-2].startswith("labels: a shaped run picks frame=")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
+    assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
     assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0
     text = _out(capsys, ["check-env", "CartPole-v1", "--labels"]).out
     assert text.strip().splitlines()[-1].startswith("labels: no waypoint contract")

@@ -34,6 +34,52 @@ def test_choose_replaces_the_default_only_where_zero_action_beats_its_labels():
     assert name == "both" and "no variant beats" in reason
 
 
+def test_choose_takes_the_variant_whose_simulated_candidate_is_clearly_better():
+    zero = np.zeros(10)
+    labels = {"both": np.full(10, 9.0), "both+clip2": np.full(10, 9.0), "world": np.full(10, 8.0)}
+    # heavy-tailed clone returns: the default's clone crashes on 2 of 10 episodes (a 2-SE test misses it)
+    base = np.array([5.5, 4.4, -7.1, 7.3, 2.9, -26.8, -51.1, 0.2, 6.9, 5.5])
+    clipped = np.array([7.3, 6.5, 6.6, 8.5, 5.2, 5.4, 8.0, 5.9, 3.8, 7.9])
+    name, reason = choose(labels, "both", zero, {"both": base, "both+clip2": clipped, "world": base})
+    assert name == "both+clip2" and reason.startswith("its simulated candidate")
+    # a consistent but tiny gain (0.25 where the probe's returns span ~60) does not switch
+    flat = np.full(10, -25.0)
+    tiny = {"both": flat, "both+clip2": flat + 0.25, "world": flat}
+    assert choose({**labels, "both": np.full(10, 35.0)}, "both", zero, tiny)[0] == "both"
+    # clones that do not differ: the label rule decides (here: keep the default)
+    assert choose(labels, "both", zero, {"both": clipped, "both+clip2": clipped[::-1], "world": clipped})[0] == "both"
+
+
+def test_clone_beats_needs_a_signed_rank_win_and_a_share_of_the_spread():
+    a = np.arange(10.0) + 1.0
+    assert label_probe.clone_beats(a + 1.0, a, scale=10.0) == (True, 1.0)
+    assert not label_probe.clone_beats(a + 1.0, a, scale=100.0)[0]  # 1 < 5% of 100
+    assert not label_probe.clone_beats(a, a, scale=1.0)[0]  # no difference at all
+    mixed = a + np.array([3.0, -3.0] * 5)  # as many losses as wins
+    assert not label_probe.clone_beats(mixed, a, scale=1.0)[0]
+
+
+def test_the_simulated_candidate_learns_from_good_labels():
+    """clone_rounds: the initial mean cloned toward labels that head for the waypoint (PointVel-v0's action
+    is the velocity) drives better than cloned toward zero labels."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.clone_probe import clone_rounds
+    from shaped_es.rollout import RolloutTask, policy_spec, probe_env, run_task
+
+    cfg = build_config({**POINT, "seed": 3})
+    spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+    x0 = spec.init(0)
+    seeds = np.arange(6) + 100
+    P = np.random.default_rng(0).normal(size=(8, spec.num_params)).astype(np.float32)  # (8, n)
+    data = run_task(RolloutTask(cfg.env, {}, spec, P, np.arange(8), np.tile(seeds[:2], (8, 1)),
+                                record=True)).transitions
+    head = lambda tr: np.clip(10.0 * (tr.waypoint - tr.position), -1, 1).astype(np.float32)  # noqa: E731
+    good, n = clone_rounds(cfg, spec, x0, data, head, seeds, 0)
+    zero, _ = clone_rounds(cfg, spec, x0, data, lambda tr: np.zeros((len(tr.state), 2), np.float32), seeds, 1)
+    assert good.shape == (6,) and n > 0
+    assert good.mean() > zero.mean() + 2.0
+
+
 def test_variants_keep_a_clip_the_user_set():
     assert variants(None) == [("both", None), ("both", 2.0), ("world", None), ("world", 2.0)]
     assert variants(3.0) == [("both", 3.0), ("world", 3.0)]
@@ -100,6 +146,7 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
 @pytest.mark.parametrize("text", ["{not json", "[]", "null", json.dumps({**GOOD, "frame": "motion"}),
                                   json.dumps({**GOOD, "query_clip": "abc"}), json.dumps({**GOOD, "query_clip": -1}),
                                   json.dumps({**GOOD, "env_steps": "x"}), json.dumps({**GOOD, "extra": 1}),
+                                  json.dumps({**GOOD, "clones": [1.0]}), json.dumps({**GOOD, "clones": {"both": 1}}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)

@@ -264,6 +264,10 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                 means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["returns"].items())
                 print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "
                       f"action {np.mean(labels['zero_action']):.2f}")
+                if labels.get("clones"):
+                    means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["clones"].items())
+                    print(f"labels: the simulated candidate's return (the initial mean cloned toward each "
+                          f"variant's labels): {means}")
                 c = labels["chosen"]
                 print(f"labels: a shaped run picks frame={c['frame']}, query_clip={clip_text(c['query_clip'])}: "
                       f"{c['reason']}")

@@ -12,16 +12,26 @@ So before the first generation a shaped run with ``frame: auto`` (and a waypoint
 dimensions) probes: it rolls out :data:`GENERATIONS` generations' worth of motor babbling and members
 around the initial mean (as the run's first generations would; about 0.7 of a default generation's
 episodes), trains one M_phi per frame on them, and drives :data:`EPISODES` episodes with each variant's
-labels and with zero action, on the same seeds. The default (``both``, the query as asked) is kept
-unless zero action drives the body better than its labels, by more than two standard errors of the
-paired per-episode differences; then the variant that beats the default's labels by the most (by the
-same test) replaces it. A label-driven return ranks what the labels do when they drive the body, not
-what they give the clone of the mean through the candidate: on UR5Reach-v0 ``world``'s labels drive the
-arm better than ``both``'s (47.6 against 12.9, 6 seeds) and the runs that used them were slower (4
-seeds; ``docs/shaped-results.md``). So the probe only replaces a default whose labels fail outright,
-as ``both`` does on the Reacher.
+labels and with zero action, on the same seeds, and simulates each variant's candidate
+(``guides/clone_probe.py``: the initial mean cloned toward its labels, 3 DAgger rounds, driven on the
+same seeds). The default (``both``, the query as asked) is kept unless
 
-The probe is seeded by the run's seed, takes 0.1-1 s on the built-in envs once the shaping kernels are
+1. another variant's simulated candidate beats the default's (a one-sided signed-rank test of the paired
+   episodes at p < 0.05, and a mean gain of at least 5% of the spread of the probe's returns); then the
+   one that beats it by the most replaces it; or
+2. zero action drives the body better than the default's labels, by more than two standard errors of
+   the paired per-episode differences; then the variant whose labels beat the default's by the most.
+
+The candidate, not the labels, is what a shaped run gains by: on Unicycle-v0 every variant's labels drive
+the body about as well as its controller, yet ``both``'s flip between forward and reverse where the
+waypoint passes behind, and the clone fitted to them crashes on some episodes where the clipped query's
+clone does not; on PointForce-v0 ``world``'s clone drives the point where ``both``'s does not. A
+label-driven return alone misleads: on UR5Reach-v0 ``world``'s labels drive the arm better than
+``both``'s (47.6 against 12.9, 6 seeds) and the runs that used them were slower (4 seeds;
+``docs/shaped-results.md``), so labels alone replace the default only where they fail outright, as
+``both``'s do on the Reacher.
+
+The probe is seeded by the run's seed, takes 0.4-3 s on the built-in envs once the shaping kernels are
 compiled (the first run after an install compiles them: a few seconds more), and its env steps and wall time
 are counted in the run's totals (``env_steps``, ``wall_time_s``) from the first generation on. Its result
 is kept in ``RUN/label_probe.json`` so a resumed run reuses it. ``shaped-es check-env ID --labels`` runs
@@ -47,7 +57,8 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, mixed_query
+from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, mixed_query, query_displacement
 from shaped_es.shaping.labels import clip_norm
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
@@ -55,6 +66,8 @@ GENERATIONS = 2  # generations of probe data (babblers + members around the init
 MEMBERS = 8  # members around the initial mean per probe generation (at es.sigma)
 BABBLERS = 8  # babbling policies per probe generation (weights ~ N(0, babble_sigma^2))
 EPISODES = 10  # closed-loop episodes per variant (the same seeds for every variant)
+CLONE_P = 0.05  # a simulated candidate beats another at this one-sided signed-rank p-value ...
+MIN_SHARE = 0.05  # ... and by this share of the spread of the probe's returns
 CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
 FILE = "label_probe.json"
@@ -71,12 +84,16 @@ class ProbeResult:
     seconds: float
     reason: str
     zero_action: list[float] = field(default_factory=list)  # the middle action's returns, same episodes
+    # variant name -> the simulated candidate's per-episode returns (guides/clone_probe.py), same episodes
+    clones: dict[str, list[float]] = field(default_factory=dict)
 
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
         means += f", zero action {np.mean(self.zero_action):.2f}" if self.zero_action else ""
+        clones = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.clones.items())
+        clones = f"; its clone's return: {clones}" if clones else ""
         return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
-                f"{EPISODES} episodes: {means} ({self.env_steps} env steps, {self.seconds:.1f} s)")
+                f"{EPISODES} episodes: {means}{clones} ({self.env_steps} env steps, {self.seconds:.1f} s)")
 
 
 def clip_text(query_clip: float | None) -> str:
@@ -183,17 +200,50 @@ def beats(a: np.ndarray, b: np.ndarray) -> tuple[bool, float]:
     return mean > 2 * se, mean
 
 
-def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray) -> tuple[str, str]:
-    """``(variant, reason)``: the incumbent, unless zero action drives the body better than its labels (by
-    two paired standard errors); then the variant that beats the incumbent by the most, if one does."""
+def clone_beats(a: np.ndarray, b: np.ndarray, scale: float) -> tuple[bool, float]:
+    """``(a beats b, mean gain)`` for the simulated candidates' returns, whose episodes are heavy-tailed
+    (a clone that drives well on most seeds and crashes on one): a one-sided Wilcoxon signed-rank test of
+    the paired differences at :data:`CLONE_P`, and a mean gain of at least :data:`MIN_SHARE` of ``scale``
+    (the spread of every return the probe saw: a consistent 0.25 on a task whose returns span 90 is no
+    better candidate)."""
+    from scipy.stats import wilcoxon
+
+    diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
+    gain = float(diff.mean())
+    if gain < MIN_SHARE * scale or not np.any(diff != 0):
+        return False, gain
+    return bool(wilcoxon(diff, alternative="greater").pvalue < CLONE_P), gain
+
+
+def _best_beating(returns: dict[str, np.ndarray], incumbent: str, test=beats) -> tuple[str, float]:
+    """The variant that beats ``incumbent`` by the most (by ``test``), and by how much; ``(incumbent, 0)``
+    if none does."""
+    best, best_gain = incumbent, 0.0
+    for name, r in returns.items():
+        ok, gain = test(r, returns[incumbent])
+        if ok and gain > best_gain:
+            best, best_gain = name, gain
+    return best, best_gain
+
+
+def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
+           clones: dict[str, np.ndarray] | None = None) -> tuple[str, str]:
+    """``(variant, reason)``: the variant whose simulated candidate (``clones``: the mean's clone after
+    ``clone_probe.ROUNDS`` DAgger rounds) beats the incumbent's by the most, by two paired standard
+    errors; else the incumbent, unless zero action drives the body better than its labels (by two paired
+    standard errors): then the variant whose labels beat the incumbent's by the most, if one does."""
+    if clones:
+        seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), zero)])  # every return
+        scale = float(seen.max() - seen.min()) if seen.size else 0.0
+        best, gain = _best_beating(clones, incumbent, lambda a, b: clone_beats(a, b, scale))
+        if best != incumbent:
+            return best, (f"its simulated candidate (the initial mean cloned toward its labels, {ROUNDS} DAgger "
+                          f"rounds) beats the default {incumbent}'s by {gain:.2f} return (signed-rank "
+                          f"p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
     worse, by = beats(zero, returns[incumbent])
     if not worse:
         return incumbent, "the default: zero action does not beat its labels by 2 paired standard errors"
-    best, best_gain = incumbent, 0.0
-    for name, r in returns.items():
-        ok, gain = beats(r, returns[incumbent])
-        if ok and gain > best_gain:
-            best, best_gain = name, gain
+    best, best_gain = _best_beating(returns, incumbent)
     if best == incumbent:
         return best, (f"the default: zero action beats its labels by {by:.2f} return, and no variant beats "
                       f"the default's labels by 2 paired standard errors")
@@ -209,6 +259,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
     vs = variants(cfg.shaping.inverse_dynamics.query_clip)
     returns: dict[str, list[float]] = {}
+    clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[str, tuple[InverseDynamics, float]] = {}
     for frame, clip in vs:
         if frame not in models:
@@ -224,11 +275,18 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         r, n = drive(cfg, label, frame, seeds, mphi_cfg.query_mix)
         returns[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
+        block = lambda tr, m=m, max_d=max_d, frame=frame: m.label(  # noqa: E731 - a block's labels (N, act)
+            tr.state, clip_norm(query_displacement(tr, frame, mphi_cfg.query_scale, mphi_cfg.query_mix), max_d))
+        r, n = clone_rounds(cfg, spec, x0, [t for g in data for t in g], block, seeds, len(clones))
+        clones[variant_name(frame, clip)] = [float(v) for v in r]
+        steps += n
     zero, n = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
     steps += n
-    name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero)
+    name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
+                          {k: np.array(v) for k, v in clones.items()})
     frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
-    return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero])
+    return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
+                       clones)
 
 
 def parse(raw: bytes) -> ProbeResult:
@@ -247,6 +305,8 @@ def parse(raw: bytes) -> ProbeResult:
         (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 0, "env_steps"),
         (isinstance(d["seconds"], (int, float)) and isinstance(d["reason"], str), "seconds/reason"),
         (isinstance(d.get("zero_action", []), list), "zero_action"),
+        (isinstance(d.get("clones", {}), dict) and all(isinstance(v, list) for v in d.get("clones", {}).values()),
+         "clones"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
@@ -297,6 +357,6 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
                    f"they keep losing)")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
-            "returns": res.returns, "env_steps": res.env_steps, "seconds": res.seconds,
+            "returns": res.returns, "clones": res.clones, "env_steps": res.env_steps, "seconds": res.seconds,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
