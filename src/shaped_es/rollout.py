@@ -29,12 +29,12 @@ import json
 import time
 import traceback
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.data import Transitions
+from shaped_es.data import PackedTransitions, Transitions, pack
 from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of a rollout
     EnvError,
     EnvProbe,
@@ -100,11 +100,22 @@ class RolloutResult:
     returns: np.ndarray  # (m, E) float64, cumulative reward per episode
     lengths: np.ndarray  # (m, E) int64, steps per episode
     cpu_time_s: float  # CPU seconds this task used in its process
-    transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
+    # the recorded members' steps as one block (None: nothing recorded); one object to pickle, not one
+    # per member (``transitions`` unpacks it into per-member views)
+    packed: PackedTransitions | None = None
     # RolloutTask.obs_stats: per member, the raw observations its policy saw (alive steps, float32 values
     # summed in float64): count (m,), sum (m, obs), sum of squares (m, obs); the master merges them in
     # member order, so the statistics do not depend on how members were split into tasks
     obs_stats: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def transitions(self) -> list[Transitions]:
+        """One :class:`Transitions` per recorded member (views of :attr:`packed`; ``[]`` without)."""
+        return [] if self.packed is None else self.packed.unpack()
+
+    @transitions.setter
+    def transitions(self, trs: list[Transitions]) -> None:
+        self.packed = pack(list(trs)) if len(trs) else None
 
 
 def mean_returns(results: list[RolloutResult]) -> np.ndarray:
@@ -266,27 +277,27 @@ class _Recorder:
             b[self.t] = x
         self.t += 1
 
-    def build(self) -> list[Transitions]:
+    def build(self) -> PackedTransitions | None:
+        """The recorded members' steps as one block (``data.PackedTransitions``): one gather per column,
+        rows in (member, episode, step) order, as each member's :class:`Transitions` holds them."""
         E = self.task.seeds.shape[1]
         if self.buf is None or self.t == 0 or self.rows.size == 0:
-            return []
+            return None
         obs, pos, wp, act, rew, alive, *ex = (b[: self.t] for b in self.buf)  # (T, B_r, ...)
+        # episode b (column b = j * E + e) is rows 0 .. len_b - 1 of its column: nonzero on the transposed
+        # mask lists (b, t) column-major in b, so the rows come in (member, episode, step) order
+        b_idx, t_idx = np.nonzero(alive.T)  # (N,), (N,) with alive.T (B_r, T)
         lens = alive.sum(axis=0)  # (B_r,) steps each recorded episode took
-        out = []
-        for j, r in enumerate(self.rows):
-            bs = range(j * E, j * E + E)
-            cat = lambda x: np.concatenate([x[: lens[b], b] for b in bs])  # noqa: E731 - (T_r, ...)
-            out.append(
-                Transitions(
-                    generation=self.task.generation,
-                    member=int(self.task.members[r]),
-                    episode=np.concatenate([np.full(lens[b], e, np.int32) for e, b in enumerate(bs)]),
-                    step=np.concatenate([np.arange(lens[b], dtype=np.int32) for b in bs]),
-                    state=cat(obs), position=cat(pos), waypoint=cat(wp), action=cat(act), reward=cat(rew),
-                    expert=cat(ex[0]) if ex else None,
-                )
-            )
-        return out
+        per_member = lens.reshape(-1, E).sum(axis=1)  # (B_r,) -> (m_r, E) -> (m_r,)
+        take = lambda x: x[t_idx, b_idx]  # noqa: E731 - (T, B_r, ...) -> (N, ...)
+        rows = Transitions(
+            generation=self.task.generation, member=-1,
+            episode=(b_idx % E).astype(np.int32), step=t_idx.astype(np.int32),
+            state=take(obs), position=take(pos), waypoint=take(wp), action=take(act), reward=take(rew),
+            expert=take(ex[0]) if ex else None,
+        )
+        members = np.asarray(self.task.members)[self.rows].astype(np.int64)  # (m_r,)
+        return PackedTransitions(rows, members, np.concatenate([[0], np.cumsum(per_member)]).astype(np.int64))
 
 
 def _controller(task: RolloutTask, owner):
@@ -359,7 +370,7 @@ def _finish(task, returns, lengths, rec, sums=None) -> RolloutResult:
         returns=returns.reshape(m, E),  # (m*E,) -> (m, E)
         lengths=lengths.reshape(m, E),
         cpu_time_s=0.0,
-        transitions=rec.build() if rec is not None else [],
+        packed=rec.build() if rec is not None else None,
     )
 
 
@@ -449,7 +460,8 @@ def _run_serial(task: RolloutTask) -> RolloutResult:
     if task.obs_stats:  # each member's episodes summed in episode order, as _ObsSums.per_member sums them
         stats = tuple(np.stack([_sum_in_order([p.obs_stats[k][0] for p in row]) for row in parts])
                       for k in range(3))  # (m,), (m, obs), (m, obs)
-    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, transitions=transitions, obs_stats=stats,
+    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, obs_stats=stats,
+                         packed=pack(transitions) if transitions else None,
                          returns=np.array([[p.returns[0, 0] for p in row] for row in parts]),  # (m, E)
                          lengths=np.array([[p.lengths[0, 0] for p in row] for row in parts]))
 
