@@ -223,6 +223,51 @@ def run_task(task: RolloutTask) -> RolloutResult:
     return out
 
 
+def fusable(tasks: list[RolloutTask]) -> bool:
+    """Whether ``tasks`` can run in one lock-step loop (:func:`run_tasks`): one env, one policy
+    architecture and one step limit."""
+    t0 = tasks[0]
+    return all(t.env_id == t0.env_id and t.env_kwargs == t0.env_kwargs and t.spec == t0.spec
+               and t.max_steps == t0.max_steps for t in tasks[1:])
+
+
+def run_tasks(tasks: list[RolloutTask]) -> list[RolloutResult]:
+    """Evaluate several tasks in one call (a worker-side entry point): on an env with a batched core,
+    tasks that :func:`fusable` allows run in one lock-step loop, sharing each step's Python overhead,
+    which a small task (a guide's few extra members) pays nearly in full on its own; the results are
+    :func:`run_task`'s, one per task, bit for bit (tested). Each result's ``cpu_time_s`` is its share,
+    by episodes, of the call's."""
+    tasks = list(tasks)
+    if len(tasks) < 2 or not fusable(tasks):
+        return [run_task(t) for t in tasks]
+    t_cpu = time.process_time()
+    task0 = tasks[0]
+    try:
+        env0 = _envs(task0.env_id, task0.env_kwargs, 1)[0]
+        core = get_batch_core(env0)
+        if core is None:
+            return [run_task(t) for t in tasks]
+        out = _run_batched_groups(core, tasks)
+    except Exception as exc:
+        _ENV_CACHE.pop(_env_key(task0.env_id, task0.env_kwargs), None)  # envs in an unknown state
+        if isinstance(exc, EnvError):
+            raise
+        seeds = np.concatenate([t.seeds.reshape(-1) for t in tasks])
+        raise EnvError(f"env {task0.env_id!r} raised {exception_line(exc)} (generation {task0.generation}, "
+                       f"episode seeds {_seed_text(seeds)})", traceback.format_exc(),
+                       worker_fault=bool(getattr(exc, "worker_fault", False))) from None
+    except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
+        _ENV_CACHE.pop(_env_key(task0.env_id, task0.env_kwargs), None)
+        raise EnvError(f"env {task0.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
+                       f"{task0.generation}); an env reports a failure by raising an exception",
+                       traceback.format_exc()) from None
+    cpu = time.process_time() - t_cpu
+    total = sum(t.seeds.size for t in tasks)
+    for r, t in zip(out, tasks):
+        r.cpu_time_s = cpu * t.seeds.size / total
+    return out
+
+
 def _seed_text(seeds: np.ndarray) -> str:
     flat = list(dict.fromkeys(int(x) for x in np.asarray(seeds).reshape(-1)))  # distinct, in order
     return ", ".join(map(str, flat[:3])) + (", ..." if len(flat) > 3 else "")
@@ -284,12 +329,16 @@ class _Recorder:
         if self.buf is None or self.t == 0 or self.rows.size == 0:
             return None
         obs, pos, wp, act, rew, alive, *ex = (b[: self.t] for b in self.buf)  # (T, B_r, ...)
-        # episode b (column b = j * E + e) is rows 0 .. len_b - 1 of its column: nonzero on the transposed
-        # mask lists (b, t) column-major in b, so the rows come in (member, episode, step) order
+        # episode b (column b = j * E + e) is rows 0 .. len_b - 1 of its column (dead once done): nonzero
+        # of the transposed mask lists its (b, t) pairs b-major, so the rows come in (member, episode, step)
+        # order
         b_idx, t_idx = np.nonzero(alive.T)  # (N,), (N,) with alive.T (B_r, T)
         lens = alive.sum(axis=0)  # (B_r,) steps each recorded episode took
         per_member = lens.reshape(-1, E).sum(axis=1)  # (B_r,) -> (m_r, E) -> (m_r,)
-        take = lambda x: x[t_idx, b_idx]  # noqa: E731 - (T, B_r, ...) -> (N, ...)
+        flat = t_idx * alive.shape[1] + b_idx  # (N,) row of (t, b) in the (T * B_r, ...) view
+
+        def take(x):  # (T, B_r, ...) -> (T * B_r, ...) -> (N, ...)
+            return x.reshape(x.shape[0] * x.shape[1], *x.shape[2:]).take(flat, axis=0)
         rows = Transitions(
             generation=self.task.generation, member=-1,
             episode=(b_idx % E).astype(np.int32), step=t_idx.astype(np.int32),
@@ -375,34 +424,55 @@ def _finish(task, returns, lengths, rec, sums=None) -> RolloutResult:
 
 
 def _run_batched(core, task: RolloutTask) -> RolloutResult:
-    m, E = task.seeds.shape
-    B = m * E
-    state, obs, info = core.reset(task.seeds.reshape(B))  # (m, E) -> (B,)
-    limit = core.max_steps if task.max_steps is None else min(core.max_steps, task.max_steps)
+    return _run_batched_groups(core, [task])[0]
+
+
+def _run_batched_groups(core, tasks: list[RolloutTask]) -> list[RolloutResult]:
+    """The episodes of several tasks (same env and step limit: :func:`fusable`) in one lock-step loop: one
+    ``core.reset`` and one ``core.step`` a step for all, one policy forward per task on its own episodes
+    (the shapes a lone run of the task uses, so its results are the lone run's, bit for bit: the core's
+    episodes are independent copies, ``envs/core.py``). An episode that ended keeps stepping, unread,
+    until every episode has, as inside one task."""
+    task0 = tasks[0]
+    sizes = [t.seeds.size for t in tasks]  # B_i = m_i * E_i episodes of each task
+    bounds = np.concatenate([[0], np.cumsum(sizes)])  # (groups + 1,)
+    groups = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]  # each task's columns
+    B = int(bounds[-1])
+    seeds = np.concatenate([t.seeds.reshape(-1) for t in tasks])  # (m_i, E_i) each -> (B,)
+    state, obs, info = core.reset(seeds)
+    limit = core.max_steps if task0.max_steps is None else min(core.max_steps, task0.max_steps)
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
-    rec = _Recorder(task, limit) if task.recorded().any() else None
-    sums = _ObsSums(B) if task.obs_stats else None
-    expert = _controller(task, core) if rec is not None and task.expert else None
+    recs = [_Recorder(t, limit) if t.recorded().any() else None for t in tasks]
+    sums = [_ObsSums(sl.stop - sl.start) if t.obs_stats else None for t, sl in zip(tasks, groups)]
+    expert = None
+    if any(r is not None and t.expert for r, t in zip(recs, tasks)):
+        expert = _controller(task0, core)
     for _ in range(limit):
-        if sums is not None:
-            sums.add(obs, alive)
-        act = forward(task.spec, task.params, _policy_input(task, obs).reshape(m, E, -1),
-                      task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
+        acts = []
+        for t, sl, su in zip(tasks, groups, sums):
+            m, E = t.seeds.shape
+            if su is not None:
+                su.add(obs[sl], alive[sl])
+            acts.append(forward(t.spec, t.params, _policy_input(t, obs[sl]).reshape(m, E, -1),
+                                t.rowwise).reshape(m * E, -1))  # (m,E,a) -> (B_i,a)
+        act = acts[0] if len(acts) == 1 else np.concatenate(acts)  # (B, a)
         pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
         ex = None if expert is None else expert(state, obs, info)  # (B, a) before the step, as act
         state, nobs, rew, term, trunc, info = core.step(state, act)
         rew = np.where(alive, rew, 0.0)
-        if rec is not None:
-            rec.add(obs, pos, wp, act, rew, alive, ex)
+        for t, sl, rec in zip(tasks, groups, recs):
+            if rec is not None:
+                rec.add(obs[sl], pos[sl], wp[sl], act[sl], rew[sl], alive[sl],
+                        None if ex is None or not t.expert else ex[sl])
         with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
             returns += rew
         lengths += alive
         alive &= ~(term | trunc)
         if nobs.shape != obs.shape:
-            raise _bad_output(task, f"observations of shape {nobs.shape} after {obs.shape}",
-                              task.seeds.reshape(B)[0], int(lengths.max()))
+            raise _bad_output(task0, f"observations of shape {nobs.shape} after {obs.shape}", seeds[0],
+                              int(lengths.max()))
         obs = nobs
         if not alive.any():
             break
@@ -410,12 +480,12 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     bad = ~np.isfinite(returns)
     if bad.any():
         b = int(np.flatnonzero(bad)[0])
-        raise _bad_output(task, "a non-finite reward, or rewards whose sum overflows (inf/NaN)",
-                          task.seeds.reshape(B)[b], int(lengths[b]))
+        raise _bad_output(task0, "a non-finite reward, or rewards whose sum overflows (inf/NaN)", seeds[b],
+                          int(lengths[b]))
     if not np.isfinite(obs).all():
         b = int(np.flatnonzero(~np.isfinite(obs.reshape(B, -1)).all(axis=1))[0])
-        raise _bad_output(task, "a non-finite observation (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
-    return _finish(task, returns, lengths, rec, sums)
+        raise _bad_output(task0, "a non-finite observation (inf/NaN)", seeds[b], int(lengths[b]))
+    return [_finish(t, returns[sl], lengths[sl], rec, su) for t, sl, rec, su in zip(tasks, groups, recs, sums)]
 
 
 def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
