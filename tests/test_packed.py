@@ -6,10 +6,21 @@ import dataclasses
 import numpy as np
 import pytest
 
-from shaped_es.data import PackedTransitions, Transitions, concat_members, join_packed, pack
+from shaped_es.data import (
+    PackedTransitions,
+    Transitions,
+    concat_members,
+    join_packed,
+    pack,
+)
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, _Recorder, run_task
-from shaped_es.shaping.trajectories import _packed_table, _to_table, read_shard, write_shard
+from shaped_es.shaping.trajectories import (
+    _packed_table,
+    _to_table,
+    read_shard,
+    write_shard,
+)
 
 FIELDS = [f.name for f in dataclasses.fields(Transitions)]
 
@@ -33,7 +44,9 @@ def _per_member_build(rec: _Recorder) -> list[Transitions]:
     out = []
     for j, r in enumerate(rec.rows):
         bs = range(j * E, j * E + E)
-        cat = lambda x: np.concatenate([x[: lens[b], b] for b in bs])  # noqa: E731
+        def cat(x, bs=bs):
+            return np.concatenate([x[: lens[b], b] for b in bs])
+
         out.append(Transitions(
             generation=rec.task.generation, member=int(rec.task.members[r]),
             episode=np.concatenate([np.full(lens[b], e, np.int32) for e, b in enumerate(bs)]),

@@ -16,7 +16,8 @@ depend only on the task's parameters and seeds, never on the process running it.
 env before its first rollout lives in ``env_probe.py`` (its names are re-exported here).
 
 Recording (``RolloutTask.record``: every member, or a mask of them) keeps each recorded member's steps as
-:class:`~shaped_es.data.Transitions`; with ``RolloutTask.expert`` the env's scripted waypoint controller
+:class:`~shaped_es.data.Transitions`, sent back as one block per task (``RolloutResult.packed``, a
+:class:`~shaped_es.data.PackedTransitions`; ``RolloutResult.transitions`` unpacks it into per-member views); with ``RolloutTask.expert`` the env's scripted waypoint controller
 (``envs/core.py``) is asked at every recorded step too, and its action kept as ``Transitions.expert``,
 mapped to the policy's ``[-1, 1]`` scale (Box: the inverse of the rescaling above; Discrete: +1 for
 the chosen action, -1 elsewhere).
@@ -25,6 +26,7 @@ the chosen action, -1 elsewhere).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import time
 import traceback
@@ -297,7 +299,7 @@ def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndar
 
 class _Recorder:
     """Per-step rows of the recorded members written into preallocated float32 buffers ``(T, B_r, ...)``
-    (grown by doubling when the horizon is unknown), cut into per-member :class:`Transitions` at the end.
+    (grown by doubling when the horizon is unknown), gathered into one block of rows at the end.
     Episodes run in lock-step and stay dead once done, so episode ``b`` is rows ``0 .. len_b - 1`` of its
     column. ``B_r``: the recorded members' episodes (``RolloutTask.recorded``)."""
 
@@ -436,7 +438,7 @@ def _run_batched_groups(core, tasks: list[RolloutTask]) -> list[RolloutResult]:
     task0 = tasks[0]
     sizes = [t.seeds.size for t in tasks]  # B_i = m_i * E_i episodes of each task
     bounds = np.concatenate([[0], np.cumsum(sizes)])  # (groups + 1,)
-    groups = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]  # each task's columns
+    groups = [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]  # each task's columns
     B = int(bounds[-1])
     seeds = np.concatenate([t.seeds.reshape(-1) for t in tasks])  # (m_i, E_i) each -> (B,)
     state, obs, info = core.reset(seeds)
