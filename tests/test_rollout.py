@@ -121,3 +121,40 @@ def test_actions_map_to_the_space():
     disc = gym.spaces.Discrete(3, start=-1)
     assert _to_env_action(disc, np.array([0.1, 0.9, -0.2])) == 0
     np.testing.assert_array_equal(to_space(disc, np.array([[0.1, 0.9, -0.2], [1.0, 0.0, 0.0]])), [0, -1])
+
+
+@pytest.mark.parametrize("env_id, spec, expert", [("CarNav-v0", None, False),
+                                                   ("shaped_es:UR5Reach-v0", MLPSpec(13, 5, (8,)), True)])
+def test_tasks_run_together_give_each_tasks_own_results(env_id, spec, expert):
+    """run_tasks: a population chunk and a few extra members on more episodes, in one lock-step loop,
+    give what each task gives alone, bit for bit (returns, lengths, observation sums, recorded steps)."""
+    import dataclasses
+
+    from shaped_es.rollout import probe_dims, run_tasks
+
+    if spec is None:
+        obs, act = probe_dims(env_id, {})[:2]
+        spec = MLPSpec(obs, act, (8,))
+    rng = np.random.default_rng(0)
+    P = (rng.standard_normal((5, spec.num_params)) * 0.5).astype(np.float32)
+    pop = RolloutTask(env_id, {}, spec, P[:3], np.arange(3), rng.integers(0, 2**31, (3, 2)), generation=1,
+                      record=np.array([True, False, True]), max_steps=40, expert=expert, obs_stats=True)
+    extra = RolloutTask(env_id, {}, spec, P[3:], np.arange(3, 5), rng.integers(0, 2**31, (2, 3)), generation=1,
+                        record=True, max_steps=40, expert=expert)
+    together = run_tasks([pop, extra])
+    for alone, got in zip([run_task(pop), run_task(extra)], together):
+        np.testing.assert_array_equal(got.members, alone.members)
+        np.testing.assert_array_equal(got.returns, alone.returns)
+        np.testing.assert_array_equal(got.lengths, alone.lengths)
+        assert (got.obs_stats is None) == (alone.obs_stats is None)
+        for a, b in zip(got.obs_stats or (), alone.obs_stats or ()):
+            np.testing.assert_array_equal(a, b)
+        assert [t.member for t in got.transitions] == [t.member for t in alone.transitions]
+        for a, b in zip(got.transitions, alone.transitions):
+            for f in dataclasses.fields(a):
+                x, y = getattr(a, f.name), getattr(b, f.name)
+                if isinstance(x, np.ndarray):
+                    np.testing.assert_array_equal(x, y, err_msg=f.name)
+                else:
+                    assert x == y, f.name
+    assert together[0].transitions[0].expert is not None if expert else together[0].transitions[0].expert is None

@@ -16,7 +16,8 @@ depend only on the task's parameters and seeds, never on the process running it.
 env before its first rollout lives in ``env_probe.py`` (its names are re-exported here).
 
 Recording (``RolloutTask.record``: every member, or a mask of them) keeps each recorded member's steps as
-:class:`~shaped_es.data.Transitions`; with ``RolloutTask.expert`` the env's scripted waypoint controller
+:class:`~shaped_es.data.Transitions`, sent back as one block per task (``RolloutResult.packed``, a
+:class:`~shaped_es.data.PackedTransitions`; ``RolloutResult.transitions`` unpacks it into per-member views); with ``RolloutTask.expert`` the env's scripted waypoint controller
 (``envs/core.py``) is asked at every recorded step too, and its action kept as ``Transitions.expert``,
 mapped to the policy's ``[-1, 1]`` scale (Box: the inverse of the rescaling above; Discrete: +1 for
 the chosen action, -1 elsewhere).
@@ -25,16 +26,17 @@ the chosen action, -1 elsewhere).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import time
 import traceback
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.data import Transitions
+from shaped_es.data import PackedTransitions, Transitions, pack
 from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of a rollout
     EnvError,
     EnvProbe,
@@ -100,11 +102,22 @@ class RolloutResult:
     returns: np.ndarray  # (m, E) float64, cumulative reward per episode
     lengths: np.ndarray  # (m, E) int64, steps per episode
     cpu_time_s: float  # CPU seconds this task used in its process
-    transitions: list[Transitions] = field(default_factory=list)  # one per member when recorded
+    # the recorded members' steps as one block (None: nothing recorded); one object to pickle, not one
+    # per member (``transitions`` unpacks it into per-member views)
+    packed: PackedTransitions | None = None
     # RolloutTask.obs_stats: per member, the raw observations its policy saw (alive steps, float32 values
     # summed in float64): count (m,), sum (m, obs), sum of squares (m, obs); the master merges them in
     # member order, so the statistics do not depend on how members were split into tasks
     obs_stats: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def transitions(self) -> list[Transitions]:
+        """One :class:`Transitions` per recorded member (views of :attr:`packed`; ``[]`` without)."""
+        return [] if self.packed is None else self.packed.unpack()
+
+    @transitions.setter
+    def transitions(self, trs: list[Transitions]) -> None:
+        self.packed = pack(list(trs)) if len(trs) else None
 
 
 def mean_returns(results: list[RolloutResult]) -> np.ndarray:
@@ -212,6 +225,51 @@ def run_task(task: RolloutTask) -> RolloutResult:
     return out
 
 
+def fusable(tasks: list[RolloutTask]) -> bool:
+    """Whether ``tasks`` can run in one lock-step loop (:func:`run_tasks`): one env, one policy
+    architecture and one step limit."""
+    t0 = tasks[0]
+    return all(t.env_id == t0.env_id and t.env_kwargs == t0.env_kwargs and t.spec == t0.spec
+               and t.max_steps == t0.max_steps for t in tasks[1:])
+
+
+def run_tasks(tasks: list[RolloutTask]) -> list[RolloutResult]:
+    """Evaluate several tasks in one call (a worker-side entry point): on an env with a batched core,
+    tasks that :func:`fusable` allows run in one lock-step loop, sharing each step's Python overhead,
+    which a small task (a guide's few extra members) pays nearly in full on its own; the results are
+    :func:`run_task`'s, one per task, bit for bit (tested). Each result's ``cpu_time_s`` is its share,
+    by episodes, of the call's."""
+    tasks = list(tasks)
+    if len(tasks) < 2 or not fusable(tasks):
+        return [run_task(t) for t in tasks]
+    t_cpu = time.process_time()
+    task0 = tasks[0]
+    try:
+        env0 = _envs(task0.env_id, task0.env_kwargs, 1)[0]
+        core = get_batch_core(env0)
+        if core is None:
+            return [run_task(t) for t in tasks]
+        out = _run_batched_groups(core, tasks)
+    except Exception as exc:
+        _ENV_CACHE.pop(_env_key(task0.env_id, task0.env_kwargs), None)  # envs in an unknown state
+        if isinstance(exc, EnvError):
+            raise
+        seeds = np.concatenate([t.seeds.reshape(-1) for t in tasks])
+        raise EnvError(f"env {task0.env_id!r} raised {exception_line(exc)} (generation {task0.generation}, "
+                       f"episode seeds {_seed_text(seeds)})", traceback.format_exc(),
+                       worker_fault=bool(getattr(exc, "worker_fault", False))) from None
+    except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
+        _ENV_CACHE.pop(_env_key(task0.env_id, task0.env_kwargs), None)
+        raise EnvError(f"env {task0.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
+                       f"{task0.generation}); an env reports a failure by raising an exception",
+                       traceback.format_exc()) from None
+    cpu = time.process_time() - t_cpu
+    total = sum(t.seeds.size for t in tasks)
+    for r, t in zip(out, tasks):
+        r.cpu_time_s = cpu * t.seeds.size / total
+    return out
+
+
 def _seed_text(seeds: np.ndarray) -> str:
     flat = list(dict.fromkeys(int(x) for x in np.asarray(seeds).reshape(-1)))  # distinct, in order
     return ", ".join(map(str, flat[:3])) + (", ..." if len(flat) > 3 else "")
@@ -241,7 +299,7 @@ def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndar
 
 class _Recorder:
     """Per-step rows of the recorded members written into preallocated float32 buffers ``(T, B_r, ...)``
-    (grown by doubling when the horizon is unknown), cut into per-member :class:`Transitions` at the end.
+    (grown by doubling when the horizon is unknown), gathered into one block of rows at the end.
     Episodes run in lock-step and stay dead once done, so episode ``b`` is rows ``0 .. len_b - 1`` of its
     column. ``B_r``: the recorded members' episodes (``RolloutTask.recorded``)."""
 
@@ -266,27 +324,31 @@ class _Recorder:
             b[self.t] = x
         self.t += 1
 
-    def build(self) -> list[Transitions]:
+    def build(self) -> PackedTransitions | None:
+        """The recorded members' steps as one block (``data.PackedTransitions``): one gather per column,
+        rows in (member, episode, step) order, as each member's :class:`Transitions` holds them."""
         E = self.task.seeds.shape[1]
         if self.buf is None or self.t == 0 or self.rows.size == 0:
-            return []
+            return None
         obs, pos, wp, act, rew, alive, *ex = (b[: self.t] for b in self.buf)  # (T, B_r, ...)
+        # episode b (column b = j * E + e) is rows 0 .. len_b - 1 of its column (dead once done): nonzero
+        # of the transposed mask lists its (b, t) pairs b-major, so the rows come in (member, episode, step)
+        # order
+        b_idx, t_idx = np.nonzero(alive.T)  # (N,), (N,) with alive.T (B_r, T)
         lens = alive.sum(axis=0)  # (B_r,) steps each recorded episode took
-        out = []
-        for j, r in enumerate(self.rows):
-            bs = range(j * E, j * E + E)
-            cat = lambda x: np.concatenate([x[: lens[b], b] for b in bs])  # noqa: E731 - (T_r, ...)
-            out.append(
-                Transitions(
-                    generation=self.task.generation,
-                    member=int(self.task.members[r]),
-                    episode=np.concatenate([np.full(lens[b], e, np.int32) for e, b in enumerate(bs)]),
-                    step=np.concatenate([np.arange(lens[b], dtype=np.int32) for b in bs]),
-                    state=cat(obs), position=cat(pos), waypoint=cat(wp), action=cat(act), reward=cat(rew),
-                    expert=cat(ex[0]) if ex else None,
-                )
-            )
-        return out
+        per_member = lens.reshape(-1, E).sum(axis=1)  # (B_r,) -> (m_r, E) -> (m_r,)
+        flat = t_idx * alive.shape[1] + b_idx  # (N,) row of (t, b) in the (T * B_r, ...) view
+
+        def take(x):  # (T, B_r, ...) -> (T * B_r, ...) -> (N, ...)
+            return x.reshape(x.shape[0] * x.shape[1], *x.shape[2:]).take(flat, axis=0)
+        rows = Transitions(
+            generation=self.task.generation, member=-1,
+            episode=(b_idx % E).astype(np.int32), step=t_idx.astype(np.int32),
+            state=take(obs), position=take(pos), waypoint=take(wp), action=take(act), reward=take(rew),
+            expert=take(ex[0]) if ex else None,
+        )
+        members = np.asarray(self.task.members)[self.rows].astype(np.int64)  # (m_r,)
+        return PackedTransitions(rows, members, np.concatenate([[0], np.cumsum(per_member)]).astype(np.int64))
 
 
 def _controller(task: RolloutTask, owner):
@@ -359,39 +421,60 @@ def _finish(task, returns, lengths, rec, sums=None) -> RolloutResult:
         returns=returns.reshape(m, E),  # (m*E,) -> (m, E)
         lengths=lengths.reshape(m, E),
         cpu_time_s=0.0,
-        transitions=rec.build() if rec is not None else [],
+        packed=rec.build() if rec is not None else None,
     )
 
 
 def _run_batched(core, task: RolloutTask) -> RolloutResult:
-    m, E = task.seeds.shape
-    B = m * E
-    state, obs, info = core.reset(task.seeds.reshape(B))  # (m, E) -> (B,)
-    limit = core.max_steps if task.max_steps is None else min(core.max_steps, task.max_steps)
+    return _run_batched_groups(core, [task])[0]
+
+
+def _run_batched_groups(core, tasks: list[RolloutTask]) -> list[RolloutResult]:
+    """The episodes of several tasks (same env and step limit: :func:`fusable`) in one lock-step loop: one
+    ``core.reset`` and one ``core.step`` a step for all, one policy forward per task on its own episodes
+    (the shapes a lone run of the task uses, so its results are the lone run's, bit for bit: the core's
+    episodes are independent copies, ``envs/core.py``). An episode that ended keeps stepping, unread,
+    until every episode has, as inside one task."""
+    task0 = tasks[0]
+    sizes = [t.seeds.size for t in tasks]  # B_i = m_i * E_i episodes of each task
+    bounds = np.concatenate([[0], np.cumsum(sizes)])  # (groups + 1,)
+    groups = [slice(int(a), int(b)) for a, b in itertools.pairwise(bounds)]  # each task's columns
+    B = int(bounds[-1])
+    seeds = np.concatenate([t.seeds.reshape(-1) for t in tasks])  # (m_i, E_i) each -> (B,)
+    state, obs, info = core.reset(seeds)
+    limit = core.max_steps if task0.max_steps is None else min(core.max_steps, task0.max_steps)
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
-    rec = _Recorder(task, limit) if task.recorded().any() else None
-    sums = _ObsSums(B) if task.obs_stats else None
-    expert = _controller(task, core) if rec is not None and task.expert else None
+    recs = [_Recorder(t, limit) if t.recorded().any() else None for t in tasks]
+    sums = [_ObsSums(sl.stop - sl.start) if t.obs_stats else None for t, sl in zip(tasks, groups)]
+    expert = None
+    if any(r is not None and t.expert for r, t in zip(recs, tasks)):
+        expert = _controller(task0, core)
     for _ in range(limit):
-        if sums is not None:
-            sums.add(obs, alive)
-        act = forward(task.spec, task.params, _policy_input(task, obs).reshape(m, E, -1),
-                      task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
+        acts = []
+        for t, sl, su in zip(tasks, groups, sums):
+            m, E = t.seeds.shape
+            if su is not None:
+                su.add(obs[sl], alive[sl])
+            acts.append(forward(t.spec, t.params, _policy_input(t, obs[sl]).reshape(m, E, -1),
+                                t.rowwise).reshape(m * E, -1))  # (m,E,a) -> (B_i,a)
+        act = acts[0] if len(acts) == 1 else np.concatenate(acts)  # (B, a)
         pos, wp = info[POSITION_KEY], info[WAYPOINT_KEY]
         ex = None if expert is None else expert(state, obs, info)  # (B, a) before the step, as act
         state, nobs, rew, term, trunc, info = core.step(state, act)
         rew = np.where(alive, rew, 0.0)
-        if rec is not None:
-            rec.add(obs, pos, wp, act, rew, alive, ex)
+        for t, sl, rec in zip(tasks, groups, recs):
+            if rec is not None:
+                rec.add(obs[sl], pos[sl], wp[sl], act[sl], rew[sl], alive[sl],
+                        None if ex is None or not t.expert else ex[sl])
         with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
             returns += rew
         lengths += alive
         alive &= ~(term | trunc)
         if nobs.shape != obs.shape:
-            raise _bad_output(task, f"observations of shape {nobs.shape} after {obs.shape}",
-                              task.seeds.reshape(B)[0], int(lengths.max()))
+            raise _bad_output(task0, f"observations of shape {nobs.shape} after {obs.shape}", seeds[0],
+                              int(lengths.max()))
         obs = nobs
         if not alive.any():
             break
@@ -399,12 +482,12 @@ def _run_batched(core, task: RolloutTask) -> RolloutResult:
     bad = ~np.isfinite(returns)
     if bad.any():
         b = int(np.flatnonzero(bad)[0])
-        raise _bad_output(task, "a non-finite reward, or rewards whose sum overflows (inf/NaN)",
-                          task.seeds.reshape(B)[b], int(lengths[b]))
+        raise _bad_output(task0, "a non-finite reward, or rewards whose sum overflows (inf/NaN)", seeds[b],
+                          int(lengths[b]))
     if not np.isfinite(obs).all():
         b = int(np.flatnonzero(~np.isfinite(obs.reshape(B, -1)).all(axis=1))[0])
-        raise _bad_output(task, "a non-finite observation (inf/NaN)", task.seeds.reshape(B)[b], int(lengths[b]))
-    return _finish(task, returns, lengths, rec, sums)
+        raise _bad_output(task0, "a non-finite observation (inf/NaN)", seeds[b], int(lengths[b]))
+    return [_finish(t, returns[sl], lengths[sl], rec, su) for t, sl, rec, su in zip(tasks, groups, recs, sums)]
 
 
 def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
@@ -449,7 +532,8 @@ def _run_serial(task: RolloutTask) -> RolloutResult:
     if task.obs_stats:  # each member's episodes summed in episode order, as _ObsSums.per_member sums them
         stats = tuple(np.stack([_sum_in_order([p.obs_stats[k][0] for p in row]) for row in parts])
                       for k in range(3))  # (m,), (m, obs), (m, obs)
-    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, transitions=transitions, obs_stats=stats,
+    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, obs_stats=stats,
+                         packed=pack(transitions) if transitions else None,
                          returns=np.array([[p.returns[0, 0] for p in row] for row in parts]),  # (m, E)
                          lengths=np.array([[p.lengths[0, 0] for p in row] for row in parts]))
 

@@ -45,7 +45,7 @@ from shaped_es.executors import Executor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
-                               probe_env, run_task, warn_if_endless)
+                               probe_env, run_task, run_tasks, warn_if_endless)
 from shaped_es.run_loop import RunLoop
 from shaped_es.rundir.store import RunStore
 from shaped_es.strategies import Strategy
@@ -297,10 +297,11 @@ class Trainer(RunLoop):
         cfg = self.cfg
         E, k = cfg.rollout.episodes, X.shape[0] - P
         seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P), E, cfg.rollout.common_seeds)  # (P, E)
-        fn = self.guide.rollout_fn() or run_task
+        fn = self.guide.rollout_fn()
         t_roll = time.perf_counter()
         record = self.guide.record_mask(P, k)  # (P + k,)
         tasks = self._tasks(X[:P], seeds, g, record[:P], obs_stats=True)
+        extra = []
         if k:  # the extras, with their extra episodes, in tasks of their own
             x = self.guide.extra_episodes()
             xs = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P, P + k), E + x,
@@ -308,8 +309,14 @@ class Trainer(RunLoop):
             extra = self._tasks(X[P:], xs, g, record[P:])
             for t in extra:
                 t.members = t.members + P  # population indices P .. P + k - 1
-            tasks += extra
-        results = self.executor.map(fn, tasks)
+        if fn is None and 0 < len(extra) <= len(tasks):
+            # population chunk i and extras chunk i in one call, one lock-step loop (rollout.run_tasks: the
+            # same results as apart), not a second wave of small tasks on the workers
+            bundles = [[a] + extra[i : i + 1] for i, a in enumerate(tasks)]
+            done = self.executor.map(run_tasks, bundles)
+            results = [d[0] for d in done] + [d[1] for d in done if len(d) > 1]  # population, then extras
+        else:
+            results = self.executor.map(fn or run_task, tasks + extra)
         return results, time.perf_counter() - t_roll
 
     def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray, P: int) -> _Row:

@@ -135,8 +135,8 @@ def test_a_crash_while_shards_are_written_resumes_exactly(tmp_path, monkeypatch,
     module = shaped if placement == "master" else shaped_tasks
     write = module.write_shard
 
-    def dying(root, trs, *rest):
-        if trs[0].generation == 2:
+    def dying(root, trs, *rest):  # trs: a block of members (data.PackedTransitions) or a list
+        if (trs.generation if hasattr(trs, "generation") else trs[0].generation) == 2:
             raise OSError("disk gone")
         return write(root, trs, *rest)
 

@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from shaped_es.config import RunConfig
-from shaped_es.data import Transitions, concat_members
+from shaped_es.data import PackedTransitions, Transitions, concat_members, join_packed, pack
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
@@ -83,11 +83,12 @@ WARN_AFTER = 5  # generations without M_phi data before the console says so (onc
 class _Block:
     """One generation's transitions in memory: all members' rows stacked, in member order."""
 
-    trs: list[Transitions]  # per member (those with steps)
+    trs: list[Transitions]  # per member (those with steps; views of packed's arrays)
     big: Transitions | None  # trs concatenated (data.concat_members); its state is (N, obs)
     queries: np.ndarray | None  # (N, k) float32 the label source's inputs (M_phi: raw queries w_t - p_t)
     members: np.ndarray  # (k,) member index of each trs entry
     offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
+    packed: PackedTransitions | None = None  # the same rows as one block (the shard's source)
 
 
 class ShapedGuide(NoGuide):
@@ -201,16 +202,21 @@ class ShapedGuide(NoGuide):
         return None
 
     # -- data of a generation ----------------------------------------------------------------------
-    def _remember(self, generation: int, trs: list[Transitions]) -> None:
-        """Keep one generation in memory as one block: states, raw queries and each member's rows."""
-        trs = [t for t in trs if len(t)]
-        if not trs:
-            self._cache[generation] = _Block([], None, None, np.zeros(0, np.int64), np.zeros(1, np.int64))
+    def _remember(self, generation: int, data: list[Transitions] | PackedTransitions | None) -> None:
+        """Keep one generation in memory as one block: states, raw queries and each member's rows
+        (``data``: per-member transitions in member order, or the rollouts' blocks joined)."""
+        packed = data if isinstance(data, PackedTransitions) else None
+        if packed is None:
+            trs = [t for t in (data or []) if len(t)]
+            packed = pack(trs) if trs else None
+        else:
+            packed = packed.nonempty()
+        if packed is None or len(packed.members) == 0:
+            self._cache[generation] = _Block([], None, None, np.zeros(0, np.int64), np.zeros(1, np.int64), None)
             return
-        big, offsets = concat_members(trs)  # per-step work once per generation, not per member
+        big = packed.stacked()  # data.concat_members of its members, sharing the block's arrays
         q = self.labels.inputs(big)  # (N, k) what the label source reads besides the state
-        members = np.array([t.member for t in trs], np.int64)
-        self._cache[generation] = _Block(trs, big, q, members, offsets)
+        self._cache[generation] = _Block(packed.unpack(), big, q, packed.members, packed.offsets, packed)
 
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""
@@ -274,9 +280,9 @@ class ShapedGuide(NoGuide):
         qc = self.query_clip
         return None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
 
-    def _write(self, trs: list[Transitions], stacked: Transitions | None = None) -> float:
+    def _write(self, packed: PackedTransitions) -> float:
         t0 = time.perf_counter()
-        write_shard(self.traj_root, trs, stacked)
+        write_shard(self.traj_root, packed)
         return time.perf_counter() - t0
 
     def _after_checkpoint(self) -> None:
@@ -380,13 +386,13 @@ class ShapedGuide(NoGuide):
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
         self._write_time += float(sum(getattr(r, "store_time_s", 0.0) for r in results))  # on the workers
         if self.placement == "master":  # keep the generation in memory
-            trs = sorted((tr for r in results for tr in r.transitions), key=lambda t: t.member)
+            blocks = [r.packed for r in results if r.packed is not None]  # one per task that recorded
             for r in results:
-                r.transitions = []
-            self._remember(generation, trs)
-            if trs:
-                blk = self._cache[generation]
-                self._writes.append(self._writer.submit(self._write, blk.trs, blk.big))
+                r.packed = None
+            self._remember(generation, join_packed(blocks) if blocks else None)
+            blk = self._cache[generation]
+            if blk.packed is not None:
+                self._writes.append(self._writer.submit(self._write, blk.packed))
         t_wait = time.perf_counter()
         self._join_thread()
         out = dict(self._pending, time_cloning_s=0.0, clone_cpu_time_s=0.0, shaping_active=0,

@@ -42,12 +42,12 @@ def rollout_and_store(task: RolloutTask, traj_root: str) -> RolloutResult:
     """Evaluate the chunk and write its recorded transitions as one shard (Alg. 1, l. 4-6); returns
     only (``task.record``: the members the guide records)."""
     res = run_task(task)
-    if res.transitions:
+    if res.packed is not None:
         t1 = time.perf_counter()
-        write_shard(traj_root, res.transitions)
+        write_shard(traj_root, res.packed)
         res.store_time_s = time.perf_counter() - t1
-        _remember(traj_root, res.transitions)
-    res.transitions = []
+        _remember(traj_root, res.transitions)  # per-member views of the block
+    res.packed = None
     return res
 
 

@@ -53,7 +53,7 @@ import pyarrow as pa
 import pyarrow.fs as pafs
 import pyarrow.parquet as pq
 
-from shaped_es.data import COLUMNS, Transitions
+from shaped_es.data import COLUMNS, PackedTransitions, Transitions
 
 INT_COLUMNS = ("generation", "member", "episode", "step")
 VECTOR_COLUMNS = ("state", "position", "waypoint", "action")
@@ -152,6 +152,37 @@ def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None,
     return pa.table({c: cols[c] for c in names}).replace_schema_metadata(meta)
 
 
+def _packed_table(block: PackedTransitions, run_id: bytes | None = None) -> pa.Table:
+    """The table :func:`_to_table` makes of ``block.unpack()``, from the block's arrays directly (no
+    per-member concatenation)."""
+    r, T = block.rows, len(block)
+    members = block.members.tolist()
+    cols: dict[str, pa.Array] = {
+        "generation": pa.array(np.full(T, r.generation, np.int32)),
+        "member": pa.array(np.repeat(block.members.astype(np.int32), block.lengths())),  # (T,)
+        "episode": pa.array(np.asarray(r.episode, np.int32).reshape(T)),
+        "step": pa.array(np.asarray(r.step, np.int32).reshape(T)),
+    }
+    for name in VECTOR_COLUMNS:
+        a = np.asarray(getattr(r, name), dtype=np.float32)
+        if a.ndim != 2 or a.shape[0] != T or a.shape[1] == 0:
+            raise TrajectoryStoreError(
+                f"cannot store members {members[0]}-{members[-1]} generation {r.generation}: column '{name}' "
+                f"has shape {a.shape}, expected ({T}, width > 0) (does the env provide info "
+                f"'position'/'waypoint'?)")
+        cols[name] = _vector_column(a)  # (T, w)
+    cols["reward"] = pa.array(np.asarray(r.reward, np.float32).reshape(T))
+    names = list(COLUMNS)
+    if r.expert is not None:
+        cols[EXPERT] = _vector_column(np.asarray(r.expert, np.float32).reshape(T, -1))  # (T, act)
+        names.append(EXPERT)
+    meta = {FORMAT_KEY: FORMAT_VERSION, b"generation": str(r.generation).encode(),
+            b"members": ",".join(map(str, members)).encode()}
+    if run_id is not None:
+        meta[RUN_KEY] = run_id
+    return pa.table({c: cols[c] for c in names}).replace_schema_metadata(meta)
+
+
 def _vector_column(a: np.ndarray) -> pa.Array:
     """``(T, w)`` float32 -> a ``fixed_size_binary[4 w]`` column of T values (one copy at most)."""
     a = np.ascontiguousarray(a, dtype="<f4")  # (T, w)
@@ -174,21 +205,33 @@ def _vector_values(col: pa.Array, name: str, bad) -> np.ndarray:
     raise bad(f"column '{name}' has type {t}, expected fixed_size_binary (float32 vectors)")
 
 
-def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Transitions],
+def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Transitions] | PackedTransitions,
                 stacked: Transitions | None = None) -> str:
     """Write the transitions of one or more members of one generation atomically, as one shard (members
-    in ascending order); returns the shard's path. ``stacked``: the same members already concatenated
-    in that order (``data.concat_members``), used instead of concatenating again."""
-    given = [transitions] if isinstance(transitions, Transitions) else list(transitions)
-    trs = sorted(given, key=lambda t: t.member)
-    if stacked is not None and [t.member for t in given] != [t.member for t in trs]:
-        stacked = None  # not in member order: concatenate here
-    if not trs:
-        raise TrajectoryStoreError("cannot write an empty shard (no members)")
-    if len({t.generation for t in trs}) > 1 or len({t.member for t in trs}) < len(trs):
-        raise TrajectoryStoreError("a shard holds distinct members of one generation")
-    table = _to_table(trs, stacked, _owner(root))
-    dest = shard_path(root, trs[0].generation, trs[0].member, trs[-1].member)
+    in ascending order); returns the shard's path. ``transitions``: one member's, a list, or a block of
+    members (``data.PackedTransitions``, written from its arrays as they are). ``stacked``: the list's
+    members already concatenated in that order (``data.concat_members``), used instead of concatenating
+    again."""
+    if isinstance(transitions, PackedTransitions):
+        block = transitions
+        if len(block.members) == 0:
+            raise TrajectoryStoreError("cannot write an empty shard (no members)")
+        if (np.diff(block.members) <= 0).any():
+            raise TrajectoryStoreError("a shard holds distinct members of one generation, ascending")
+        table = _packed_table(block, _owner(root))
+        generation, first, last = block.generation, int(block.members[0]), int(block.members[-1])
+    else:
+        given = [transitions] if isinstance(transitions, Transitions) else list(transitions)
+        trs = sorted(given, key=lambda t: t.member)
+        if stacked is not None and [t.member for t in given] != [t.member for t in trs]:
+            stacked = None  # not in member order: concatenate here
+        if not trs:
+            raise TrajectoryStoreError("cannot write an empty shard (no members)")
+        if len({t.generation for t in trs}) > 1 or len({t.member for t in trs}) < len(trs):
+            raise TrajectoryStoreError("a shard holds distinct members of one generation")
+        table = _to_table(trs, stacked, _owner(root))
+        generation, first, last = trs[0].generation, trs[0].member, trs[-1].member
+    dest = shard_path(root, generation, first, last)
     fs, path = _resolve(dest)
     parent, name = path.rsplit("/", 1) if not isinstance(fs, pafs.LocalFileSystem) else os.path.split(path)
     tmp = f"{parent}/.{name}.{uuid.uuid4().hex}.tmp"
