@@ -60,7 +60,8 @@ def cmd_report(a: argparse.Namespace) -> int:
     """Fig. 4, the performance profile and Fig. 5 (or, for ``--out x.md``, the benchmark's report page)."""
     from shaped_es.benchmark.cli_commands import check_threshold
     from shaped_es.benchmark.markdown import draw_figures, write_report
-    from shaped_es.benchmark.summary import group_runs, load_runs, report_env, summarize
+    from shaped_es.benchmark.grouping import group_runs, report_env
+    from shaped_es.benchmark.summary import load_runs, summarize
     from shaped_es.config import ConfigError
 
     check_threshold(a.threshold)
