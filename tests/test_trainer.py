@@ -67,9 +67,11 @@ def test_kill_and_resume_gives_identical_rows(tmp_path):
     cfg = tmp_path / "tiny.yaml"
     import yaml
 
-    cfg.write_text(yaml.safe_dump({**TINY, "generations": 14, "executor": "inline"}))
-    full = popen_cli("train", "--config", str(cfg), "--out", str(tmp_path / "full"), "--quiet")
-    assert full.wait(timeout=300) == 0, full.stderr.read()
+    over = {"generations": 14, "executor": "inline"}
+    cfg.write_text(yaml.safe_dump({**TINY, **over}))
+    # the uninterrupted reference is trained in this process (the Trainer the command line runs, one
+    # process start-up less); the killed run and its resume are real processes
+    train(tmp_path / "full", {**TINY, **over})
 
     run = tmp_path / "killed"
     p = popen_cli("train", "--config", str(cfg), "--out", str(run), "--quiet")
@@ -107,10 +109,9 @@ def test_cli_bad_input_one_line_exit_2(tmp_path, args, needle):
 
 
 def test_cli_existing_run_refused_and_untouched(tmp_path):
-    p = popen_cli("train", "--env", "CartPole-v1", "--generations", "1", "--executor", "inline",
-             "--set", "es.pairs=2", "--set", "rollout.test_episodes=1", "--out", str(tmp_path / "r"),
-             "--quiet")
-    assert p.wait(timeout=120) == 0, p.stderr.read()
+    # the existing run is trained in this process; the refused command is a process of its own
+    train(tmp_path / "r", {"env": "CartPole-v1", "generations": 1, "executor": "inline", "es": {"pairs": 2},
+                           "rollout": {"test_episodes": 1}})
     before = (tmp_path / "r" / "metrics.csv").read_bytes()
     q = popen_cli("train", "--env", "CartPole-v1", "--out", str(tmp_path / "r"))
     _, err = q.communicate(timeout=60)

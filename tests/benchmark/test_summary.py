@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from shaped_es.benchmark.markdown import write_report
-from shaped_es.benchmark.summary import group_runs, summarize
+from shaped_es.benchmark.grouping import group_runs
+from shaped_es.benchmark.summary import summarize
 from shaped_es.config import build_config
 from shaped_es.rundir.store import RunStore, StoreError
 
@@ -180,7 +181,7 @@ def test_report_says_which_method_beats_which(tmp_path):
 
 
 def test_settings_show_what_each_method_uses_as_plain_values(runs, tmp_path):
-    from shaped_es.benchmark.summary import method_settings
+    from shaped_es.benchmark.grouping import method_settings
 
     def settings(method, **over):
         return method_settings(build_config({"env": "CarNav-v0", "method": method, "es": {"sigma": 0.1},

@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 from fault_run import config, edit_npz, one_error_line, run_cli, write_config
 
+from shaped_es.cli.commands import main
+
 TINY = ["--executor", "inline", "--generations", "2", "--pairs", "2", "--set", "rollout.episodes=1", "--set",
         "rollout.test_episodes=1", "--set", "policy.hidden=[4]", "--set", "tensorboard=false", "--quiet"]
 SHAPED = ["--method", "shaped", "--set", "shaping.inverse_dynamics.steps_per_generation=20", "--set",
@@ -73,7 +75,9 @@ def test_check_env_names_dims_that_differ(faults_path):
 def test_no_checkpoint_holds_a_non_finite_guide_array_and_resume_names_the_fallback(tmp_path, faults_path):
     cfg = write_config(tmp_path / "c.yaml", config("shaped", generations=3, checkpoint_every=1))
     run = tmp_path / "run"
-    assert run_cli("train", "--config", cfg, "--out", run, "--quiet").returncode == 0
+    # the healthy run that is then damaged trains in this process (faults_path: fault_envs imports here);
+    # the resume under test is a process of its own
+    assert main(["train", "--config", str(cfg), "--out", str(run), "--quiet"]) == 0
     key = "guide/mphi/net/flat"
     edit_npz(lambda a: {**a, key: np.full_like(a[key], np.nan)})(run, tmp_path)  # bound, digest matching
     res = run_cli("resume", run, "--generations", 4, "--quiet")

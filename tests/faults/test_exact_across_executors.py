@@ -20,24 +20,38 @@ WHERE = {"inline": ["--executor", "inline"], "process-1": ["--executor", "proces
          "process-2": ["--executor", "process", "--workers", "2"]}
 
 
+def _train(tmp, method: str, where: str) -> list[dict]:
+    """The rows (times aside) of ``RUNS[method]`` trained by the command line with ``WHERE[where]``."""
+    cfg = write_config(tmp / "c.yaml", RUNS[method])
+    res = run_cli("train", "--config", cfg, *WHERE[where], "--out", tmp / where, "--quiet")
+    assert res.returncode == 0, res.stderr
+    return strip_time(RunStore(tmp / where).read_metrics())
+
+
+@pytest.fixture(scope="module")
+def inline_rows(tmp_path_factory):
+    """``inline_rows(method)``: the inline run of each method, trained once for the module (both tests
+    below compare against the same uninterrupted inline run of RUNS['vanilla'])."""
+    done: dict[str, list[dict]] = {}
+
+    def rows(method: str) -> list[dict]:
+        if method not in done:
+            done[method] = _train(tmp_path_factory.mktemp(f"inline-{method}"), method, "inline")
+        return done[method]
+
+    return rows
+
+
 @pytest.mark.parametrize("method", list(RUNS))
-def test_same_rows_inline_and_with_1_or_2_worker_processes(tmp_path, method):
-    cfg = write_config(tmp_path / "c.yaml", RUNS[method])
-    rows = {}
-    for name, flags in WHERE.items():
-        res = run_cli("train", "--config", cfg, *flags, "--out", tmp_path / name, "--quiet")
-        assert res.returncode == 0, res.stderr
-        rows[name] = strip_time(RunStore(tmp_path / name).read_metrics())
-    assert rows["process-1"] == rows["inline"]
-    assert rows["process-2"] == rows["inline"]
+def test_same_rows_inline_and_with_1_or_2_worker_processes(tmp_path, method, inline_rows):
+    assert _train(tmp_path, method, "process-1") == inline_rows(method)
+    assert _train(tmp_path, method, "process-2") == inline_rows(method)
 
 
-def test_an_inline_run_resumed_with_2_processes_continues_exactly(tmp_path):
+def test_an_inline_run_resumed_with_2_processes_continues_exactly(tmp_path, inline_rows):
     cfg = write_config(tmp_path / "c.yaml", RUNS["vanilla"])
-    assert run_cli("train", "--config", cfg, "--executor", "inline", "--out", tmp_path / "ref", "--quiet"
-                   ).returncode == 0
     assert run_cli("train", "--config", cfg, "--executor", "inline", "--generations", 2, "--out", tmp_path / "r",
                    "--quiet").returncode == 0
     res = run_cli("resume", tmp_path / "r", "--generations", 3, "--executor", "process", "--workers", 2, "--quiet")
     assert res.returncode == 0, res.stderr
-    assert strip_time(RunStore(tmp_path / "r").read_metrics()) == strip_time(RunStore(tmp_path / "ref").read_metrics())
+    assert strip_time(RunStore(tmp_path / "r").read_metrics()) == inline_rows("vanilla")

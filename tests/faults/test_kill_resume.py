@@ -14,7 +14,7 @@ import json
 
 import pytest
 from fault_run import HERE, config, leftovers, run_cli, write_config
-from helpers import strip_time
+from helpers import strip_time, train
 from killer import POINTS
 
 from shaped_es.rundir.store import RunStore
@@ -34,11 +34,10 @@ _REFERENCE: dict[str, list[dict]] = {}
 
 def _reference(method: str, tmp_path_factory) -> list[dict]:
     if method not in _REFERENCE:
+        # the uninterrupted run is trained in this process (the Trainer the command line runs, one process
+        # start-up less; faults_path makes fault_envs importable here); the killed runs are processes
         d = tmp_path_factory.mktemp(f"ref_{method}")
-        cfg = write_config(d / "cfg.yaml", config(method))
-        res = run_cli("train", "--config", cfg, "--out", d / "run", "--quiet")
-        assert res.returncode == 0, res.stderr[-3000:]
-        _REFERENCE[method] = RunStore(d / "run").read_metrics()
+        _REFERENCE[method] = train(d / "run", config(method)).read_metrics()
     return _REFERENCE[method]
 
 

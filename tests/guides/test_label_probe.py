@@ -13,7 +13,7 @@ from shaped_es.data import Transitions
 from shaped_es.guides import label_probe
 from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
 from shaped_es.shaping.frames import last_step
-from shaped_es.shaping.inverse_dynamics import mixed_query, query_displacement
+from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
 
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",

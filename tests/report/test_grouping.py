@@ -7,10 +7,19 @@ import warnings
 
 import pytest
 
-from shaped_es.benchmark.summary import ReportWarning, group_runs
+from shaped_es.benchmark.grouping import ReportWarning, group_runs
 from shaped_es.cli.commands import main
 from shaped_es.config import build_config
 from shaped_es.rundir.store import RunStore
+
+
+def test_grouping_names_stay_importable_from_summary():
+    """``benchmark/grouping.py`` was part of ``benchmark/summary.py``: its names are still importable there."""
+    from shaped_es.benchmark import grouping, summary
+
+    for name in ("ReportWarning", "group_runs", "report_env", "run_settings", "method_settings", "non_defaults",
+                 "plain", "uses"):
+        assert getattr(summary, name) is getattr(grouping, name), name
 
 
 def make_run(root, method="shaped", env="CarNav-v0", seed=0, tests=(1.0, 2.0), **over):

@@ -2,7 +2,7 @@ import numpy as np
 
 from shaped_es.data import Transitions
 from shaped_es.shaping.frames import motion_angle, to_frame
-from shaped_es.shaping.inverse_dynamics import query_displacement, training_pairs
+from shaped_es.shaping.mphi_inputs import query_displacement, training_pairs
 
 
 def _car(theta: float) -> Transitions:

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from shaped_es.data import Transitions
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, query_displacement
+from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import ControllerLabels, MphiLabels, ReferenceLabels, clip_norm
+from shaped_es.shaping.mphi_inputs import query_displacement
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
 

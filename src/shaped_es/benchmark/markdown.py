@@ -11,7 +11,8 @@ import json
 import math
 from pathlib import Path
 
-from shaped_es.benchmark.summary import load_runs, method_settings, plain, report_env, summarize
+from shaped_es.benchmark.grouping import method_settings, plain, report_env
+from shaped_es.benchmark.summary import load_runs, summarize
 from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands

@@ -1,5 +1,7 @@
 """``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench),
-and the commands that explain: config / envs / check-env (``info.py``).
+and the commands that explain: config / envs / check-env (``info.py``). Here: the parser, train and resume,
+and how a command ends; evaluate, report and render are in ``results.py``, speed in ``speed_commands.py``,
+benchmark and suite in ``benchmark/cli_commands.py``.
 
 Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
 directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
@@ -18,10 +20,16 @@ import os
 import re
 import sys
 import warnings
-from pathlib import Path
 
 from shaped_es.cli.errors import (Terminated, WarningRoute, config_data, continue_hint, error_line, mpi_spawn_command,
                                   on_signals, restore_signals, supervise)
+from shaped_es.cli.results import (  # noqa: F401 - add_report_parser, add_render_parser: importable from here too
+    RUN_DIR_HELP,
+    add_evaluate_parser,
+    add_render_parser,
+    add_report_parser,
+)
+from shaped_es.cli.speed_commands import add_speed_parser
 
 
 
@@ -157,135 +165,6 @@ def _num(v):
         return None
 
 
-def cmd_evaluate(a: argparse.Namespace) -> int:
-    from shaped_es.trained.evaluate import evaluate_run
-
-    print(json.dumps(evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)))
-    return 0
-
-
-RUN_DIR_HELP = "a run directory (the --out of train)"
-POLICY_HELP = "best: the policy with the best test reward so far; mean: the latest (ES: the search mean)"
-FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
-REPORT_OUT = "shaped-es-report/report.md"  # report's default: never loose files in the working folder
-
-
-def add_report_parser(sub) -> argparse.ArgumentParser:
-    from shaped_es.benchmark.cli_commands import add_threshold
-
-    r = sub.add_parser("report", help="Fig. 4/5 (mean + CI over seeds, grouped by method) for any runs")
-    r.add_argument("run_dirs", nargs="+", help="run directories, or benchmark directories (their runs/)")
-    r.add_argument("--out", default=REPORT_OUT,
-                   help="a .md report page (summary.json and figures/ beside it) or a figure (.png/.pdf/.svg: "
-                        f"Fig. 4 there, the profile and Fig. 5 beside it) (default: {REPORT_OUT}, a folder of "
-                        "its own)")
-    r.add_argument("--title", help="figure / report title (default: the env and the seeds)")
-    add_threshold(r)
-    r.set_defaults(fn=cmd_report)
-    return r
-
-
-def expand_run_dirs(paths: list[str]) -> list[Path]:
-    """Run directories as given; a benchmark directory stands for every run under its ``runs/``."""
-    out: list[Path] = []
-    for p in map(Path, paths):
-        if not (p / "config.yaml").is_file() and (p / "runs").is_dir():
-            out += sorted(d for d in (p / "runs").iterdir() if (d / "config.yaml").is_file())
-        else:
-            out.append(p)
-    return out
-
-
-def cmd_report(a: argparse.Namespace) -> int:
-    """Fig. 4, the performance profile and Fig. 5 (or, for ``--out x.md``, the benchmark's report page)."""
-    from shaped_es.benchmark.cli_commands import check_threshold
-    from shaped_es.benchmark.markdown import draw_figures, write_report
-    from shaped_es.benchmark.summary import group_runs, load_runs, report_env, summarize
-    from shaped_es.config import ConfigError
-
-    check_threshold(a.threshold)
-    groups, configs = group_runs(expand_run_dirs(a.run_dirs))
-    out = Path(a.out)
-    suffix = out.suffix.lower()
-    if suffix == ".md":
-        from shaped_es.benchmark.markdown import FIG4, FIG5, PROFILE
-
-        beside = [out.parent / "summary.json", *(out.parent / "figures" / f for f in (FIG4, FIG5, PROFILE))]
-        taken = [str(p) for p in beside if p.exists()]
-        if taken and not out.exists():  # files a report page writes, but not from a report here
-            raise ConfigError(f"--out {out} would overwrite {', '.join(taken)}, which no report {out.name} "
-                              f"wrote; choose a directory of its own (or the existing report to redraw it)")
-        print(json.dumps(write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)))
-        return 0
-    if suffix not in FIGURE_SUFFIXES:
-        raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
-    metrics = {k: load_runs(dirs) for k, dirs in groups.items()}
-    env, scale = report_env(configs)
-    summary = summarize(metrics, threshold=a.threshold, config=scale)
-    figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
-                                           "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
-                        env, a.title or "")
-    print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
-    return 0
-
-
-def add_render_parser(sub) -> argparse.ArgumentParser:
-    r = sub.add_parser("render", help="write a rollout of a run's trained policy as a GIF")
-    r.add_argument("run_dir", help=RUN_DIR_HELP)
-    r.add_argument("--out", default="video.gif", help="output .gif")
-    r.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
-    r.add_argument("--episodes", type=int, default=1, help="episodes in the GIF, one after another")
-    r.add_argument("--seed", type=int, default=12345,
-                   help="seed of the rendered episodes (evaluate's: the same seed gives its first episodes)")
-    r.add_argument("--max-steps", type=int,
-                   help="cap on steps per episode (default: the run's rollout.max_steps, else the env's limit)")
-    r.add_argument("--fps", type=float, default=30.0, help="frames per second of the GIF")
-    r.add_argument("--every", type=int, default=1, help="keep every N-th frame")
-    r.set_defaults(fn=cmd_render)
-    return r
-
-
-def cmd_render(a: argparse.Namespace) -> int:
-    from shaped_es.trained.render import render_run
-
-    res = render_run(a.run_dir, a.out, episodes=a.episodes, which=a.policy, seed=a.seed,
-                     max_steps=a.max_steps, fps=a.fps, every=a.every)
-    print(json.dumps(res))
-    return 0
-
-
-def cmd_bench(a: argparse.Namespace) -> int:
-    import shaped_es  # noqa: F401
-    from shaped_es.speed.env_speed import bench_env
-    from shaped_es.rollout import make_env
-
-    make_env(a.env_id, {}).close()  # one clear error for unknown ids before spawning workers
-    res = bench_env(a.env_id, num_envs=a.num_envs, workers=a.workers, seconds=a.seconds)
-    print(json.dumps(res) if a.json else "\n".join(f"{k}: {v}" for k, v in res.items()))
-    return 0
-
-
-def cmd_bench_executors(a: argparse.Namespace) -> int:
-    from shaped_es.speed.executor_overhead import bench_executors
-
-    names = [n.strip() for n in a.executors.split(",") if n.strip()]
-    res = bench_executors(tuple(names), env_id=a.env, pairs=a.pairs, workers=a.workers,
-                          generations=a.generations)
-    print(json.dumps(res) if a.json else json.dumps(res, indent=2))
-    return 0
-
-
-def cmd_bench_shaping(a: argparse.Namespace) -> int:
-    from shaped_es.speed.shaping_cost import bench_shaping, format_table
-    from shaped_es.config import parse_set
-
-    envs = tuple(e.strip() for e in a.envs.split(",") if e.strip())
-    res = bench_shaping(envs, generations=a.generations, warmup=a.warmup, executor=a.executor,
-                        workers=a.workers, overrides=parse_set(a.set))
-    print(json.dumps(res) if a.json else format_table(res))
-    return 0
-
-
 def _config_default(dotted: str):
     from shaped_es.config import RunConfig
 
@@ -359,13 +238,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.set_defaults(fn=cmd_resume)
 
-    e = sub.add_parser("evaluate", help="evaluate a run's policy on fresh test episodes")
-    e.add_argument("run_dir", help=RUN_DIR_HELP)
-    e.add_argument("--episodes", type=int, default=15, help="test episodes")
-    e.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
-    e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
-    e.set_defaults(fn=cmd_evaluate)
-
+    add_evaluate_parser(sub)
     from shaped_es.benchmark.cli_commands import add_benchmark_parser, add_suite_parser
 
     add_benchmark_parser(sub)
@@ -376,39 +249,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     cli_info.add_parsers(sub)  # config, envs, check-env
 
-    # "speed", so it is not confused with "benchmark" (the multi-seed study); "bench" still works
-    b = sub.add_parser("speed", aliases=["bench"], help="speed benchmarks that print figures (JSON with --json)")
-    bsub = b.add_subparsers(dest="what", required=True)
-    be = bsub.add_parser("env", help="env + policy steps per second on all cores")
-    be.add_argument("env_id", help="Gymnasium id, e.g. CarNav-v0")
-    be.add_argument("--num-envs", type=int, default=1024, help="episodes stepped together per worker")
-    be.add_argument("--workers", type=int, help="worker processes (default: all cores)")
-    be.add_argument("--seconds", type=float, default=6.0, help="how long to measure")
-    be.add_argument("--json", action="store_true", help="one line of JSON")
-    be.set_defaults(fn=cmd_bench)
-    bx = bsub.add_parser("executors", help="generation time and overhead per executor (population 64)")
-    bx.add_argument("--executors", default="process,ray,mpi", help="comma-separated (default: all)")
-    bx.add_argument("--env", help="env id (default: CarNav-v0)")
-    bx.add_argument("--pairs", type=int, default=32, help="antithetic pairs (population = 2 x pairs)")
-    bx.add_argument("--workers", type=int, help="worker count (default: all cores)")
-    bx.add_argument("--generations", type=int, default=5, help="timed generations (median reported)")
-    bx.add_argument("--json", action="store_true", help="one line of JSON")
-    bx.set_defaults(fn=cmd_bench_executors)
-    from shaped_es.speed import strategy_speed
-
-    bst = bsub.add_parser("strategies", help="ES master per generation (ask + tell + guide) vs policy size")
-    strategy_speed.add_arguments(bst)  # --sizes 2.4k,100k,1M --strategies --generations --json ...
-    bst.set_defaults(fn=strategy_speed.run_cli)
-    bs = bsub.add_parser("shaping", help="a shaped generation vs a vanilla one, side by side, per phase")
-    bs.add_argument("--envs", default="CarNav-v0,UR5Reach-v0", help="comma-separated env ids")
-    bs.add_argument("--generations", type=int, default=10, help="timed generations (medians reported)")
-    bs.add_argument("--warmup", type=int, default=3, help="untimed generations first")
-    bs.add_argument("--executor", default="process", choices=("inline", "process"), help="where rollouts run")
-    bs.add_argument("--workers", type=int, help="worker processes (default: all cores)")
-    bs.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", type=set_item,
-                    help="config override for the shaped run only, e.g. shaping.cloning.steps=5")
-    bs.add_argument("--json", action="store_true", help="one line of JSON")
-    bs.set_defaults(fn=cmd_bench_shaping)
+    add_speed_parser(sub)
     use_formatter(p)
     return p
 

@@ -58,8 +58,9 @@ from shaped_es.rollout import RolloutTask, run_task, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, mixed_query, query_displacement
+from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import clip_norm
+from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
 GENERATIONS = 2  # generations of probe data (babblers + members around the initial mean)

@@ -18,7 +18,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats as sps
+
+
+def _sps():
+    """``scipy.stats``, imported on first use: it takes ~0.6 s, which a run's ``plot_runs`` figure and a
+    command-line start do not need."""
+    from scipy import stats
+
+    return stats
+
 
 RESAMPLES = 2000  # bootstrap resamples (rliable's default)
 SEED = 0  # bootstrap seed: the same runs always give the same summary.json
@@ -35,7 +43,7 @@ def iqm(values, axis: int = -1):
     v = np.asarray(values, dtype=np.float64)
     if v.shape[axis] == 0:
         return math.nan
-    return sps.trim_mean(v, 0.25, axis=axis)
+    return _sps().trim_mean(v, 0.25, axis=axis)
 
 
 def bootstrap_ci(samples: list, statistic, level: float = 0.95, resamples: int = RESAMPLES,
@@ -45,8 +53,8 @@ def bootstrap_ci(samples: list, statistic, level: float = 0.95, resamples: int =
     samples = [_finite(s) for s in samples]
     if any(s.size < 2 for s in samples):
         return None
-    res = sps.bootstrap(tuple(samples), statistic, n_resamples=resamples, confidence_level=level,
-                        method="percentile", vectorized=True, paired=False, rng=np.random.default_rng(seed))
+    res = _sps().bootstrap(tuple(samples), statistic, n_resamples=resamples, confidence_level=level,
+                           method="percentile", vectorized=True, paired=False, rng=np.random.default_rng(seed))
     lo, hi = res.confidence_interval
     return float(lo), float(hi)
 
@@ -74,7 +82,7 @@ def probability_of_improvement(x, y, level: float = 0.95, resamples: int = RESAM
         return {"p": math.nan, "ci": None, "p_value": math.nan}
     ties = np.unique(np.concatenate([x, y])).size < x.size + y.size
     exact = not ties and max(x.size, y.size) <= EXACT_MAX
-    u = sps.mannwhitneyu(x, y, alternative="two-sided", method="exact" if exact else "asymptotic")
+    u = _sps().mannwhitneyu(x, y, alternative="two-sided", method="exact" if exact else "asymptotic")
     # u.statistic: U of x = #(x > y) + #(x = y) / 2 over all pairs
     p = float(u.statistic) / (x.size * y.size)
     ci = bootstrap_ci([x, y], _poi, level, resamples)
@@ -103,7 +111,7 @@ def profile_band(values, taus, level: float = 0.95, resamples: int = RESAMPLES):
         a = np.moveaxis(a, axis, -1)
         return (a[None, ..., :] > taus.reshape(-1, *([1] * a.ndim))).mean(axis=-1)
 
-    res = sps.bootstrap((v,), stat, n_resamples=resamples, confidence_level=level, method="percentile",
-                        vectorized=True, rng=np.random.default_rng(SEED))
+    res = _sps().bootstrap((v,), stat, n_resamples=resamples, confidence_level=level, method="percentile",
+                           vectorized=True, rng=np.random.default_rng(SEED))
     lo, hi = (np.asarray(b, dtype=np.float64) for b in res.confidence_interval)
     return prof, lo, hi

@@ -11,14 +11,21 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats as sps
+
+
+def _sps():
+    """``scipy.stats``, imported on first use: it takes ~0.6 s, which a run's ``plot_runs`` figure and a
+    command-line start do not need."""
+    from scipy import stats
+
+    return stats
 
 
 def student_t_ppf(q: float, df: float) -> float:
     """Quantile of Student's t with ``df`` degrees of freedom."""
     if not 0.0 < q < 1.0:
         raise ValueError(f"quantile level must lie in (0, 1), got {q}")
-    return float(sps.t.ppf(q, df))
+    return float(_sps().t.ppf(q, df))
 
 
 def t_interval(values, level: float = 0.95) -> tuple[float, float]:
@@ -62,7 +69,7 @@ def band(curves: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray, level: f
     mean[some] = np.nanmean(Y[:, some], axis=0)
     if two.any():
         sd = np.nanstd(Y[:, two], axis=0, ddof=1)  # (G2,)
-        half[two] = sps.t.ppf(0.5 + level / 2.0, n[two] - 1) * sd / np.sqrt(n[two])
+        half[two] = _sps().t.ppf(0.5 + level / 2.0, n[two] - 1) * sd / np.sqrt(n[two])
     return mean, mean - half, mean + half, n
 
 

@@ -6,6 +6,9 @@ input is the state concatenated with a *displacement* in waypoint space:
 - training pairs (from rollouts): ``(s_t, position_{t+1} - position_t) -> a_t`` (what the agent did);
 - queries (labelling, Eq. L(theta)): ``(s_t, waypoint_t - position_t) -> a_hat_t`` (what it should do).
 
+Both are formed from recorded steps in ``mphi_inputs.py`` (frames, targets, the return filter, query
+mixing and scaling); this module holds the model: its data set, training, labelling and state.
+
 Paper settings (experiments section): MLP, 2 hidden layers of 20 with ReLU (navigation; the arm adds one
 more layer), Adam lr 1e-3, batch 64; the master trains it on all workers' trajectories, aggregated over
 generations; trajectories (episodes) whose cumulative reward is below 5 are discarded. The output is
@@ -29,114 +32,19 @@ import numpy as np
 
 from shaped_es.data import Transitions
 from shaped_es.shaping import kernels
-from shaped_es.shaping.frames import frame_dim, last_step, to_frame
+from shaped_es.shaping.frames import frame_dim
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
-from shaped_es.shaping.settings import QUERY_SCALES, TARGETS, InverseDynamicsConfig
-
+from shaped_es.shaping.mphi_inputs import (  # noqa: F401 - the input helpers stay importable from here
+    episode_end,
+    kept_episodes,
+    mixed_query,
+    query_displacement,
+    target_pairs,
+    training_pairs,
+)
+from shaped_es.shaping.settings import InverseDynamicsConfig
 
 LABEL_CHUNK = 4096  # rows per forward pass when labelling
-
-
-def episode_end(tr: Transitions) -> np.ndarray:
-    """Row index ``(T,)`` of the last step of each row's episode (rows are contiguous per episode)."""
-    T = len(tr)
-    if T == 0:
-        return np.zeros(0, np.int64)
-    brk = ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))  # (T-1,) new run
-    last = np.flatnonzero(np.append(brk, True))  # (runs,) last row of each contiguous run
-    return last[np.searchsorted(last, np.arange(T))]  # (T,)
-
-
-def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon: int = 8,
-                 rng: np.random.Generator | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Training triples ``(s_t, position_{t+h} - position_t, a_t)`` for the rows that have a successor.
-
-    - ``one_step`` (paper): ``h = 1``, what one action did;
-    - ``hindsight``: ``h ~ U{1..horizon}`` (goal-conditioned relabelling, as GCSL): a displacement the
-      agent reached from ``s_t`` in a few steps, labelled with its first action ``a_t``;
-    - ``matched``: the smallest ``h <= horizon`` whose displacement reaches the query distance
-      ``|waypoint_t - position_t|`` of that state, so training inputs lie where queries do.
-
-    ``h`` never crosses the end of the episode. Returns ``(T', obs)``, ``(T', d)``, ``(T', act)``.
-    """
-    end = episode_end(tr)  # (T,)
-    idx = np.arange(len(tr))
-    room = end - idx  # (T,) steps left in the episode
-    rows = room > 0
-    if targets == "one_step":
-        h = np.ones(len(tr), np.int64)
-    elif targets == "hindsight":
-        gen = rng if rng is not None else np.random.default_rng(0)
-        h = gen.integers(1, horizon + 1, size=len(tr))
-    elif targets == "matched":
-        want = np.linalg.norm(tr.waypoint - tr.position, axis=1)  # (T,) query distance
-        h = np.full(len(tr), horizon, np.int64)
-        found = np.zeros(len(tr), bool)
-        for k in range(1, horizon + 1):  # smallest k reaching the query distance
-            j = np.minimum(idx + k, end)
-            hit = ~found & (np.linalg.norm(tr.position[j] - tr.position, axis=1) >= want)
-            h[hit], found = k, found | hit
-    else:
-        raise ValueError(f"targets must be one of {TARGETS}, got {targets!r}")
-    h = np.minimum(h, np.maximum(room, 1))
-    disp = to_frame(tr, tr.position[np.minimum(idx + h, end)] - tr.position, frame)  # (T, d)
-    return tr.state[rows], disp[rows], tr.action[rows]
-
-
-def kept_episodes(tr: Transitions, min_return: float, filter: str) -> tuple[np.ndarray, np.ndarray]:
-    """``(episodes, kept)``: the episode ids of ``tr`` and those passing the filter (Sec. IV: "trajectories
-    which do not have a cumulative positive reward of 5 are discarded")."""
-    eps, inv = np.unique(tr.episode, return_inverse=True)
-    if filter == "none":
-        return eps, eps
-    r = np.maximum(tr.reward, 0.0) if filter == "positive" else tr.reward
-    ret = np.bincount(inv.reshape(-1), weights=r.astype(np.float64), minlength=eps.size)  # (E,) returns
-    return eps, eps[ret >= min_return]
-
-
-def training_pairs(tr: Transitions, frame: str = "world") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(s_t, position_{t+1} - position_t, a_t)`` for every step with a successor in its episode (the
-    paper's pairs: :func:`target_pairs` with ``targets="one_step"``)."""
-    return target_pairs(tr, frame, "one_step")
-
-
-def mixed_query(toward: np.ndarray, last: np.ndarray, mix: float) -> np.ndarray:
-    """``(1 - mix) * last + mix * toward`` ``(..., d)``: the last step turned a share ``mix`` of the way to
-    the waypoint (``mix = 1``: the paper's ``w_t - p_t``). Continuing the current motion is something
-    the body can do next (a torque-driven arm cannot stop or start within a step, a unicycle cannot move
-    sideways), so a query near it stays inside M_phi's training data, where its labels hold, and the
-    labels change smoothly with the state, which the clone can fit."""
-    if mix == 1.0:
-        return toward
-    return (1.0 - mix) * last + mix * toward
-
-
-def query_displacement(tr: Transitions, frame: str = "world", scale: str = "raw", mix: float = 1.0) -> np.ndarray:
-    """The displacement ``(T, d)`` M_phi is asked to produce from ``s_t``.
-
-    - ``raw`` (paper): ``waypoint_t - position_t``, with ``mix < 1`` mixed with the last step
-      (:func:`mixed_query`);
-    - ``own_step``: its direction, at the length of the step the agent actually took from ``s_t``
-      (``|position_{t+1} - position_t|``; an episode's last step takes the one before it): "head for the
-      waypoint at the pace you go", a query inside the one-step training data by construction, whose label
-      corrects the heading and keeps the member's own pace.
-    """
-    toward = tr.waypoint - tr.position
-    if mix != 1.0 and len(tr):
-        toward = mixed_query(toward.astype(np.float64), last_step(tr), mix)
-    q = to_frame(tr, toward.astype(np.float32), frame)  # (T, d)
-    if scale == "raw" or len(tr) == 0:
-        return q
-    if scale != "own_step":
-        raise ValueError(f"query scale must be one of {QUERY_SCALES}, got {scale!r}")
-    end, idx = episode_end(tr), np.arange(len(tr))
-    nxt = np.minimum(idx + 1, end)  # (T,) the successor in the episode (itself on the last step)
-    first = np.append(True, end[:-1] == idx[:-1])  # (T,) a row that follows an episode's last step
-    step = np.linalg.norm(tr.position[nxt] - tr.position, axis=1)  # (T,) |p_{t+1} - p_t|
-    last = (nxt == idx) & ~first  # an episode's last step: the step into it
-    step[last] = step[idx[last] - 1]
-    n = np.linalg.norm(q, axis=1)  # (T,)
-    return (q * (step / np.maximum(n, 1e-12))[:, None]).astype(np.float32)  # (T, d)
 
 
 class RunningNorm:

@@ -25,7 +25,8 @@ from collections.abc import Callable
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, query_displacement
+from shaped_es.shaping.inverse_dynamics import InverseDynamics
+from shaped_es.shaping.mphi_inputs import query_displacement
 
 LABEL_SOURCES = ("mphi", "reference", "controller")
 

@@ -28,7 +28,6 @@ which reproduces every internal array bit for bit (checked against the saved mea
 
 from __future__ import annotations
 
-import cma
 import numpy as np
 
 from shaped_es.strategies.base import Strategy
@@ -69,6 +68,8 @@ class CMAES(Strategy):
         }
 
     def _build(self) -> None:
+        import cma  # here, not at the top: pycma imports scipy.stats (~1 s), which a run of another method need not
+
         self._rng_state = np.random.RandomState(self.seed).get_state()  # our private global state
         self._es = self._isolated(lambda: cma.CMAEvolutionStrategy(self.x0.copy(), self.sigma0,
                                                                    self._options()))

@@ -1,0 +1,115 @@
+"""``shaped-es evaluate``, ``report`` and ``render``: the commands that use finished runs (a run's policy on
+fresh episodes, figures and a report page over runs, a GIF of a rollout)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+RUN_DIR_HELP = "a run directory (the --out of train)"
+POLICY_HELP = "best: the policy with the best test reward so far; mean: the latest (ES: the search mean)"
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
+REPORT_OUT = "shaped-es-report/report.md"  # report's default: never loose files in the working folder
+
+
+def add_evaluate_parser(sub) -> argparse.ArgumentParser:
+    e = sub.add_parser("evaluate", help="evaluate a run's policy on fresh test episodes")
+    e.add_argument("run_dir", help=RUN_DIR_HELP)
+    e.add_argument("--episodes", type=int, default=15, help="test episodes")
+    e.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
+    e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
+    e.set_defaults(fn=cmd_evaluate)
+    return e
+
+
+def cmd_evaluate(a: argparse.Namespace) -> int:
+    from shaped_es.trained.evaluate import evaluate_run
+
+    print(json.dumps(evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)))
+    return 0
+
+
+def add_report_parser(sub) -> argparse.ArgumentParser:
+    from shaped_es.benchmark.cli_commands import add_threshold
+
+    r = sub.add_parser("report", help="Fig. 4/5 (mean + CI over seeds, grouped by method) for any runs")
+    r.add_argument("run_dirs", nargs="+", help="run directories, or benchmark directories (their runs/)")
+    r.add_argument("--out", default=REPORT_OUT,
+                   help="a .md report page (summary.json and figures/ beside it) or a figure (.png/.pdf/.svg: "
+                        f"Fig. 4 there, the profile and Fig. 5 beside it) (default: {REPORT_OUT}, a folder of "
+                        "its own)")
+    r.add_argument("--title", help="figure / report title (default: the env and the seeds)")
+    add_threshold(r)
+    r.set_defaults(fn=cmd_report)
+    return r
+
+
+def expand_run_dirs(paths: list[str]) -> list[Path]:
+    """Run directories as given; a benchmark directory stands for every run under its ``runs/``."""
+    out: list[Path] = []
+    for p in map(Path, paths):
+        if not (p / "config.yaml").is_file() and (p / "runs").is_dir():
+            out += sorted(d for d in (p / "runs").iterdir() if (d / "config.yaml").is_file())
+        else:
+            out.append(p)
+    return out
+
+
+def cmd_report(a: argparse.Namespace) -> int:
+    """Fig. 4, the performance profile and Fig. 5 (or, for ``--out x.md``, the benchmark's report page)."""
+    from shaped_es.benchmark.cli_commands import check_threshold
+    from shaped_es.benchmark.markdown import draw_figures, write_report
+    from shaped_es.benchmark.grouping import group_runs, report_env
+    from shaped_es.benchmark.summary import load_runs, summarize
+    from shaped_es.config import ConfigError
+
+    check_threshold(a.threshold)
+    groups, configs = group_runs(expand_run_dirs(a.run_dirs))
+    out = Path(a.out)
+    suffix = out.suffix.lower()
+    if suffix == ".md":
+        from shaped_es.benchmark.markdown import FIG4, FIG5, PROFILE
+
+        beside = [out.parent / "summary.json", *(out.parent / "figures" / f for f in (FIG4, FIG5, PROFILE))]
+        taken = [str(p) for p in beside if p.exists()]
+        if taken and not out.exists():  # files a report page writes, but not from a report here
+            raise ConfigError(f"--out {out} would overwrite {', '.join(taken)}, which no report {out.name} "
+                              f"wrote; choose a directory of its own (or the existing report to redraw it)")
+        print(json.dumps(write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)))
+        return 0
+    if suffix not in FIGURE_SUFFIXES:
+        raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
+    metrics = {k: load_runs(dirs) for k, dirs in groups.items()}
+    env, scale = report_env(configs)
+    summary = summarize(metrics, threshold=a.threshold, config=scale)
+    figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
+                                           "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
+                        env, a.title or "")
+    print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
+    return 0
+
+
+def add_render_parser(sub) -> argparse.ArgumentParser:
+    r = sub.add_parser("render", help="write a rollout of a run's trained policy as a GIF")
+    r.add_argument("run_dir", help=RUN_DIR_HELP)
+    r.add_argument("--out", default="video.gif", help="output .gif")
+    r.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
+    r.add_argument("--episodes", type=int, default=1, help="episodes in the GIF, one after another")
+    r.add_argument("--seed", type=int, default=12345,
+                   help="seed of the rendered episodes (evaluate's: the same seed gives its first episodes)")
+    r.add_argument("--max-steps", type=int,
+                   help="cap on steps per episode (default: the run's rollout.max_steps, else the env's limit)")
+    r.add_argument("--fps", type=float, default=30.0, help="frames per second of the GIF")
+    r.add_argument("--every", type=int, default=1, help="keep every N-th frame")
+    r.set_defaults(fn=cmd_render)
+    return r
+
+
+def cmd_render(a: argparse.Namespace) -> int:
+    from shaped_es.trained.render import render_run
+
+    res = render_run(a.run_dir, a.out, episodes=a.episodes, which=a.policy, seed=a.seed,
+                     max_steps=a.max_steps, fps=a.fps, every=a.every)
+    print(json.dumps(res))
+    return 0
