@@ -162,6 +162,9 @@ class MeanCloneSettings(_Strict):
     extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "
                                 "and the mean also run this many more episodes (none of the population's), on "
                                 "which a winner must beat the mean too")
+    keep_step: Bool = Field(_MEAN.keep_step, description="candidate: an accepted candidate also takes the ES "
+                            "update it replaces (the new mean is c_g + (mu_{g+1} - mu_g)): a candidate judged "
+                            "against the old mean does not undo the ES step")
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it beats the mean's "
                           "return there")

@@ -33,12 +33,14 @@ def _shaping(**over):
 @pytest.mark.parametrize("mechanism,labels,option", [
     ("candidate", "controller", None), ("candidate", "mphi", None),
     ("candidate", "controller", "confirm"), ("candidate", "controller", "extra_episodes"),
-    ("candidate", "controller", "paired"),
+    ("candidate", "controller", "paired"), ("candidate", "controller", "best"),
     ("candidate", "mphi", "warm_start"), ("pair", "controller", None)])
 def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
     opts = {} if option is None else {option: 2 if option == "extra_episodes" else True}
     if option == "paired":
         opts = {"accept": "paired", "extra_episodes": 3}
+    if option == "best":  # the rule before the suite's defaults: beat every member on the common episodes
+        opts = {"accept": "best", "extra_episodes": 0, "keep_step": False}
     sh = _shaping(mechanism=mechanism, labels=labels, mean_clone={**TINY["shaping"]["mean_clone"], **opts})
     full = train(tmp_path / "full", {**TINY, "shaping": sh}).read_metrics()
     assert full[-1]["shaping_active"] == "1"
@@ -46,7 +48,7 @@ def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, m
         scored = [r for r in full if r["candidate_return"] != ""]
         assert scored and all(r["candidate_accepted"] in ("0", "1") for r in scored)
         for r in scored:  # the gain is the candidate's return over the mean's, on the same episodes
-            if option not in ("extra_episodes", "paired"):  # (with extra episodes: over all both ran)
+            if {**MeanCloneConfig().__dict__, **opts}["extra_episodes"] == 0:  # (else: over all both ran)
                 assert float(r["candidate_gain"]) == pytest.approx(
                     float(r["candidate_return"]) - float(r["mean_return"]))
     if "pair" in mechanism:
@@ -61,8 +63,9 @@ def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, m
 
 
 def test_controller_candidates_are_accepted_and_make_the_car_drive(tmp_path):
-    """CarNav-v0 with the pure-pursuit controller's labels: the mean's clone beats every member within a
-    few generations and becomes the mean (an accepted candidate's return is above the population's best);
+    """CarNav-v0 with the pure-pursuit controller's labels: the mean's clone beats the mean within a few
+    generations and becomes the mean (the default rule, ``paired``: an accepted candidate's return is above
+    the mean's over the common and extra episodes);
     the car then drives (the population's best return climbs from below 0 to > 50 in 6 generations;
     seeds 0-3 all reach 100-190)."""
     car = {**TINY, "env": "CarNav-v0", "policy": {"hidden": [32, 32]}, "es": {"pairs": 8},
@@ -73,7 +76,7 @@ def test_controller_candidates_are_accepted_and_make_the_car_drive(tmp_path):
     rows = train(tmp_path / "c", car).read_metrics()
     accepted = [r for r in rows if r["candidate_accepted"] == "1"]
     assert accepted
-    assert all(float(r["candidate_return"]) > float(r["train_reward_max"]) for r in accepted)
+    assert all(float(r["candidate_gain"]) > 0 for r in accepted)
     assert float(rows[0]["train_reward_max"]) < 0 and float(rows[-1]["train_reward_max"]) > 50
 
 
@@ -120,7 +123,9 @@ class _Labels:
 
 class _Host:
     def __init__(self, n, accept, **cfg):
-        self.mean_clone_cfg = MeanCloneConfig(accept=accept, scales=(0.5, 1.0), **cfg)
+        # the rule alone: no extra episodes, the jump replaces the ES update (unless a test says otherwise)
+        self.mean_clone_cfg = MeanCloneConfig(**{"accept": accept, "scales": (0.5, 1.0), "extra_episodes": 0,
+                                                 "keep_step": False, **cfg})
         self.labels = _Labels()
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
@@ -158,12 +163,35 @@ def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, 
         np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star, rtol=1e-6)
 
 
+def test_keep_step_adds_the_es_update_to_an_accepted_candidate(monkeypatch):
+    """keep_step: the accepted candidate c_g does not discard the ES update: mu_{g+1} = c_g + (mu_{g+1} - mu_g)."""
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    n, P = 5, 4
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+    mech = MeanCandidate(_Host(n, "mean", keep_step=True))
+    theta_star = np.arange(1.0, n + 1)
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + theta_star, {"label_std": 0.1}))
+    es.ask()
+    es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+    mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
+    mu0 = np.array(es.mean)
+    es.ask()
+    es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+    step = np.array(es.mean) - mu0  # (n,) the ES update of generation 1
+    assert np.abs(step).max() > 0
+    out = mech.after_tell(1, None, np.zeros(P), np.array([[3.5], [2.5], [1.0]]), [], mu0, es, None)
+    assert out["candidate_accepted"] == 1
+    np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star + step, rtol=1e-5)
+
+
 def test_confirm_jumps_only_to_a_winner_that_beats_the_mean_again(monkeypatch):
     from shaped_es.guides.mechanisms import candidate as cand_mod
 
     n, P = 3, 4
     host = _Host(n, "best")
-    host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), confirm=True)  # one candidate a generation
+    host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), confirm=True, accept="best", extra_episodes=0,
+                                          keep_step=False)  # one candidate a generation
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
     mech = MeanCandidate(host)
     step = np.ones(n)

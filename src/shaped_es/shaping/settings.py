@@ -80,13 +80,15 @@ class MeanCloneConfig:
     max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
     record_every: int = 1  # the rollouts keep the steps of every k-th member (and of every candidate)
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
-    accept: str = "best"  # candidate: the best one becomes the mean if it beats every member ("best"),
+    accept: str = "paired"  # candidate: the best one becomes the mean if it beats every member ("best"),
     #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
     #   the paired differences over every episode both ran ("paired"), or both of best and paired
     warm_start: bool = True  # the clone starts from the previous generation's clone (a DAgger learner
     #                           kept across generations) instead of the mean
-    extra_episodes: int = 0  # candidate: the candidates and the mean also run this many more episodes,
+    extra_episodes: int = 4  # candidate: the candidates and the mean also run this many more episodes,
     #                          on which a winner must beat the mean too
+    keep_step: bool = True  # candidate: an accepted candidate also takes the ES update it replaces
+    #                           (mu_{g+1} = c_g + (mu_{g+1} - mu_g)) instead of discarding it
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
 

@@ -97,7 +97,8 @@ class MeanCandidate(Mechanism):
                        candidate_scale=float(self.cfg.scales[j]),
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
-                strategy.set_mean(self.extras[k] if confirmed else self.extras[j])
+                jump = np.asarray(self.extras[k] if confirmed else self.extras[j], np.float64)  # (n,)
+                strategy.set_mean(jump + es_update if self.cfg.keep_step else jump)
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
         self.extras, self.pending = None, 0
