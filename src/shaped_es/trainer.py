@@ -15,6 +15,14 @@ own pool). Rows are still written in generation order and hold exactly what a bl
 gives; a checkpoint stores the rows still waiting (and their members), and resume submits their test
 episodes again.
 
+``clone_overlap`` (the shaped guide's candidate, master placement; the inline and process executors): the
+guide calls ``ready(mask)`` from ``after_tell`` once the strategy is final and only its clone of the mean
+is left; the trainer then asks for generation g+1 (a strategy whose ``ask`` changes nothing it checkpoints,
+``pure_ask``) and submits that population's tasks, which roll out during the clone, the checkpoint and
+the start of ``step(g+1)``; ``step(g+1)`` collects them if they are exactly the tasks it would submit
+(same members, record mask) and submits the guide's extra members (the clone's candidate) as tasks of
+their own. Results, rows and checkpoints are the sequential loop's; a resume simply submits again.
+
 A checkpoint holds the strategy's and the guide's state; ``resume`` reloads the newest one, drops
 metrics rows written after it, and continues, giving the rows an uninterrupted run would have given.
 
@@ -352,8 +360,9 @@ class Trainer(RunLoop):
         if pre is not None:
             self.overlapped += 1
             # the population has been rolling out since the guide's clone began; the extras (the clone's
-            # candidate) could not start before it: their own tasks, then the population's results
-            done = self.executor.map(run_task, extra) if extra else []
+            # candidate) could not start before it: their chunks in one worker call (rollout.run_tasks: one
+            # lock-step loop, each chunk's results bit for bit its own task's), then the population's
+            done = self.executor.map(run_tasks, [extra])[0] if extra else []
             results = self.executor.collect(run_task, tasks, pre.futures) + done
         elif fn is None and 0 < len(extra) <= len(tasks):
             # population chunk i and extras chunk i in one call, one lock-step loop (rollout.run_tasks: the

@@ -11,6 +11,20 @@ Per generation ``g`` (timeline; ``||`` = concurrently)::
                           clone theta_i -> theta*_i; Delta = (Theta* - mu_{g+1}) / eta; strategy.guide(Delta)
                           -> the next ask samples from Sigma = alpha/n I + (1 - alpha)/k U U^T (scaled by n)
 
+The candidate mechanism with the trainer's ``clone_overlap`` (default; master placement, inline/process
+executors)::
+
+    after_tell(g):        join M_phi; judge c_g (accept: mu_{g+1} := c_g) and the label budget's verdict
+                          -> ready(mask): the trainer asks Theta_{g+1} and submits its rollouts  ||  the
+                          master clones mu_{g+1} -> theta*_{g+1} (Numba, GIL released) -> c_{g+1}
+    checkpoint(g)         ||  Theta_{g+1} still rolling out (ask is pure: the checkpoint is the sequential one)
+    begin_generation(g+1) -> the candidate's and babblers' tasks are submitted now, behind the population's;
+                          M_phi trains on g's steps (after the clone: its labels are the ones cloned toward)
+
+The same tasks, seeds and results as the sequential loop (tested): only when they start differs.
+CarNav-v0, 2 process workers on the shared 2-core machine: see ``docs/shaped-results.md``, "What shaping
+costs".
+
 Labels come from ``shaping.labels`` (``shaping/labels.py``): M_phi's (the paper; M_phi is trained only
 then), a reference run's policy, or the env's scripted controller (oracles). M_phi lags one generation
 behind the rollouts (it trains on g-1 while g runs), as the paper overlaps its training with the
