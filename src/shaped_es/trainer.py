@@ -49,7 +49,7 @@ from threadpoolctl import threadpool_limits
 
 from shaped_es import seeding
 from shaped_es.config import ConfigError, RunConfig, dump_config
-from shaped_es.executors import Executor, make_executor
+from shaped_es.executors import Executor, InlineExecutor, ProcessExecutor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
@@ -306,7 +306,8 @@ class Trainer(RunLoop):
         (``clone_overlap``): not after the last generation; only on the inline and process executors, and
         with a strategy whose ``ask`` leaves its checkpointed state alone (``pure_ask``: the checkpoint
         after ``g``, written while those rollouts run, is the one the sequential loop writes)."""
-        return (self.cfg.clone_overlap and g + 1 < self.cfg.generations and self.cfg.executor in ("inline", "process")
+        return (self.cfg.clone_overlap and g + 1 < self.cfg.generations
+                and isinstance(self.executor, (InlineExecutor, ProcessExecutor))  # ray / mpi: sequential
                 and bool(getattr(self.strategy, "pure_ask", False)))
 
     def _start_next(self, g: int, record: np.ndarray) -> None:

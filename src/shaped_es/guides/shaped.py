@@ -18,7 +18,8 @@ executors)::
                           -> ready(mask): the trainer asks Theta_{g+1} and submits its rollouts  ||  the
                           master clones mu_{g+1} -> theta*_{g+1} (Numba, GIL released) -> c_{g+1}
     checkpoint(g)         ||  Theta_{g+1} still rolling out (ask is pure: the checkpoint is the sequential one)
-    begin_generation(g+1) -> the candidate's and babblers' tasks are submitted now, behind the population's;
+    begin_generation(g+1) -> the candidate's and babblers' chunks go now, as one worker call behind the
+                          population's tasks (rollout.run_tasks);
                           M_phi trains on g's steps (after the clone: its labels are the ones cloned toward)
 
 The same tasks, seeds and results as the sequential loop (tested): only when they start differs.
