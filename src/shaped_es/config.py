@@ -263,6 +263,11 @@ class RunConfig(_Strict):
         0, ge=0, description="process executor: a separate pool of this many workers for test episodes "
         "(the paper's evaluation workers); 0 shares the training workers. ray/mpi schedule test "
         "episodes on the same cluster")
+    clone_overlap: Bool = Field(
+        True, description="shaped (candidate mechanism, master placement; inline/process executors, ES "
+        "strategies whose ask is pure): the next generation's population rollouts start while the mean's "
+        "clone runs on the master, its candidate's once the clone is ready (the same numbers); false: all "
+        "rollouts after the clone")
     checkpoint_every: Int = Field(1, gt=0, description="checkpoint every N generations")
     keep_checkpoints: Int = Field(3, gt=0, description="checkpoints kept on disk (newest)")
     tensorboard: Bool = Field(True, description="also write TensorBoard events")

@@ -15,6 +15,14 @@ own pool). Rows are still written in generation order and hold exactly what a bl
 gives; a checkpoint stores the rows still waiting (and their members), and resume submits their test
 episodes again.
 
+``clone_overlap`` (the shaped guide's candidate, master placement; the inline and process executors): the
+guide calls ``ready(mask)`` from ``after_tell`` once the strategy is final and only its clone of the mean
+is left; the trainer then asks for generation g+1 (a strategy whose ``ask`` changes nothing it checkpoints,
+``pure_ask``) and submits that population's tasks, which roll out during the clone, the checkpoint and
+the start of ``step(g+1)``; ``step(g+1)`` collects them if they are exactly the tasks it would submit
+(same members, record mask) and submits the guide's extra members (the clone's candidate) as tasks of
+their own. Results, rows and checkpoints are the sequential loop's; a resume simply submits again.
+
 A checkpoint holds the strategy's and the guide's state; ``resume`` reloads the newest one, drops
 metrics rows written after it, and continues, giving the rows an uninterrupted run would have given.
 
@@ -41,7 +49,7 @@ from threadpoolctl import threadpool_limits
 
 from shaped_es import seeding
 from shaped_es.config import ConfigError, RunConfig, dump_config
-from shaped_es.executors import Executor, make_executor
+from shaped_es.executors import Executor, InlineExecutor, ProcessExecutor, make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
@@ -89,6 +97,17 @@ def train(cfg: RunConfig, store: RunStore, progress: bool = True, probe: EnvProb
 
 
 @dataclass
+class _Next:
+    """The next generation's population rollouts, started while the guide clones (``clone_overlap``)."""
+
+    generation: int
+    X: np.ndarray  # (P, n) float32 the population asked for
+    record: np.ndarray  # (P,) its record mask
+    tasks: list
+    futures: list[Future]
+
+
+@dataclass
 class _Row:
     """A metrics row waiting for its generation's test episodes (``futures`` empty: none due)."""
 
@@ -116,6 +135,8 @@ class Trainer(RunLoop):
                                                first_index=self.executor.workers,  # after training's
                                                **_executor_options(cfg))
         self._waiting: list[_Row] = []  # rows of finished generations, in order, awaiting test results
+        self._next: _Next | None = None  # the next generation's population rollouts, already running
+        self.overlapped = 0  # generations whose population rolled out during the previous clone (this process)
         # the env made once before the first rollout (dims; the reset info if the guide reads it)
         probe = probe or probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
         self.spec = policy_spec(cfg, probe)
@@ -274,10 +295,34 @@ class Trainer(RunLoop):
         self.strategy.tell(fitness[:P])  # maximize
         self._update_obs_stats(results)  # generation g+1's members see the observations of 0..g
         self.guide.obs_norm = self.obs_norm()  # what the policies the guide makes now will see
-        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map)
+        ready = (lambda mask: self._start_next(g + 1, mask)) if self._overlaps(g) else None
+        extra = self.guide.after_tell(g, X, results, old_mean, self.strategy, self.executor.map, ready=ready)
         if not np.isfinite(self.strategy.mean).all():  # nothing of generation g is written
             raise DivergedError(self._diverged(g, "the search mean"))
         return done + self._end_row(g, item, results, old_mean, extra, rollout_time, t0, cpu0)
+
+    def _overlaps(self, g: int) -> bool:
+        """Whether generation ``g+1``'s population may start rolling out during ``g``'s ``after_tell``
+        (``clone_overlap``): not after the last generation; only on the inline and process executors, and
+        with a strategy whose ``ask`` leaves its checkpointed state alone (``pure_ask``: the checkpoint
+        after ``g``, written while those rollouts run, is the one the sequential loop writes)."""
+        return (self.cfg.clone_overlap and g + 1 < self.cfg.generations
+                and isinstance(self.executor, (InlineExecutor, ProcessExecutor))  # ray / mpi: sequential
+                and bool(getattr(self.strategy, "pure_ask", False)))
+
+    def _start_next(self, g: int, record: np.ndarray) -> None:
+        """Submit generation ``g``'s population rollout tasks now (the guide's ``ready``: the strategy is
+        final, the guide's clone follows); ``record`` ``(P,)``: their record mask. ``step(g)`` uses them if
+        they are the tasks it would submit itself (the same members, mask and normalizer), else runs its own."""
+        if self._next is not None or not np.isfinite(self.strategy.mean).all():
+            return
+        X = np.asarray(self.strategy.ask(), dtype=np.float32)  # (P, n) what step(g) asks again
+        cfg, P = self.cfg, X.shape[0]
+        seeds = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P), cfg.rollout.episodes,
+                                      cfg.rollout.common_seeds)  # (P, E)
+        record = np.asarray(record, dtype=bool).reshape(-1)
+        tasks = self._tasks(X, seeds, g, record, obs_stats=True)
+        self._next = _Next(g, X, record, tasks, [self.executor.submit(run_task, t) for t in tasks])
 
     def _update_obs_stats(self, results: list) -> None:
         """Merge the population's observation sums (its members' ``RolloutResult.obs_stats``, in member
@@ -300,7 +345,11 @@ class Trainer(RunLoop):
         fn = self.guide.rollout_fn()
         t_roll = time.perf_counter()
         record = self.guide.record_mask(P, k)  # (P + k,)
-        tasks = self._tasks(X[:P], seeds, g, record[:P], obs_stats=True)
+        pre, self._next = self._next, None
+        if not (pre is not None and pre.generation == g and fn is None and np.array_equal(pre.X, X[:P])
+                and np.array_equal(pre.record, record[:P])):
+            pre = None  # not started during the last clone (or not these tasks: run as usual)
+        tasks = pre.tasks if pre is not None else self._tasks(X[:P], seeds, g, record[:P], obs_stats=True)
         extra = []
         if k:  # the extras, with their extra episodes, in tasks of their own
             x = self.guide.extra_episodes()
@@ -309,7 +358,14 @@ class Trainer(RunLoop):
             extra = self._tasks(X[P:], xs, g, record[P:])
             for t in extra:
                 t.members = t.members + P  # population indices P .. P + k - 1
-        if fn is None and 0 < len(extra) <= len(tasks):
+        if pre is not None:
+            self.overlapped += 1
+            # the population has been rolling out since the guide's clone began; the extras (the clone's
+            # candidate) could not start before it: their chunks in one worker call (rollout.run_tasks: one
+            # lock-step loop, each chunk's results bit for bit its own task's), then the population's
+            done = self.executor.map(run_tasks, [extra])[0] if extra else []
+            results = self.executor.collect(run_task, tasks, pre.futures) + done
+        elif fn is None and 0 < len(extra) <= len(tasks):
             # population chunk i and extras chunk i in one call, one lock-step loop (rollout.run_tasks: the
             # same results as apart), not a second wave of small tasks on the workers
             bundles = [[a] + extra[i : i + 1] for i, a in enumerate(tasks)]

@@ -50,9 +50,13 @@ class NoGuide:
         """Worker-side function for training rollouts (None: the plain ``rollout.run_task``)."""
         return None
 
-    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks: MapTasks) -> dict:
+    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks: MapTasks,
+                   ready=None) -> dict:
         """Called after ``strategy.tell``; may call ``strategy.guide(G)``; returns extra metrics (only
-        the columns :meth:`metric_keys` declares may hold a value)."""
+        the columns :meth:`metric_keys` declares may hold a value). ``ready(mask)`` (None: not offered):
+        a guide with slow work left that changes neither the strategy nor the next generation's population
+        may call it once, before that work, with that population's record mask ``(P,)``; the trainer then
+        starts the population's rollouts meanwhile (``clone_overlap``)."""
         return {}
 
     def metric_keys(self) -> tuple[str, ...]:
@@ -78,7 +82,7 @@ class PastUpdateGuide(NoGuide):
         self.k = k
         self.history: list[np.ndarray] = []
 
-    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
+    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:
         step = np.asarray(strategy.mean, dtype=np.float64) - np.asarray(old_mean, dtype=np.float64)
         if np.linalg.norm(step) > 0:
             self.history = (self.history + [step])[-self.k :]

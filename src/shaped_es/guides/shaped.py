@@ -11,6 +11,21 @@ Per generation ``g`` (timeline; ``||`` = concurrently)::
                           clone theta_i -> theta*_i; Delta = (Theta* - mu_{g+1}) / eta; strategy.guide(Delta)
                           -> the next ask samples from Sigma = alpha/n I + (1 - alpha)/k U U^T (scaled by n)
 
+The candidate mechanism with the trainer's ``clone_overlap`` (default; master placement, inline/process
+executors)::
+
+    after_tell(g):        join M_phi; judge c_g (accept: mu_{g+1} := c_g) and the label budget's verdict
+                          -> ready(mask): the trainer asks Theta_{g+1} and submits its rollouts  ||  the
+                          master clones mu_{g+1} -> theta*_{g+1} (Numba, GIL released) -> c_{g+1}
+    checkpoint(g)         ||  Theta_{g+1} still rolling out (ask is pure: the checkpoint is the sequential one)
+    begin_generation(g+1) -> the candidate's and babblers' chunks go now, as one worker call behind the
+                          population's tasks (rollout.run_tasks);
+                          M_phi trains on g's steps (after the clone: its labels are the ones cloned toward)
+
+The same tasks, seeds and results as the sequential loop (tested): only when they start differs.
+CarNav-v0, 2 process workers on the shared 2-core machine: see ``docs/shaped-results.md``, "What shaping
+costs".
+
 Labels come from ``shaping.labels`` (``shaping/labels.py``): M_phi's (the paper; M_phi is trained only
 then), a reference run's policy, or the env's scripted controller (oracles). M_phi lags one generation
 behind the rollouts (it trains on g-1 while g runs), as the paper overlaps its training with the
@@ -383,7 +398,11 @@ class ShapedGuide(NoGuide):
             raise err
 
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
-    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks) -> dict:
+    def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:
+        """``ready(mask)`` (the trainer's ``clone_overlap``; None: off): called once the mechanism's
+        judgement is made and the strategy final, before its clone, with the next generation's population
+        record mask ``(P,)``; the trainer then starts that population's rollouts (master placement only: the
+        workers placement's tasks write shards that the next ``begin_generation`` first clears)."""
         self._write_time += float(sum(getattr(r, "store_time_s", 0.0) for r in results))  # on the workers
         if self.placement == "master":  # keep the generation in memory
             blocks = [r.packed for r in results if r.packed is not None]  # one per task that recorded
@@ -417,21 +436,46 @@ class ShapedGuide(NoGuide):
         extra_returns = np.concatenate(extra) if extra else np.zeros((0, self.cfg.rollout.episodes))
         if self._babblers:  # the babblers come last; the mechanism judges only its own extras
             extra_returns = extra_returns[: extra_returns.shape[0] - self._babblers]
+        verdict: list[bool] = []  # the label budget's, once judged: True = asleep from the next generation
+        ready_s = [0.0]  # time spent starting the next rollouts (not cloning)
+
+        def judged(metrics: dict) -> None:  # the judgement is made and the strategy final; the clone follows
+            if verdict:
+                return
+            verdict.append(self._verdict(metrics))
+            if ready is not None and self.placement == "master":
+                t = time.perf_counter()
+                ready(self._next_population_mask(P))
+                ready_s[0] += time.perf_counter() - t
+
         t0 = time.perf_counter()
         out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
-                                             strategy, map_tasks))
-        out["time_cloning_s"] = time.perf_counter() - t0
-        self._judge(generation, out)
+                                             strategy, map_tasks, judged=judged))
+        out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
+        if not verdict:  # the mechanism never judged early: judged on its metrics now
+            verdict.append(self._verdict(out))
+        if verdict[0]:
+            self._sleep()
         self._trim_cache(generation)
         return out
 
-    def _judge(self, generation: int, out: dict) -> None:
-        """Tell the label budget whether this generation's candidate paid; asleep from the next one if
-        the labels keep losing (the mechanism drops what it prepared), with one warning line the first time."""
+    def _next_population_mask(self, population: int) -> np.ndarray:
+        """The next generation's population record mask ``(population,)``, as its ``begin_generation`` and
+        :meth:`record_mask` will give it (after this generation's verdict): none while asleep."""
+        if not self.budget.awake:
+            return np.zeros(population, bool)
+        return self.mechanism.record_mask(population, 0)[:population]
+
+    def _verdict(self, out: dict) -> bool:
+        """Tell the label budget whether this generation's candidate paid; True: the labels keep losing,
+        the guide sleeps from the next generation (:meth:`_sleep`, once the mechanism's work is done)."""
         if out.get("candidate_accepted") is None:
-            return
-        if not self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain")):
-            return
+            return False
+        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"))
+
+    def _sleep(self) -> None:
+        """Asleep from the next generation: the mechanism drops what it prepared, with one warning line the
+        first time."""
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
             b = self.budget

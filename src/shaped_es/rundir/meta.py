@@ -15,7 +15,7 @@ from shaped_es.config import RunConfig
 
 # Fields that say where or how long a run executes, not what it computes: they may change on resume.
 RUNTIME_FIELDS = ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
-                  "eval_overlap", "eval_workers", "checkpoint_every", "keep_checkpoints", "tensorboard", "stop_at", "wandb",
+                  "eval_overlap", "eval_workers", "clone_overlap", "checkpoint_every", "keep_checkpoints", "tensorboard", "stop_at", "wandb",
                   "video_every")
 
 

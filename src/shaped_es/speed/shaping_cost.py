@@ -4,7 +4,10 @@ Both trainers run in this process with their own executors (default ``process``,
 same config otherwise (population 64, default preset). After ``warmup`` untimed generations (pools,
 Numba JIT, torch import), each timed generation runs vanilla then shaped (the order alternates every
 generation, so drift in the machine's load hits both alike). A generation's wall time covers all a run
-does for it: ask, rollouts, tell, shaping, metrics row and checkpoint (``checkpoint_every = 1``).
+does for it: ask, rollouts, tell, shaping, metrics row and checkpoint (``checkpoint_every = 1``); with
+``clone_overlap`` the shaped run's next population, started during its clone, is waited for before the
+other run steps (its rollouts are timed in the shaped generation, not in the vanilla one beside it).
+CPU per generation (``*_cpu_s``): the run's ``cpu_time_s`` added by the step, master and workers.
 
 Reported per env (medians over the timed generations): the whole generation of each method and their
 ratio; the shaped run's phases (rollouts, cloning, time waited for M_phi, M_phi's own time in its
@@ -57,18 +60,26 @@ class _Stepper:
         self.rows: list[dict] = []  # the metrics rows completed in timed generations
         self.wall: list[float] = []
         self.checkpoint: list[float] = []
+        self.cpu: list[float] = []  # CPU seconds a generation, master and workers (the run's cpu_time_s)
 
     def step(self, g: int, timed: bool) -> None:
-        t0 = time.perf_counter()
+        from concurrent.futures import wait
+
+        t0, cpu0 = time.perf_counter(), self.trainer.c.cpu_time_s
         done = self.trainer.step(g)
         for row in done:
             self.store.append_metrics(row)
         t1 = time.perf_counter()
         self.trainer.checkpoint()
         t2 = time.perf_counter()
+        nxt = getattr(self.trainer, "_next", None)  # clone_overlap: the next population, rolling out
+        if nxt is not None:  # this run's work: waited for here, not timed in the other run's generation
+            wait(nxt.futures)
+        t3 = time.perf_counter()
         if timed:
-            self.wall.append(t2 - t0)
+            self.wall.append(t3 - t0)
             self.checkpoint.append(t2 - t1)
+            self.cpu.append(self.trainer.c.cpu_time_s - cpu0)
             self.rows.extend(done)
 
     def close(self) -> None:
@@ -136,6 +147,7 @@ def bench_env(env_id: str, generations: int = 10, warmup: int = 3, executor: str
             "ratio": sha / van if van else None,
             "vanilla_rollout_s": _med(r.get("rollout_time_s") for r in runs["vanilla"].rows),
             "vanilla_checkpoint_s": _med(runs["vanilla"].checkpoint),
+            "vanilla_cpu_s": _med(runs["vanilla"].cpu), "shaped_cpu_s": _med(runs["shaped"].cpu),
             "shaped_phases_s": phases,
             "lower_bound_s": {"mphi": bound["mphi_s"], "label_and_clone": bound["clone_s"]},
             "shaping": cfgs["shaped"].shaping.model_dump(mode="json", include={"placement", "history"})

@@ -51,6 +51,10 @@ class VanillaES(Strategy):
     decay on the mean, ``g -= weight_decay * mu`` (0: none).
     """
 
+    # ``ask`` changes nothing ``state_dict`` holds (its noise derives from ``(seed, generation)``): the
+    # trainer may ask for the next generation before the current one's checkpoint (``clone_overlap``)
+    pure_ask = True
+
     def __init__(self, x0, sigma: float = 0.1, lr: float = 0.01, pairs: int | None = None,
                  seed: int = 0, fitness_shaping: str = "rank", optimizer: str = "adam",
                  momentum: float = 0.0, weight_decay: float = 0.0,

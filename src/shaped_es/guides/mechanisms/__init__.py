@@ -58,10 +58,15 @@ class Mechanism:
         return None
 
     def after_tell(self, generation: int, params: np.ndarray, fitness: np.ndarray, extra_returns: np.ndarray,
-                   results, old_mean: np.ndarray, strategy, map_tasks) -> dict:
+                   results, old_mean: np.ndarray, strategy, map_tasks, judged=None) -> dict:
         """After ``strategy.tell``: ``params`` ``(P, n)`` the population, ``fitness`` ``(P,)`` its mean
         returns, ``extra_returns`` ``(k, E + x)`` the returns of :meth:`extra_members` on the
-        population's E episodes and ``extra_episodes`` more; returns metrics."""
+        population's E episodes and ``extra_episodes`` more; returns metrics.
+
+        ``judged(metrics)`` (None: nobody asks): a mechanism whose slow work (a clone) neither changes
+        the strategy nor the next generation's population may call it once, before that work, with the
+        judgement's metrics (``candidate_accepted``, ``candidate_gain``); the next generation's
+        population rollouts may then start while the work runs (the trainer's ``clone_overlap``)."""
         return {}
 
     def sleep(self) -> None:

@@ -68,7 +68,7 @@ class MeanCandidate(Mechanism):
         return self.extras
 
     def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
-                   map_tasks) -> dict:
+                   map_tasks, judged=None) -> dict:
         out: dict = {}
         held = None  # a row for the next generation: the winner to confirm
         if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
@@ -102,6 +102,8 @@ class MeanCandidate(Mechanism):
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
         self.extras, self.pending = None, 0
+        if judged is not None:  # the strategy is final: the next population may roll out during the clone
+            judged(out)
         mean = mu = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
         start = mu if not self.cfg.warm_start or self.learner is None else self.learner
         theta_star, info = clone_mean(self.host, generation, start, self.cfg) if self.host.labels.ready \

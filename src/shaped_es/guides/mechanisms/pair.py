@@ -31,7 +31,7 @@ class MeanPair(Mechanism):
         return every_kth(population, extra, self.cfg.record_every)
 
     def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
-                   map_tasks) -> dict:
+                   map_tasks, judged=None) -> dict:
         out: dict = {}
         P = fitness.shape[0] // 2
         if self.direction is not None:  # members 0 and P were mu +- sigma z_1

@@ -35,7 +35,7 @@ class PaperSubspace(Mechanism):
                    "clone_improved_fraction")
 
     def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
-                   map_tasks) -> dict:
+                   map_tasks, judged=None) -> dict:
         host, sh = self.host, self.host.sh
         if not host.labels.ready:
             return {}
