@@ -103,9 +103,10 @@ class InverseDynamicsSettings(_Strict):
         "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, the "
         "waypoint's direction (x toward w_t - p_t; defined at rest), both (world and motion frames "
         "concatenated: the model uses whichever explains the action), or auto: world for 1-D waypoint "
-        "spaces; for 2-D and more, both unless the label probe before generation 0 finds zero action "
-        "driving the body better than both's labels, then the frame and query_clip (none or 2) whose "
-        "labels drive it best (RUN/label_probe.json; shaped-es check-env ID --labels)")
+        "spaces; for 2-D and more, both unless the label probe before generation 0 finds another frame and "
+        "query_clip (none or 2) whose simulated candidate (the initial mean cloned toward its labels) "
+        "clearly drives the body better, or zero action driving it better than both's labels "
+        "(RUN/label_probe.json; shaped-es check-env ID --labels)")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
     targets: Literal["one_step", "hindsight", "matched"] = Field(
