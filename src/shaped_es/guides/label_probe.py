@@ -243,11 +243,13 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
                           f"p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
     worse, by = beats(zero, returns[incumbent])
     if not worse:
-        return incumbent, "the default: zero action does not beat its labels by 2 paired standard errors"
+        return incumbent, ("the default: no variant's simulated candidate clearly beats its own, and zero action "
+                           "does not beat its labels by 2 paired standard errors")
     best, best_gain = _best_beating(returns, incumbent)
     if best == incumbent:
-        return best, (f"the default: zero action beats its labels by {by:.2f} return, and no variant beats "
-                      f"the default's labels by 2 paired standard errors")
+        return best, (f"the default: no variant's simulated candidate clearly beats its own; zero action beats "
+                      f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
+                      f"standard errors")
     return best, (f"zero action beats the default {incumbent}'s labels by {by:.2f} return; {best} beats the "
                   f"default's labels by {best_gain:.2f} (> 2 paired standard errors)")
 
