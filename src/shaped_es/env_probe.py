@@ -6,7 +6,7 @@ what its ``reset`` and ``step`` hand a rollout, checked where it enters (``reset
 :class:`BadOutput` naming the part (the rollout adds the env, seed and step) and what a correct one looks
 like -- the old Gym API (a 4-tuple from ``step``, ``reset`` returning the observation only), a reward
 that is not one number, an observation that is not an array, ``info['position']`` / ``info['waypoint']``
-missing, of another size than each other or non-finite. ``rollout.py`` re-exports these names."""
+missing, of another size than each other or non-finite. ``shaped_es.rollout`` re-exports these names."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """How the shaped method's labels become search (``shaping.mechanism``), one file a mechanism.
 
 The guide (``guides/shaped.py``) owns the data (every generation's recorded steps, in memory and in the
-trajectory store), ``M_phi`` and the label source (``shaping/labels.py``); a mechanism decides what is
+trajectory store: ``guides/shaped_data.py``), ``M_phi`` and the label source (``shaping/labels.py``); a mechanism decides what is
 cloned and how the clone reaches the ES strategy:
 
 ==============  ==========================================================================================

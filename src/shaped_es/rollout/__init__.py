@@ -17,15 +17,16 @@ env before its first rollout lives in ``env_probe.py`` (its names are re-exporte
 
 Recording (``RolloutTask.record``: every member, or a mask of them) keeps each recorded member's steps as
 :class:`~shaped_es.data.Transitions`, sent back as one block per task (``RolloutResult.packed``, a
-:class:`~shaped_es.data.PackedTransitions`; ``RolloutResult.transitions`` unpacks it into per-member views); with ``RolloutTask.expert`` the env's scripted waypoint controller
-(``envs/core.py``) is asked at every recorded step too, and its action kept as ``Transitions.expert``,
-mapped to the policy's ``[-1, 1]`` scale (Box: the inverse of the rescaling above; Discrete: +1 for
-the chosen action, -1 elsewhere).
+:class:`~shaped_es.data.PackedTransitions`; ``RolloutResult.transitions`` unpacks it into per-member
+views); with ``RolloutTask.expert`` the env's scripted waypoint controller (``envs/core.py``) is asked at
+every recorded step too, and its action kept as ``Transitions.expert``, mapped to the policy's
+``[-1, 1]`` scale (Box: the inverse of the rescaling above; Discrete: +1 for the chosen action, -1
+elsewhere). The recording itself (the step buffers, the one block, the controller) lives in
+``rollout/record.py``; the loops that step the envs live here.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import json
 import time
@@ -52,8 +53,9 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
 )
 from shaped_es.env_probe import OLD_STEP, BadOutput, observation, old_api, reset_output, reward, step_output, \
     waypoint_pair
-from shaped_es.envs.core import CONTROLLER_HOOK, POSITION_KEY, WAYPOINT_KEY, get_batch_core, runs_serially
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, runs_serially
 from shaped_es.policies import MLPSpec, ObsNorm, forward
+from shaped_es.rollout.record import _controller, _from_env_action, _join_episodes, _Recorder
 
 # Episodes of an env without a time limit (no registered ``max_episode_steps``, no ``TimeLimit``), with
 # ``rollout.max_steps`` unset, end here: an env that never terminates would hang the run.
@@ -297,82 +299,6 @@ def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndar
         raise _bad_output(task, str(exc), seed, step) from None
 
 
-class _Recorder:
-    """Per-step rows of the recorded members written into preallocated float32 buffers ``(T, B_r, ...)``
-    (grown by doubling when the horizon is unknown), gathered into one block of rows at the end.
-    Episodes run in lock-step and stay dead once done, so episode ``b`` is rows ``0 .. len_b - 1`` of its
-    column. ``B_r``: the recorded members' episodes (``RolloutTask.recorded``)."""
-
-    def __init__(self, task: RolloutTask, capacity: int = 256):
-        self.task, self.t, self.capacity = task, 0, max(1, int(capacity))
-        E = task.seeds.shape[1]
-        mask = task.recorded()  # (m,)
-        self.rows = np.flatnonzero(mask)  # (m_r,) task rows of the recorded members
-        self.cols = None if mask.all() else (self.rows[:, None] * E + np.arange(E)).reshape(-1)  # (m_r*E,)
-        self.buf: list[np.ndarray] | None = None  # obs, pos, wp, act, rew, alive[, expert]: (cap, B_r, ...)
-
-    def add(self, obs, pos, wp, act, rew, alive, expert=None):
-        rows = (obs, pos, wp, act, rew, alive) + (() if expert is None else (expert,))
-        if self.cols is not None:
-            rows = tuple(np.asarray(x)[self.cols] for x in rows)  # (B, ...) -> (B_r, ...)
-        if self.buf is None:
-            self.buf = [np.zeros((self.capacity, *np.shape(x)), bool if i == 5 else np.float32)
-                        for i, x in enumerate(rows)]
-        if self.t == self.buf[0].shape[0]:  # grow: double the time axis
-            self.buf = [np.concatenate([b, np.zeros_like(b)]) for b in self.buf]
-        for b, x in zip(self.buf, rows):
-            b[self.t] = x
-        self.t += 1
-
-    def build(self) -> PackedTransitions | None:
-        """The recorded members' steps as one block (``data.PackedTransitions``): one gather per column,
-        rows in (member, episode, step) order, as each member's :class:`Transitions` holds them."""
-        E = self.task.seeds.shape[1]
-        if self.buf is None or self.t == 0 or self.rows.size == 0:
-            return None
-        obs, pos, wp, act, rew, alive, *ex = (b[: self.t] for b in self.buf)  # (T, B_r, ...)
-        # episode b (column b = j * E + e) is rows 0 .. len_b - 1 of its column (dead once done): nonzero
-        # of the transposed mask lists its (b, t) pairs b-major, so the rows come in (member, episode, step)
-        # order
-        b_idx, t_idx = np.nonzero(alive.T)  # (N,), (N,) with alive.T (B_r, T)
-        lens = alive.sum(axis=0)  # (B_r,) steps each recorded episode took
-        per_member = lens.reshape(-1, E).sum(axis=1)  # (B_r,) -> (m_r, E) -> (m_r,)
-        flat = t_idx * alive.shape[1] + b_idx  # (N,) row of (t, b) in the (T * B_r, ...) view
-
-        def take(x):  # (T, B_r, ...) -> (T * B_r, ...) -> (N, ...)
-            return x.reshape(x.shape[0] * x.shape[1], *x.shape[2:]).take(flat, axis=0)
-        rows = Transitions(
-            generation=self.task.generation, member=-1,
-            episode=(b_idx % E).astype(np.int32), step=t_idx.astype(np.int32),
-            state=take(obs), position=take(pos), waypoint=take(wp), action=take(act), reward=take(rew),
-            expert=take(ex[0]) if ex else None,
-        )
-        members = np.asarray(self.task.members)[self.rows].astype(np.int64)  # (m_r,)
-        return PackedTransitions(rows, members, np.concatenate([[0], np.cumsum(per_member)]).astype(np.int64))
-
-
-def _controller(task: RolloutTask, owner):
-    """The env's waypoint controller (``envs/core.py`` hook) of ``owner`` (a core or an env), or one
-    clear error if the task asks for it and the env has none."""
-    hook = getattr(owner, CONTROLLER_HOOK, None)
-    if not callable(hook):
-        raise EnvSpecError(f"env {task.env_id!r} offers no {CONTROLLER_HOOK}(...) (shaping.labels=controller "
-                           f"needs one; see the README's environment contract)")
-    return hook
-
-
-def _from_env_action(space: gym.Space, a) -> np.ndarray:
-    """An action of ``space`` on the policy's ``[-1, 1]`` scale (the inverse of :func:`_to_env_action`;
-    Discrete: +1 for the chosen action, -1 elsewhere)."""
-    if isinstance(space, gym.spaces.Discrete):
-        out = -np.ones(int(space.n), np.float32)
-        out[int(a) - int(space.start)] = 1.0
-        return out
-    low, high = space.low.astype(np.float64), space.high.astype(np.float64)
-    x = 2.0 * (np.asarray(a, np.float64).reshape(low.shape) - low) / (high - low) - 1.0
-    return np.clip(x, -1.0, 1.0).astype(np.float32)
-
-
 def _policy_input(task: RolloutTask, obs: np.ndarray) -> np.ndarray:
     """The observations ``(B, obs)`` as the policies take them (``task.obs_norm`` applied, if any)."""
     return obs if task.obs_norm is None else task.obs_norm.apply(obs)
@@ -521,13 +447,7 @@ def _run_serial(task: RolloutTask) -> RolloutResult:
     for i, row in enumerate(parts):
         eps = [(e, p.transitions[0]) for e, p in enumerate(row) if p.transitions]
         if eps:
-            per_step = [f.name for f in dataclasses.fields(Transitions)
-                        if f.name not in ("generation", "member", "episode")]
-            fields = {name: None if any(getattr(t, name) is None for _, t in eps)  # an optional column
-                      else np.concatenate([getattr(t, name) for _, t in eps]) for name in per_step}
-            transitions.append(Transitions(generation=task.generation, member=int(task.members[i]),
-                                           episode=np.concatenate([np.full(len(t), e, np.int32) for e, t in eps]),
-                                           **fields))
+            transitions.append(_join_episodes(task.generation, int(task.members[i]), eps))
     stats = None
     if task.obs_stats:  # each member's episodes summed in episode order, as _ObsSums.per_member sums them
         stats = tuple(np.stack([_sum_in_order([p.obs_stats[k][0] for p in row]) for row in parts])
