@@ -361,9 +361,10 @@ class Trainer(RunLoop):
         if pre is not None:
             self.overlapped += 1
             # the population has been rolling out since the guide's clone began; the extras (the clone's
-            # candidate) could not start before it: their chunks in one worker call (rollout.run_tasks: one
-            # lock-step loop, each chunk's results bit for bit its own task's), then the population's
-            done = self.executor.map(run_tasks, [extra])[0] if extra else []
+            # candidate, the babblers) could not start before it: their chunks as tasks of their own, one
+            # a worker, queued behind the population's (in one call on one worker they were a serial tail:
+            # UR5Reach-v0 idle, 2.53x a vanilla generation against 2.18x without the overlap)
+            done = self.executor.map(run_task, extra) if extra else []
             results = self.executor.collect(run_task, tasks, pre.futures) + done
         elif fn is None and 0 < len(extra) <= len(tasks):
             # population chunk i and extras chunk i in one call, one lock-step loop (rollout.run_tasks: the

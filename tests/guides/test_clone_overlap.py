@@ -20,6 +20,7 @@ CAR = {
     "shaping": {"inverse_dynamics": {"steps_per_generation": 50, "filter": "none", "babble": 4},
                 "mean_clone": {"steps": 20, "batch_size": 64, "record_every": 4}, "history": 2},
     "tensorboard": False,
+    "clone_overlap": True,  # opt-in
 }
 VARIANTS = {
     "mphi": {},  # M_phi's labels, babblers among the extras

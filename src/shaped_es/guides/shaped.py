@@ -11,7 +11,7 @@ Per generation ``g`` (timeline; ``||`` = concurrently)::
                           clone theta_i -> theta*_i; Delta = (Theta* - mu_{g+1}) / eta; strategy.guide(Delta)
                           -> the next ask samples from Sigma = alpha/n I + (1 - alpha)/k U U^T (scaled by n)
 
-The candidate mechanism with the trainer's ``clone_overlap`` (default; master placement, inline/process
+The candidate mechanism with the trainer's ``clone_overlap`` (opt-in; master placement, inline/process
 executors)::
 
     after_tell(g):        join M_phi; judge c_g (accept: mu_{g+1} := c_g) and the label budget's verdict
