@@ -65,6 +65,7 @@ def test_the_simulated_candidate_learns_from_good_labels():
     from shaped_es.config import build_config
     from shaped_es.guides.clone_probe import clone_rounds
     from shaped_es.rollout import RolloutTask, policy_spec, probe_env, run_task
+    from shaped_es.shaping.labels import LabelSource
 
     cfg = build_config({**POINT, "seed": 3})
     spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
@@ -73,9 +74,18 @@ def test_the_simulated_candidate_learns_from_good_labels():
     P = np.random.default_rng(0).normal(size=(8, spec.num_params)).astype(np.float32)  # (8, n)
     data = run_task(RolloutTask(cfg.env, {}, spec, P, np.arange(8), np.tile(seeds[:2], (8, 1)),
                                 record=True)).transitions
-    head = lambda tr: np.clip(10.0 * (tr.waypoint - tr.position), -1, 1).astype(np.float32)  # noqa: E731
-    good, n = clone_rounds(cfg, spec, x0, data, head, seeds, 0)
-    zero, _ = clone_rounds(cfg, spec, x0, data, lambda tr: np.zeros((len(tr.state), 2), np.float32), seeds, 1)
+    class Head(LabelSource):  # heads for the waypoint (scale 0: zero labels)
+        def __init__(self, scale):
+            self.scale = scale
+
+        def inputs(self, tr):
+            return tr.waypoint - tr.position  # (T, 2)
+
+        def __call__(self, states, inputs):
+            return np.clip(self.scale * inputs, -1, 1).astype(np.float32)
+
+    good, n = clone_rounds(cfg, spec, x0, data, Head(10.0), seeds, 0)
+    zero, _ = clone_rounds(cfg, spec, x0, data, Head(0.0), seeds, 1)
     assert good.shape == (6,) and n > 0
     assert good.mean() > zero.mean() + 2.0
 

@@ -18,8 +18,6 @@ paired). Written by hand: the clone's Adam steps are the run's compiled kernel (
 
 from __future__ import annotations
 
-from typing import Callable
-
 import numpy as np
 
 from shaped_es import seeding
@@ -27,37 +25,46 @@ from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task
+from shaped_es.shaping.labels import LabelSource
 from shaped_es.shaping.population_fit import FitTask, fit_rows
 
 ROUNDS = 3  # DAgger rounds of the simulated candidate
 CLONE_KEY = 1_000_013  # seed key of the simulated clones' minibatch draws
 
-# labels of a block of transitions: (Transitions of N rows) -> (N, act) float32
-BlockLabels = Callable[[Transitions], np.ndarray]
+
+def _labelled(trs: list[Transitions], labels: LabelSource) -> tuple[np.ndarray, np.ndarray]:
+    """``(states (N, obs), labels (N, act))`` float32 of the members' steps ``trs`` (none: empty)."""
+    trs = [t for t in trs if len(t)]
+    if not trs:
+        return np.zeros((0, 0), np.float32), np.zeros((0, 0), np.float32)
+    big = concat_members(trs)[0]  # all rows, (N, ...)
+    return big.state.astype(np.float32), np.asarray(labels(big.state, labels.inputs(big)), np.float32)
 
 
-def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions], labels: BlockLabels,
+def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions], labels: LabelSource,
                  seeds: np.ndarray, key: int) -> tuple[np.ndarray, int]:
     """The last round's returns ``(E,)`` of the simulated candidate (module docstring) and the env steps
-    its rounds took. ``data``: the probe's recorded steps (a member per entry); ``key`` tells variants'
-    minibatch streams apart."""
+    its rounds took. ``data``: the probe's recorded steps (a member per entry); ``labels``: the variant's
+    label source (a row's label depends on its own episode only, so each round labels just the clone's
+    new steps); ``key`` tells variants' minibatch streams apart."""
     mc = cfg.shaping.mean_clone
     theta = np.asarray(x0, np.float32)[None].copy()  # (1, n)
-    trs = [t for t in data if len(t)]
+    S_all, A_all = _labelled(data, labels)  # (N, obs), (N, act)
     rets, steps = np.zeros(len(seeds)), 0
     for r in range(ROUNDS):
-        if trs and mc.steps > 0:
-            big = concat_members(trs)[0]  # all rows, (N, ...)
-            a = np.asarray(labels(big), np.float32)  # (N, act)
+        if len(S_all) and mc.steps > 0:
             rng = np.random.default_rng(seeding.derive_seed(cfg.seed, seeding.SHAPING, CLONE_KEY, key, r))
-            idx = rng.integers(0, len(big.state), size=(mc.steps, mc.batch_size))  # (steps, B)
-            S = big.state.astype(np.float32)[idx][:, None]  # (steps, B, obs) -> (steps, 1, B, obs)
-            A = a[idx][:, None]  # (steps, 1, B, act)
+            idx = rng.integers(0, len(S_all), size=(mc.steps, mc.batch_size))  # (steps, B)
+            S = S_all[idx][:, None]  # (steps, B, obs) -> (steps, 1, B, obs)
+            A = A_all[idx][:, None]  # (steps, 1, B, act)
             theta = fit_rows(FitTask(spec, theta, S, A, np.ones(1, bool), mc.steps, "adam", mc.lr, 1))[0]
         res = run_task(RolloutTask(cfg.env, dict(cfg.env_kwargs), spec, theta.astype(np.float32), np.arange(1),
                                    np.asarray(seeds, np.int64)[None], generation=10_000 + r, record=True,
                                    max_steps=cfg.rollout.max_steps))  # seeds (E,) -> (1, E)
         rets = np.asarray(res.returns, np.float64).reshape(-1)  # (1, E) -> (E,)
         steps += int(res.lengths.sum())
-        trs = trs + [t for t in res.transitions if len(t)]
+        s_new, a_new = _labelled(res.transitions, labels)
+        if len(s_new):
+            S_all = np.concatenate([S_all, s_new]) if len(S_all) else s_new  # (N + N', obs)
+            A_all = np.concatenate([A_all, a_new]) if len(A_all) else a_new  # (N + N', act)
     return rets, steps

@@ -59,8 +59,8 @@ from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
-from shaped_es.shaping.labels import clip_norm
-from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
+from shaped_es.shaping.labels import MphiLabels
+from shaped_es.shaping.mphi_inputs import mixed_query
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
 GENERATIONS = 2  # generations of probe data (babblers + members around the initial mean)
@@ -273,14 +273,12 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
             x = m.newest(m.dataset_size)[0][:, spec.obs_dim:]  # (N, d') training displacements
             models[frame] = (m, float(np.linalg.norm(x, axis=1).mean()) if len(x) else 0.0)
         m, step = models[frame]
-        max_d = None if clip is None or step == 0 else clip * step
-        label = lambda s, q, m=m, max_d=max_d: m.label(s, clip_norm(q, max_d))  # noqa: E731
+        label = MphiLabels(m, frame, mphi_cfg.query_scale, mphi_cfg.query_mix)  # the run's own label source
+        label.max_displacement = None if clip is None or step == 0 else clip * step
         r, n = drive(cfg, label, frame, seeds, mphi_cfg.query_mix)
         returns[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
-        block = lambda tr, m=m, max_d=max_d, frame=frame: m.label(  # noqa: E731 - a block's labels (N, act)
-            tr.state, clip_norm(query_displacement(tr, frame, mphi_cfg.query_scale, mphi_cfg.query_mix), max_d))
-        r, n = clone_rounds(cfg, spec, x0, [t for g in data for t in g], block, seeds, len(clones))
+        r, n = clone_rounds(cfg, spec, x0, [t for g in data for t in g], label, seeds, len(clones))
         clones[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
     zero, n = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
