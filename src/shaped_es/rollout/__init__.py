@@ -27,6 +27,7 @@ elsewhere). The recording itself (the step buffers, the one block, the controlle
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import json
 import time
@@ -202,7 +203,7 @@ def _to_env_action(space: gym.Space, a: np.ndarray):
 def run_task(task: RolloutTask) -> RolloutResult:
     """Evaluate every member of ``task`` on its seeds (the worker-side entry point)."""
     t_cpu = time.process_time()
-    try:
+    with _env_faults(task, task.seeds):
         env0 = _envs(task.env_id, task.env_kwargs, 1)[0]
         core = get_batch_core(env0)
         if core is not None:
@@ -211,18 +212,6 @@ def run_task(task: RolloutTask) -> RolloutResult:
             out = _run_serial(task)
         else:
             out = _run_gym(task)
-    except Exception as exc:
-        _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)  # envs in an unknown state
-        if isinstance(exc, EnvError):
-            raise
-        raise EnvError(f"env {task.env_id!r} raised {exception_line(exc)} (generation {task.generation}, "
-                       f"episode seeds {_seed_text(task.seeds)})", traceback.format_exc(),
-                       worker_fault=bool(getattr(exc, "worker_fault", False))) from None
-    except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
-        _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)
-        raise EnvError(f"env {task.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
-                       f"{task.generation}, episode seeds {_seed_text(task.seeds)}); an env reports a failure "
-                       f"by raising an exception", traceback.format_exc()) from None
     out.cpu_time_s = time.process_time() - t_cpu
     return out
 
@@ -246,30 +235,37 @@ def run_tasks(tasks: list[RolloutTask]) -> list[RolloutResult]:
         return [run_task(t) for t in tasks]
     t_cpu = time.process_time()
     task0 = tasks[0]
-    try:
+    with _env_faults(task0, np.concatenate([t.seeds.reshape(-1) for t in tasks])):
         env0 = _envs(task0.env_id, task0.env_kwargs, 1)[0]
         core = get_batch_core(env0)
         if core is None:
             return [run_task(t) for t in tasks]
         out = _run_batched_groups(core, tasks)
-    except Exception as exc:
-        _ENV_CACHE.pop(_env_key(task0.env_id, task0.env_kwargs), None)  # envs in an unknown state
-        if isinstance(exc, EnvError):
-            raise
-        seeds = np.concatenate([t.seeds.reshape(-1) for t in tasks])
-        raise EnvError(f"env {task0.env_id!r} raised {exception_line(exc)} (generation {task0.generation}, "
-                       f"episode seeds {_seed_text(seeds)})", traceback.format_exc(),
-                       worker_fault=bool(getattr(exc, "worker_fault", False))) from None
-    except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
-        _ENV_CACHE.pop(_env_key(task0.env_id, task0.env_kwargs), None)
-        raise EnvError(f"env {task0.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
-                       f"{task0.generation}); an env reports a failure by raising an exception",
-                       traceback.format_exc()) from None
     cpu = time.process_time() - t_cpu
     total = sum(t.seeds.size for t in tasks)
     for r, t in zip(out, tasks):
         r.cpu_time_s = cpu * t.seeds.size / total
     return out
+
+
+@contextlib.contextmanager
+def _env_faults(task: RolloutTask, seeds: np.ndarray):
+    """An env's exception or ``sys.exit`` inside the block -> one :class:`EnvError` naming the env, the
+    generation and the episode ``seeds``; the cached envs, in an unknown state, are dropped."""
+    try:
+        yield
+    except Exception as exc:
+        _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)  # envs in an unknown state
+        if isinstance(exc, EnvError):
+            raise
+        raise EnvError(f"env {task.env_id!r} raised {exception_line(exc)} (generation {task.generation}, "
+                       f"episode seeds {_seed_text(seeds)})", traceback.format_exc(),
+                       worker_fault=bool(getattr(exc, "worker_fault", False))) from None
+    except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
+        _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)
+        raise EnvError(f"env {task.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
+                       f"{task.generation}, episode seeds {_seed_text(seeds)}); an env reports a failure "
+                       f"by raising an exception", traceback.format_exc()) from None
 
 
 def _seed_text(seeds: np.ndarray) -> str:
