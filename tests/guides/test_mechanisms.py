@@ -131,13 +131,15 @@ class _Host:
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
 
 
-@pytest.mark.parametrize("accept", ["best", "mean"])
+@pytest.mark.parametrize("accept", ["best", "mean", "mean+keep_step"])
 def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, accept):
+    """keep_step: the accepted candidate c_g keeps the ES update: mu_{g+1} = c_g + (mu_{g+1} - mu_g)."""
     from shaped_es.guides.mechanisms import candidate as cand_mod
 
     n, P = 5, 4
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
-    mech = MeanCandidate(_Host(n, accept))
+    keep = accept.endswith("+keep_step")
+    mech = MeanCandidate(_Host(n, accept.removesuffix("+keep_step"), keep_step=keep))
     theta_star = np.arange(1.0, n + 1)
     monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + theta_star, {"label_std": 0.1}))
     es.ask()
@@ -158,31 +160,11 @@ def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, 
     if accept == "best":  # 3.5 does not beat the best member's 4.0: the ES update stands
         assert out["candidate_accepted"] == 0
         np.testing.assert_array_equal(np.array(es.mean), es_mean)
-    else:  # 3.5 beats the mean's own 1.0: the candidate is the new mean
+    else:  # 3.5 beats the mean's own 1.0: the candidate is the new mean (with keep_step, plus the ES update)
         assert out["candidate_accepted"] == 1
-        np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star, rtol=1e-6)
-
-
-def test_keep_step_adds_the_es_update_to_an_accepted_candidate(monkeypatch):
-    """keep_step: the accepted candidate c_g does not discard the ES update: mu_{g+1} = c_g + (mu_{g+1} - mu_g)."""
-    from shaped_es.guides.mechanisms import candidate as cand_mod
-
-    n, P = 5, 4
-    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
-    mech = MeanCandidate(_Host(n, "mean", keep_step=True))
-    theta_star = np.arange(1.0, n + 1)
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + theta_star, {"label_std": 0.1}))
-    es.ask()
-    es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-    mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
-    mu0 = np.array(es.mean)
-    es.ask()
-    es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
-    step = np.array(es.mean) - mu0  # (n,) the ES update of generation 1
-    assert np.abs(step).max() > 0
-    out = mech.after_tell(1, None, np.zeros(P), np.array([[3.5], [2.5], [1.0]]), [], mu0, es, None)
-    assert out["candidate_accepted"] == 1
-    np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star + step, rtol=1e-5)
+        step = es_mean - mu0 if keep else 0.0  # (n,) the ES update of generation 1
+        assert not keep or np.abs(step).max() > 0
+        np.testing.assert_allclose(es.mean, mu0 + 0.5 * theta_star + step, rtol=1e-6)
 
 
 def test_confirm_jumps_only_to_a_winner_that_beats_the_mean_again(monkeypatch):
