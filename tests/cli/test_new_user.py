@@ -153,15 +153,20 @@ def test_the_readmes_quickstart_ranges_are_the_committed_studys():
 
     root = SRC.parent
     readme = " ".join((root / "README.md").read_text().split())
-    study = root / "docs" / "benchmarks" / "labels_babble_20_seeds" / "summary.json"
-    shaped = json.loads(study.read_text())["methods"]["shaped"]
-    gens = shaped["to_threshold"]["generations"]["per_seed"]
-    finals = shaped["final_test_reward_per_seed"]
-    assert len(gens) == 20 and all(shaped["to_threshold"]["reached"])
+    study = root / "docs" / "benchmarks" / "suite_waypoints_defaults"
+    gens = []  # generations (counted from 1) until the first test reward of 200, seeds 0-9 of the shaped runs
+    for seed in range(10):
+        with open(study / "CarNav-v0" / "runs" / f"shaped_s{seed}" / "metrics.csv") as fh:
+            gens.append(next(int(r["generation"]) + 1 for r in csv.DictReader(fh)
+                             if r["test_reward_mean"] and float(r["test_reward_mean"]) >= 200))
+    task = next(t for t in json.loads((study / "suite.json").read_text())["tasks"] if t["task"] == "CarNav-v0")
+    shaped = task["methods"]["shaped"]
+    assert shaped["solved"] == 10 and shaped["generations_to_threshold"] == pytest.approx(statistics.mean(gens))
     assert (f"200 is passed after **{min(gens):.0f}-{max(gens):.0f} generations (median "
             f"{statistics.median(gens):.0f})**") in readme
-    assert f"lie in {min(finals):.0f}-{max(finals):.0f}, median {statistics.median(finals):.0f}" in readme
-    assert "seed 0 (the Quickstart's) passes 200 at generation 13" in readme and gens[0] == 13
+    lo, hi = shaped["final_iqm_ci"]
+    assert f"IQM (80 generations) is {shaped['final_iqm']:.1f} [{lo:.1f}, {hi:.1f}]" in readme
+    assert "seed 0 (the Quickstart's) passes 200 at generation 7" in readme and gens[0] == 7
     with open(root / "docs" / "benchmarks" / "labels_babble_walltime" / "runs" / "shaped_s0" / "metrics.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert f"is {float(rows[1]['test_reward_mean']):.5f} on the reference machine" in readme
