@@ -109,12 +109,13 @@ class InverseDynamicsSettings(_Strict):
         "(RUN/label_probe.json; shaped-es check-env ID --labels)")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
-    targets: Literal["one_step", "hindsight", "matched"] = Field(
+    targets: Literal["one_step", "hindsight", "matched", "chunk"] = Field(
         _MPHI.targets, description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
         "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "
-        "distance |w_t - p_t| (matched)")
+        "distance |w_t - p_t| (matched), or p_{t+horizon} - p_t labelled with the mean action over those steps "
+        "(chunk: for torque-driven bodies)")
     horizon: Int = Field(_MPHI.horizon, ge=1, le=1000,
-                         description="hindsight/matched: at most this many steps ahead")
+                         description="hindsight/matched: at most this many steps ahead; chunk: its length")
     query_scale: Literal["raw", "own_step"] = Field(
         _MPHI.query_scale, description="label queries: w_t - p_t (paper), or its direction at the length of "
         "the step the agent took from s_t (own_step: inside M_phi's one-step data; the label corrects the "

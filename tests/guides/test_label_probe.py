@@ -11,7 +11,7 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe
-from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
+from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variant_name, variants
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
@@ -91,8 +91,13 @@ def test_the_simulated_candidate_learns_from_good_labels():
 
 
 def test_variants_keep_a_clip_the_user_set():
-    assert variants(None) == [("both", None), ("both", 2.0), ("world", None), ("world", 2.0)]
-    assert variants(3.0) == [("both", 3.0), ("world", 3.0)]
+    one = "one_step"
+    assert variants(None) == [("both", None, one, None), ("both", 2.0, one, None), ("world", None, one, None),
+                              ("world", 2.0, one, None), ("world", 1.0, "chunk", 8)]
+    assert variants(3.0) == [("both", 3.0, one, None), ("world", 3.0, one, None), ("world", 3.0, "chunk", 8)]
+    assert variants(None, "matched") == [("both", None, "matched", None), ("both", 2.0, "matched", None),
+                                         ("world", None, "matched", None), ("world", 2.0, "matched", None)]
+    assert variant_name("world", 1.0, "chunk", 8) == "world+chunk8+clip1" and variant_name("both", None) == "both"
 
 
 def _episode(rng, T=6, d=2) -> Transitions:
@@ -131,7 +136,7 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     assert capsys.readouterr().err.count("labels: frame=") == 1
     res = ProbeResult(**json.loads((tmp_path / "full" / FILE).read_text()))
     assert res.frame in ("both", "world") and res.env_steps > 0
-    assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
+    assert set(res.returns) == set(res.clones) == {"both", "both+clip2", "world", "world+clip2", "world+chunk8+clip1"}
     # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
     assert int(full[0]["env_steps"]) > res.env_steps
     # killed after generation 1, resumed: the saved choice is read (no second probe), the run is exact

@@ -60,6 +60,17 @@ def test_target_pairs_one_step_hindsight_and_matched():
     np.testing.assert_array_equal(d, d2)
 
 
+def test_chunk_targets_hold_the_mean_action_over_the_horizon():
+    tr = _line(T=10, speed=1.0, episodes=2)
+    tr.action[:] = np.arange(20, dtype=np.float32)[:, None] * [1.0, -1.0]  # a_t = (t, -t), t counted over both episodes
+    s, d, a = target_pairs(tr, "world", "chunk", horizon=4)
+    assert s.shape == (18, 3) and a.shape == (18, 2)
+    np.testing.assert_allclose(d[:9, 0], [4, 4, 4, 4, 4, 4, 3, 2, 1])  # p_{t+4} - p_t, cut at the episode's end
+    np.testing.assert_allclose(a[:9, 0], [1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7, 7.5, 8])  # mean of a_t..a_{t+h-1}
+    np.testing.assert_allclose(a[9:, 0], [11.5, 12.5, 13.5, 14.5, 15.5, 16.5, 17, 17.5, 18])  # no step of episode 0
+    np.testing.assert_allclose(a[:, 1], -a[:, 0])
+
+
 def test_return_filters():
     tr = _line(T=10, episodes=2)  # rewards alternate +1, -2: total -5, positive part +5 per episode
     assert kept_episodes(tr, 5.0, "total")[1].size == 0

@@ -38,7 +38,13 @@ def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon
     - ``hindsight``: ``h ~ U{1..horizon}`` (goal-conditioned relabelling, as GCSL): a displacement the
       agent reached from ``s_t`` in a few steps, labelled with its first action ``a_t``;
     - ``matched``: the smallest ``h <= horizon`` whose displacement reaches the query distance
-      ``|waypoint_t - position_t|`` of that state, so training inputs lie where queries do.
+      ``|waypoint_t - position_t|`` of that state, so training inputs lie where queries do;
+    - ``chunk``: ``h = horizon``, labelled with the mean action ``a_t..a_{t+h-1}`` (an action chunk):
+      "the action which, held for h steps, moves the agent this far". On a torque-driven body a one-step
+      displacement is almost all velocity (ReacherWay-v0 even reads the fingertip one physics substep
+      late), so a one-step inverse is ill-posed: MuJoCo's exact one-step inverse, asked for
+      ``w_t - p_t``, drives the arm to -91 where zero torque scores -12.6, the exact 6-step held-action
+      inverse to -10 (``docs/shaped-results.md``).
 
     ``h`` never crosses the end of the episode. Returns ``(T', obs)``, ``(T', d)``, ``(T', act)``.
     """
@@ -51,6 +57,8 @@ def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon
     elif targets == "hindsight":
         gen = rng if rng is not None else np.random.default_rng(0)
         h = gen.integers(1, horizon + 1, size=len(tr))
+    elif targets == "chunk":
+        h = np.full(len(tr), horizon, np.int64)
     elif targets == "matched":
         want = np.linalg.norm(tr.waypoint - tr.position, axis=1)  # (T,) query distance
         h = np.full(len(tr), horizon, np.int64)
@@ -63,7 +71,11 @@ def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon
         raise ValueError(f"targets must be one of {TARGETS}, got {targets!r}")
     h = np.minimum(h, np.maximum(room, 1))
     disp = to_frame(tr, tr.position[np.minimum(idx + h, end)] - tr.position, frame)  # (T, d)
-    return tr.state[rows], disp[rows], tr.action[rows]
+    if targets != "chunk":
+        return tr.state[rows], disp[rows], tr.action[rows]
+    csum = np.concatenate([np.zeros((1, tr.action.shape[1])), np.cumsum(tr.action, axis=0, dtype=np.float64)])  # (T+1, act)
+    chunk = (csum[np.minimum(idx + h, len(tr))] - csum[idx]) / h[:, None]  # (T, act) mean of a_t..a_{t+h-1}
+    return tr.state[rows], disp[rows], chunk[rows].astype(tr.action.dtype)
 
 
 def kept_episodes(tr: Transitions, min_return: float, filter: str) -> tuple[np.ndarray, np.ndarray]:

@@ -15,7 +15,7 @@ from typing import Literal
 
 from shaped_es.shaping.frames import FRAMES
 
-TARGETS = ("one_step", "hindsight", "matched")
+TARGETS = ("one_step", "hindsight", "matched", "chunk")
 LABEL_SOURCES = ("mphi", "reference", "controller")  # shaping/labels.py
 ACCEPT_RULES = ("best", "mean", "paired", "best_paired")
 FILTERS = ("total", "positive", "none")
@@ -32,8 +32,8 @@ class InverseDynamicsConfig:
     max_dataset: int = 100_000  # cap on aggregated transitions; the oldest are dropped first (FIFO)
     clip_input: float = 10.0  # standardized inputs are clipped to [-clip, clip] (far waypoints)
     frame: str = "world"  # displacement frame: "world" (paper) or "motion" (agent's heading; frames.py)
-    targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched (below)
-    horizon: int = 8  # hindsight/matched: at most this many steps ahead
+    targets: str = "one_step"  # training displacements: one_step (paper) | hindsight | matched | chunk
+    horizon: int = 8  # hindsight/matched: at most this many steps ahead; chunk: its length
     filter: str = "none"  # which return min_return tests: none (keep all) | positive (paper) | total
     query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
     query_mix: float = 1.0  # label queries: (1 - mix) (p_t - p_{t-1}) + mix (w_t - p_t) (mixed_query; 1: paper)
