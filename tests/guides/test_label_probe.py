@@ -162,6 +162,8 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "query_clip": "abc"}), json.dumps({**GOOD, "query_clip": -1}),
                                   json.dumps({**GOOD, "env_steps": "x"}), json.dumps({**GOOD, "extra": 1}),
                                   json.dumps({**GOOD, "clones": [1.0]}), json.dumps({**GOOD, "clones": {"both": 1}}),
+                                  json.dumps({**GOOD, "targets": "two_step"}), json.dumps({**GOOD, "horizon": 0}),
+                                  json.dumps({**GOOD, "horizon": 8.0}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
@@ -177,7 +179,19 @@ def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
 
 
 def test_a_saved_probe_parses():
-    assert label_probe.parse(json.dumps(GOOD).encode()).frame == "both"
+    assert label_probe.parse(json.dumps(GOOD).encode()).targets == "one_step"  # a probe saved before chunks
+    res = label_probe.parse(json.dumps({**GOOD, "frame": "world", "targets": "chunk", "horizon": 8}).encode())
+    assert (res.frame, res.targets, res.horizon) == ("world", "chunk", 8)
+
+
+def test_a_run_trains_m_phi_on_the_probes_choice(tmp_path, monkeypatch):
+    """The chosen variant's targets and horizon reach the run's M_phi (a saved probe, as a resume reads)."""
+    cfg, store = new_run(tmp_path / "run", POINT)
+    (tmp_path / "run" / FILE).write_text(json.dumps({**GOOD, "frame": "world", "query_clip": 1.0,
+                                                      "targets": "chunk", "horizon": 3}))
+    guide = Trainer(cfg, store, progress=False).guide
+    assert (guide.mphi_cfg.frame, guide.mphi_cfg.targets, guide.mphi_cfg.horizon) == ("world", "chunk", 3)
+    assert guide.mphi.config.targets == "chunk" and guide.query_clip == 1.0
 
 
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):
