@@ -99,3 +99,40 @@ def test_a_misspelt_key_is_named_with_what_it_may_mean():
                             "(did you mean query_scale or query_clip?)")
     with pytest.raises(ConfigError, match=r"^invalid config: zzz: unknown field$"):
         build_config({"zzz": 1})
+
+
+@pytest.mark.parametrize("data", [
+    {"shaping": {"mean_clone": {"acept": "paired"}}},  # a YAML file's sections
+    {"shaping.mean_clone.acept": "paired"},  # a dotted key (--set, the API, a YAML file's top level)
+    {"shaping": {"mean_clone.acept": "paired"}},  # a dotted key inside a section
+    {"shaping.mean_clone": {"acept": "paired"}},
+    {"shaping": {"mean_clone": {"acept": "paired"}}, "es.sigma": 0.1},
+])
+def test_a_misspelt_key_at_depth_3_is_named_however_it_is_written(data):
+    with pytest.raises(ConfigError) as e:
+        build_config(merge(data, {}))
+    assert str(e.value) == "invalid config: shaping.mean_clone.acept: unknown field (did you mean accept?)"
+
+
+@pytest.mark.parametrize("key, line", [
+    ("shaping.mechansim", "shaping.mechansim: unknown field (did you mean mechanism?)"),
+    ("shapng.eta", "shapng: unknown field (did you mean shaping?)"),
+    ("shaping.mean_clon.accept", "shaping.mean_clon: unknown field (did you mean mean_clone?)"),
+    ("es.sigma.x", "es.sigma: Input should be a valid number"),
+])
+def test_a_misspelt_dotted_key_names_its_first_bad_part(key, line):
+    with pytest.raises(ConfigError) as e:
+        build_config(merge({}, parse_set([f"{key}=1"])))
+    assert str(e.value) == f"invalid config: {line}"
+
+
+def test_a_config_files_dotted_keys_are_paths_and_its_sections_hold_beside_them(tmp_path):
+    p = tmp_path / "c.yaml"
+    p.write_text("shaping.mean_clone.accept: mean\nshaping:\n  eta: 0.02\n")  # the dotted key first
+    cfg = load_config(p)
+    assert cfg.shaping.mean_clone.accept == "mean" and cfg.shaping.eta == 0.02
+    assert merge({"es.sigma": 0.2, "es": {"pairs": 2}}, {}) == {"es": {"pairs": 2, "sigma": 0.2}}
+    with pytest.raises(ConfigError) as e:  # a dotted key inside a section stays a key: nest it
+        build_config({"shaping": {"mean_clone.accept": "mean"}})
+    assert str(e.value).endswith("shaping.mean_clone.accept: unknown field (a dotted key is not a path here: "
+                                 "nest it, one key per level)")

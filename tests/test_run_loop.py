@@ -6,6 +6,7 @@ import json
 import pytest
 
 from helpers import CARTPOLE_TINY, new_run, strip_time, train
+from shaped_es.guides import NoGuide
 from shaped_es.monitor.callbacks import Callback
 from shaped_es.config import build_config
 from shaped_es.run_loop import BASE_COLUMNS, CALLBACK, STOP_AT, run_finished
@@ -104,6 +105,42 @@ def test_the_checkpoint_names_the_best_policys_generation(full):
     best = max(range(len(rows)), key=lambda i: (rows[i]["test_reward_mean"], -i))  # first of the best
     meta = json.loads(sorted((full.root / "checkpoints").glob("gen_*.json"))[-1].read_text())
     assert meta["best_generation"] == best + 1 < meta["generation"] and meta["stopped"] is None
+
+
+def test_the_elapsed_time_counts_the_start_up_and_a_resumed_runs_wall_time(tmp_path, monkeypatch):
+    """The progress line's elapsed time starts with the run: the start-up before generation 0 (worker
+    pools, the env probe, the shaped method's label probe; here an env probe made 1 s slower) is in it, and
+    a resumed run's continues from the wall time its checkpoint saved (generations made 0.5 s slower)."""
+    import time
+
+    from shaped_es import run_loop, trainer
+
+    seen = []
+
+    class Recording(run_loop.ProgressDisplay):
+        def __init__(self, *args, **kwargs):
+            seen.append(kwargs["elapsed"])
+            super().__init__(*args, **kwargs)
+
+    probe = trainer.probe_env
+
+    def slow_probe(*args, **kwargs):
+        time.sleep(1.0)
+        return probe(*args, **kwargs)
+
+    def slow_generation(self, g):  # inside the generation's clock
+        time.sleep(0.5)
+
+    monkeypatch.setattr(run_loop, "ProgressDisplay", Recording)
+    monkeypatch.setattr(trainer, "probe_env", slow_probe)
+    monkeypatch.setattr(NoGuide, "begin_generation", slow_generation)
+    cfg, store = new_run(tmp_path / "r", {**CFG, "generations": 2})
+    Trainer(cfg, store, progress=False).run()
+    assert 1.0 <= seen[0] < 10.0
+    saved = store.checkpoint_meta()["wall_time_s"]
+    assert saved >= 1.0  # two generations of 0.5 s
+    Trainer(build_config({**CFG, "generations": 3}), store, progress=False).run()  # resumed
+    assert saved + 1.0 <= seen[1] < saved + 10.0
 
 
 @pytest.mark.slow  # 11-19 s of real processes: the full suite runs it (CI's fast suite stays under 10 min)

@@ -2,7 +2,8 @@
 
 A config file holds any subset of these fields; everything else takes the defaults below, and the run
 directory stores the complete result, so ``shaped-es train --config RUN/config.yaml`` re-runs it.
-Unknown keys and bad values are errors (one line each, naming the field).
+Unknown keys and bad values are errors (one line each, naming the field; a misspelt key with the fields
+it may mean, ``config_keys.py``, which also reads dotted keys).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import yaml
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, Strict, ValidationError, model_validator
 
 from shaped_es import safe_yaml
+from shaped_es.config_keys import first_error, merge
 from shaped_es.executors import EXECUTORS
 from shaped_es.methods import MECHANISMS, METHODS
 from shaped_es.shaping.settings import ACCEPT_RULES, LABEL_SOURCES, CloningConfig, InverseDynamicsConfig, MeanCloneConfig
@@ -288,43 +290,11 @@ class RunConfig(_Strict):
     ppo: PPOConfig = Field(default_factory=PPOConfig)
 
 
-def first_error(exc: ValidationError) -> str:
-    """The first error of ``exc`` as one line naming its field (``es.sigma: ... (got 0)``)."""
-    err = exc.errors()[0]
-    where = ".".join(str(p) for p in err["loc"]) or "config"
-    more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
-    msg = " ".join(str(err["msg"]).removeprefix("Value error, ").split())
-    if err.get("type") == "extra_forbidden":  # a misspelt key: name the section's fields it may mean
-        msg = "unknown field" + _did_you_mean(err["loc"])
-    elif err.get("type") == "bool_type":  # YAML 1.1's yes/no/on/off are words here (safe_yaml)
-        msg = "Input should be a valid boolean, true or false"
-    value = err.get("input")
-    got = ""
-    if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:
-        shown = str(value).lower() if isinstance(value, bool) else repr(value)
-        got = f" (got {shown[:40]})"
-    return f"{where}: {msg}{got}{more}"
-
-
-def _did_you_mean(loc: tuple) -> str:
-    """' (did you mean ...?)' from the fields of the section at ``loc[:-1]`` closest to ``loc[-1]``."""
-    import difflib
-
-    model: Any = RunConfig
-    for part in loc[:-1]:
-        field = getattr(model, "model_fields", {}).get(part)
-        model = getattr(field, "annotation", None) if field is not None else None
-        if not isinstance(model, type) or not issubclass(model, BaseModel):
-            return ""
-    close = difflib.get_close_matches(str(loc[-1]), list(model.model_fields), n=2, cutoff=0.6)
-    return f" (did you mean {' or '.join(close)}?)" if close else ""
-
-
 def build_config(data: dict[str, Any]) -> RunConfig:
     try:
         return RunConfig.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError(f"invalid config: {first_error(exc)}") from None
+        raise ConfigError(f"invalid config: {first_error(exc, RunConfig)}") from None
 
 
 def parse_yaml(text: str, where: str) -> Any:
@@ -376,21 +346,6 @@ def load_config(path: str | Path, overrides: dict[str, Any] | None = None) -> Ru
     """Read a YAML config and apply ``overrides`` (dotted keys allowed: ``{"es.sigma": 0.1}``)."""
     data = read_yaml(path)
     return build_config(merge(data, overrides or {}))
-
-
-def merge(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
-    out = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
-    for key, value in overrides.items():
-        node = out
-        parts = key.split(".")
-        for part in parts[:-1]:
-            nxt = node.get(part)
-            if not isinstance(nxt, dict):
-                nxt = {}
-            node[part] = nxt = dict(nxt)
-            node = nxt
-        node[parts[-1]] = value
-    return out
 
 
 def set_item(text: str) -> str:

@@ -68,6 +68,9 @@ class Method:
     # check-env's checks (cli/check_env.py) this method needs to pass: "waypoints", "time limit"
     needs: tuple[str, ...] = ()
     no_obs_norm: str | None = None
+    # Its guide runs the compiled shaping kernels (shaping/kernels.py): a run says so in one line when they
+    # are about to compile (monitor/kernel_notice.py).
+    kernels: bool = False
 
 
 def _es_args(cfg, seed: int) -> dict[str, Any]:
@@ -114,7 +117,7 @@ METHODS: dict[str, Method] = {
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
                      checks=("shaped_es.preflight:check_es", "shaped_es.preflight:check_waypoints",
                              "shaped_es.guides.shaped_setup:check_shaped"),
-                     knobs=("es.sigma", "es.lr", "shaping.eta"), needs=("waypoints",),
+                     knobs=("es.sigma", "es.lr", "shaping.eta"), needs=("waypoints",), kernels=True,
                      about="waypoint-shaped ES (the paper's method): action labels toward the env's waypoints "
                            "(M_phi, a learned inverse-dynamics model) train a clone of the mean, tried beside "
                            "the population as a candidate mean (shaping.mechanism; needs info['position'] "
@@ -128,7 +131,7 @@ METHODS: dict[str, Method] = {
                                   "es.cmaes_diagonal_above", "es.obs_norm", "shaping"),
                            checks=("shaped_es.guides.shaped_setup:check_shaped",
                                    "shaped_es.guides.shaped_setup:check_candidate_only"),
-                           knobs=("es.sigma",), needs=("waypoints",),
+                           knobs=("es.sigma",), needs=("waypoints",), kernels=True,
                            about="the shaped method's candidate over CMA-ES (an accepted candidate becomes "
                                  "CMA's mean): for bodies where CMA-ES is the best baseline (arms)"),
     # its own run loop (Stable-Baselines3); es.pairs sets its env-step budget

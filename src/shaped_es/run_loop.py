@@ -31,11 +31,13 @@ from __future__ import annotations
 
 import contextlib
 import math
-
 import sys
+import time
 
 from shaped_es.config import RunConfig
+from shaped_es.methods import METHODS
 from shaped_es.monitor.callbacks import as_callbacks
+from shaped_es.monitor.kernel_notice import say_if_compiling
 from shaped_es.monitor.progress import ProgressDisplay
 from shaped_es.rundir.atomic import atomic_write_text
 from shaped_es.rundir.meta import Counters, config_digest
@@ -54,6 +56,11 @@ class RunLoop:
 
     def __init__(self, cfg: RunConfig, store: RunStore, method: str, progress: bool = True, callback=None):
         self.cfg, self.store, self.method, self.progress = cfg, store, method, progress
+        # the run's start-up (worker pools, the env probe, the shaped method's label probe) begins here:
+        # the progress line's elapsed time counts it (wall_time_s counts the label probe)
+        self._started = time.perf_counter()
+        if progress and METHODS[cfg.method].kernels:  # before the start-up that compiles them (a cold cache)
+            say_if_compiling(self.label)
         self.c = Counters()
         # generations done when the best policy was found (0: the initial one; None: an old checkpoint's)
         self.best_generation: int | None = 0
@@ -104,8 +111,9 @@ class RunLoop:
             return rows
         for cb in self.callbacks:
             cb.on_start(self)
-        bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress,
-                              label=self.label)
+        # elapsed: a resumed run's saved wall time, plus this process's start-up
+        bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress, label=self.label,
+                              elapsed=self.c.wall_time_s + time.perf_counter() - self._started)
         if self.c.generation and self.progress:  # a resumed run's counters continue (labels accepted/judged)
             bar.count_labels(self.store.read_metrics()[: self.c.generation])
         saved = False

@@ -1,7 +1,8 @@
 """What a new user meets (issue 29): a run ``--stop-at`` ended says why ``resume`` runs nothing and how to
 continue it (``--no-stop-at``, a higher ``--stop-at``); the ``--stop-at`` line quotes the row that crossed;
-``--preset`` on an env without presets and ``--set tensorboard=yes`` are one line each; ``shaped-es envs``
-prints no MuJoCo warnings (and leaves no ``MUJOCO_LOG.TXT``)."""
+``--preset`` on an env without presets, ``--set tensorboard=yes`` and a misspelt nested key (with the field
+it may mean, however the key is written) are one line each; ``shaped-es envs`` prints no MuJoCo warnings
+(and leaves no ``MUJOCO_LOG.TXT``)."""
 
 import json
 import os
@@ -87,6 +88,24 @@ def test_preset_on_an_env_without_presets_is_one_line(tmp_path, capsys):
     assert main(["train", "--env", "Pendulum-v1", "--set", "env_kwargs.scale=2", *TINY, "--out", str(out)]) == 2
     assert _err_lines(capsys) == ["shaped-es: error: cannot make env 'Pendulum-v1': it takes no keyword argument "
                                   "'scale' (given in env_kwargs)"]
+
+
+@pytest.mark.parametrize("how, text", [
+    ("--set", "shaping.mean_clone.acept=paired"),
+    ("--set", "shaping.mean_clone={acept: paired}"),
+    ("--config", "shaping:\n  mean_clone:\n    acept: paired\n"),
+    ("--config", "shaping.mean_clone.acept: paired\n"),  # a --set key copied into the file
+    ("--config", "shaping:\n  mean_clone.acept: paired\n"),
+])
+def test_a_misspelt_nested_key_is_one_line_with_what_it_may_mean(how, text, tmp_path, capsys):
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text(text)
+    given = ["--set", text] if how == "--set" else ["--config", str(cfg)]
+    out = tmp_path / "r"
+    assert main(["train", "--env", "CartPole-v1", "--method", "shaped", *TINY, *given, "--out", str(out)]) == 2
+    assert _err_lines(capsys) == ["shaped-es: error: invalid config: shaping.mean_clone.acept: unknown field "
+                                  "(did you mean accept?)"]
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("word", ["yes", "no", "on", "off", "Yes", "1"])

@@ -92,3 +92,21 @@ def test_a_resumed_display_counts_the_candidates_before_it():
     bar.update(2, {"train_reward_mean": 1.0, "train_reward_max": 2.0, "candidate_accepted": "1",
                    "shaping_awake": "1"})
     assert "labels 2/3" in out.getvalue()
+
+
+def test_the_elapsed_time_is_the_runs():
+    """The elapsed time counts what the run took before the display started (its start-up, the shaped
+    method's label probe, a resumed run's saved wall time): the plain line's and the bar's."""
+    clock, out = Clock(), io.StringIO()
+    bar = ProgressDisplay(4, enabled=True, clock=clock, stream=out, console=None, elapsed=30.0)
+    clock.t = 2.0
+    bar.update(0, _row(0))
+    assert " 32s, ETA" in out.getvalue()
+
+    clock, file = Clock(), io.StringIO()
+    console = Console(file=file, width=120, force_terminal=True, color_system=None)
+    bar = ProgressDisplay(4, enabled=True, clock=clock, console=console, elapsed=3725.0)
+    clock.t = 5.0
+    bar.update(0, _row(0))
+    bar.close()
+    assert "1:02:10" in file.getvalue()  # 3725 s before it + 5 s of its own

@@ -166,3 +166,32 @@ def test_the_data_set_fifo_keeps_the_newest_rows_in_order(make_transitions, monk
     mean, m2 = kernels.column_stats(x)
     np.testing.assert_allclose(mean, x.astype(np.float64).mean(0), rtol=1e-12)
     np.testing.assert_allclose(m2, ((x.astype(np.float64) - mean) ** 2).sum(0), rtol=1e-10)
+
+
+TINY_KERNEL = "import numba\n\n\n@numba.njit(cache=True)\ndef double(x):\n    return 2 * x\n"
+
+
+def _load_tiny(path):
+    """A fresh dispatcher of ``path``'s ``double`` (a new module object, as a new process would have)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("tiny_kernel", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.double
+
+
+def test_cached_tells_a_cold_numba_cache_from_a_warm_one(tmp_path):
+    """``kernels.cached`` reads Numba's on-disk cache: no compile yet -> False; compiled (by an earlier
+    process: a fresh dispatcher) -> True; the source edited since -> False (Numba compiles again)."""
+    path = tmp_path / "tiny_kernel.py"
+    path.write_text(TINY_KERNEL)
+    first = _load_tiny(path)
+    assert kernels.cached([first]) is False
+    assert first(2.0) == 4.0  # compiles, and saves it in the cache
+    assert kernels.cached([first]) is True  # compiled in this process
+    again = _load_tiny(path)
+    assert not again.overloads and kernels.cached([again]) is True  # ... and on disk
+    path.write_text(TINY_KERNEL + "\n# edited\n")
+    assert kernels.cached([_load_tiny(path)]) is False
+    assert kernels.cached([lambda x: x]) is None  # not a Numba dispatcher: cannot tell

@@ -246,6 +246,9 @@ def cmd_check_env(a: argparse.Namespace) -> int:
 
     labels = None
     if a.labels and "shaped" in methods:
+        from shaped_es.monitor.kernel_notice import say_if_compiling
+
+        say_if_compiling("check-env")  # the probe compiles the shaping kernels on a cold cache
         labels = check_labels(a.env_id, parse_set(a.set))
     elif a.labels:
         labels = {"env": a.env_id, "verdict": "no waypoint contract, so no labels to probe (only --method shaped "

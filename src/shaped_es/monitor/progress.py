@@ -12,6 +12,10 @@ generation's row waits for its test episodes, so the last two rows of a run are 
 the display's clock would then divide a generation's steps by the milliseconds between two writes
 (millions of steps/s on a run's last line). The first line gives its own generation's rate
 (``gen_env_steps / gen_time_s``); rows without these clocks fall back on the display's.
+
+The elapsed time (the plain line's ``12s``, the bar's ``0:00:12``) is the run's: ``elapsed``, what the run
+had taken when the display started (the run loop passes the saved ``wall_time_s`` of a resumed run plus
+this process's start-up, which holds the shaped method's label probe), plus the display's own time.
 """
 
 from __future__ import annotations
@@ -19,9 +23,11 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Callable
+from datetime import timedelta
 
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.progress import BarColumn, Progress, Task, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.text import Text
 
 COMPACT_BELOW = 110  # terminal columns
 
@@ -29,10 +35,11 @@ COMPACT_BELOW = 110  # terminal columns
 class ProgressDisplay:
     def __init__(self, total: int, start: int = 0, enabled: bool = True, label: str = "train",
                  clock: Callable[[], float] = time.perf_counter, console: Console | None = None,
-                 stream=None):
+                 stream=None, elapsed: float = 0.0):
         self.total, self.enabled, self.label = total, enabled, label
         self._clock, self._stream = clock, stream
         self._t0, self._start = clock(), start
+        self._before = elapsed  # seconds the run had taken when this display started (module docstring)
         self._first: tuple[float, int, int] | None = None  # (time, generations done, steps) at the first line
         self._first_wall: float | None = None  # the first line's row's wall_time_s (the run's clock)
         self._steps = 0
@@ -52,14 +59,15 @@ class ProgressDisplay:
                 *bar,
                 TextColumn("gen {task.completed}/{task.total}"),
                 TextColumn("{task.fields[info]}"),
-                TimeElapsedColumn(),
+                RunElapsedColumn(),
                 TextColumn("ETA"),
                 TimeRemainingColumn(),
                 console=console,
                 transient=False,
+                get_time=clock,
             )
             self._bar.start()
-            self._task = self._bar.add_task(label, total=total, completed=start, info="")
+            self._task = self._bar.add_task(label, total=total, completed=start, info="", before=elapsed)
 
     def _rate(self, now: float, row: dict) -> float:
         """Env steps per second since the first line, timed by the rows' ``wall_time_s`` (the first line:
@@ -101,7 +109,7 @@ class ProgressDisplay:
         elif done - self._start <= 2 or done % self._every == 0 or done == self.total:
             left = self.eta(now, done)
             eta = f"ETA {left:.0f}s" if left is not None else "ETA after the next generation"
-            print(f"[{self.label}] gen {done}/{self.total} {info}  {now - self._t0:.0f}s, {eta}",
+            print(f"[{self.label}] gen {done}/{self.total} {info}  {self._before + now - self._t0:.0f}s, {eta}",
                   file=self._stream or sys.stderr, flush=True)
         if self._first is None:
             self._first = (now, done, self._steps)
@@ -127,6 +135,17 @@ class ProgressDisplay:
     def close(self) -> None:
         if self._bar is not None:
             self._bar.stop()
+
+
+class RunElapsedColumn(TimeElapsedColumn):
+    """rich's elapsed time plus the task's ``before`` field (what the run had taken before the bar)."""
+
+    def render(self, task: Task) -> Text:
+        elapsed = task.finished_time if task.finished else task.elapsed
+        if elapsed is None:
+            return Text("-:--:--", style="progress.elapsed")
+        seconds = elapsed + float(task.fields.get("before", 0.0))
+        return Text(str(timedelta(seconds=max(0, int(seconds)))), style="progress.elapsed")
 
 
 def _number(v) -> float | None:
