@@ -107,6 +107,9 @@ class ShapedGuide(NoGuide, GenerationData):
         self.mphi_cfg = mphi_config(cfg, pos_dim)
         self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
         self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
+        # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
+        # (~10-30 s), not on the clock: before the label probe, which uses them and whose seconds count
+        self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame, targets=res.targets,
@@ -150,9 +153,6 @@ class ShapedGuide(NoGuide, GenerationData):
         self._silent: set[int] = set()  # recent generations slept through: no steps were recorded
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
-        # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
-        # (~20 s), not on the clock
-        self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
 
     @property
     def expert(self) -> bool:
