@@ -123,7 +123,7 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert lines[-2].startswith("labels: a shaped run picks frame=")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
-    assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2", "world+chunk8+clip1"}
+    assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
     assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
     assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0
     text = _out(capsys, ["check-env", "CartPole-v1", "--labels"]).out

@@ -11,7 +11,7 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe
-from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variant_name, variants
+from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
@@ -91,13 +91,8 @@ def test_the_simulated_candidate_learns_from_good_labels():
 
 
 def test_variants_keep_a_clip_the_user_set():
-    one = "one_step"
-    assert variants(None) == [("both", None, one, None), ("both", 2.0, one, None), ("world", None, one, None),
-                              ("world", 2.0, one, None), ("world", 1.0, "chunk", 8)]
-    assert variants(3.0) == [("both", 3.0, one, None), ("world", 3.0, one, None), ("world", 3.0, "chunk", 8)]
-    assert variants(None, "matched") == [("both", None, "matched", None), ("both", 2.0, "matched", None),
-                                         ("world", None, "matched", None), ("world", 2.0, "matched", None)]
-    assert variant_name("world", 1.0, "chunk", 8) == "world+chunk8+clip1" and variant_name("both", None) == "both"
+    assert variants(None) == [("both", None), ("both", 2.0), ("world", None), ("world", 2.0)]
+    assert variants(3.0) == [("both", 3.0), ("world", 3.0)]
 
 
 def _episode(rng, T=6, d=2) -> Transitions:
@@ -136,7 +131,7 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     assert capsys.readouterr().err.count("labels: frame=") == 1
     res = ProbeResult(**json.loads((tmp_path / "full" / FILE).read_text()))
     assert res.frame in ("both", "world") and res.env_steps > 0
-    assert set(res.returns) == set(res.clones) == {"both", "both+clip2", "world", "world+clip2", "world+chunk8+clip1"}
+    assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
     # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
     assert int(full[0]["env_steps"]) > res.env_steps
     # killed after generation 1, resumed: the saved choice is read (no second probe), the run is exact
@@ -162,8 +157,6 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "query_clip": "abc"}), json.dumps({**GOOD, "query_clip": -1}),
                                   json.dumps({**GOOD, "env_steps": "x"}), json.dumps({**GOOD, "extra": 1}),
                                   json.dumps({**GOOD, "clones": [1.0]}), json.dumps({**GOOD, "clones": {"both": 1}}),
-                                  json.dumps({**GOOD, "targets": "two_step"}), json.dumps({**GOOD, "horizon": 0}),
-                                  json.dumps({**GOOD, "horizon": 8.0}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
@@ -179,19 +172,7 @@ def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
 
 
 def test_a_saved_probe_parses():
-    assert label_probe.parse(json.dumps(GOOD).encode()).targets == "one_step"  # a probe saved before chunks
-    res = label_probe.parse(json.dumps({**GOOD, "frame": "world", "targets": "chunk", "horizon": 8}).encode())
-    assert (res.frame, res.targets, res.horizon) == ("world", "chunk", 8)
-
-
-def test_a_run_trains_m_phi_on_the_probes_choice(tmp_path, monkeypatch):
-    """The chosen variant's targets and horizon reach the run's M_phi (a saved probe, as a resume reads)."""
-    cfg, store = new_run(tmp_path / "run", POINT)
-    (tmp_path / "run" / FILE).write_text(json.dumps({**GOOD, "frame": "world", "query_clip": 1.0,
-                                                      "targets": "chunk", "horizon": 3}))
-    guide = Trainer(cfg, store, progress=False).guide
-    assert (guide.mphi_cfg.frame, guide.mphi_cfg.targets, guide.mphi_cfg.horizon) == ("world", "chunk", 3)
-    assert guide.mphi.config.targets == "chunk" and guide.query_clip == 1.0
+    assert label_probe.parse(json.dumps(GOOD).encode()).frame == "both"
 
 
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):

@@ -272,8 +272,7 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                     print(f"labels: the simulated candidate's return (the initial mean cloned toward each "
                           f"variant's labels): {means}")
                 c = labels["chosen"]
-                chunk = f", targets=chunk of {c['horizon']}" if c.get("targets") == "chunk" else ""
-                print(f"labels: a shaped run picks frame={c['frame']}{chunk}, query_clip={clip_text(c['query_clip'])}: "
+                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={clip_text(c['query_clip'])}: "
                       f"{c['reason']}")
             print(f"labels: {labels['verdict']}")
     sys.stdout.flush()

@@ -61,7 +61,7 @@ from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.mphi_inputs import mixed_query
-from shaped_es.shaping.settings import TARGETS, InverseDynamicsConfig
+from shaped_es.shaping.settings import InverseDynamicsConfig
 
 GENERATIONS = 2  # generations of probe data (babblers + members around the initial mean)
 MEMBERS = 8  # members around the initial mean per probe generation (at es.sigma)
@@ -70,7 +70,6 @@ EPISODES = 10  # closed-loop episodes per variant (the same seeds for every vari
 CLONE_P = 0.05  # a simulated candidate beats another at this one-sided signed-rank p-value ...
 MIN_SHARE = 0.05  # ... and by this share of the spread of the probe's returns
 CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
-CHUNK = (8, 1.0)  # the chunk variant's (horizon, query_clip): world frame, targets=chunk (mphi_inputs.py)
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
 FILE = "label_probe.json"
 
@@ -88,16 +87,13 @@ class ProbeResult:
     zero_action: list[float] = field(default_factory=list)  # the middle action's returns, same episodes
     # variant name -> the simulated candidate's per-episode returns (guides/clone_probe.py), same episodes
     clones: dict[str, list[float]] = field(default_factory=dict)
-    targets: str = "one_step"  # M_phi's training targets (shaping.inverse_dynamics.targets) ...
-    horizon: int | None = None  # ... and their horizon (None: the run's own)
 
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
         means += f", zero action {np.mean(self.zero_action):.2f}" if self.zero_action else ""
         clones = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.clones.items())
         clones = f"; its clone's return: {clones}" if clones else ""
-        chunk = f", targets=chunk of {self.horizon}" if self.targets == "chunk" else ""
-        return (f"labels: frame={self.frame}{chunk}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
+        return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
                 f"{EPISODES} episodes: {means}{clones} ({self.env_steps} env steps, {self.seconds:.1f} s)")
 
 
@@ -105,25 +101,14 @@ def clip_text(query_clip: float | None) -> str:
     return "none" if query_clip is None else f"{query_clip:g}"
 
 
-Variant = tuple[str, "float | None", str, "int | None"]  # (frame, query_clip, targets, horizon)
+def variant_name(frame: str, query_clip: float | None) -> str:
+    return frame if query_clip is None else f"{frame}+clip{query_clip:g}"
 
 
-def variant_name(frame: str, query_clip: float | None, targets: str = "one_step", horizon: int | None = None) -> str:
-    name = frame if targets != "chunk" else f"{frame}+chunk{horizon}"
-    return name if query_clip is None else f"{name}+clip{query_clip:g}"
-
-
-def variants(user_clip: float | None, targets: str = "one_step") -> list[Variant]:
-    """The probed ``(frame, query_clip, targets, horizon)``, the incumbent first; a clip the user set is
-    kept. With the default one-step targets, one more variant: the world frame with action-chunk targets
-    (:data:`CHUNK`), for bodies whose one-step displacement hardly depends on the action (torque-driven
-    ones: on ReacherWay-v0 and SwimmerWay-v0 its simulated candidate beat every one-step variant's,
-    ``docs/shaped-results.md``)."""
+def variants(user_clip: float | None) -> list[tuple[str, float | None]]:
+    """The probed ``(frame, query_clip)`` pairs, the incumbent first; a clip the user set is kept."""
     clips = [user_clip] if user_clip is not None else [None, CLIP]
-    out: list[Variant] = [(f, c, targets, None) for f in ("both", "world") for c in clips]
-    if targets == "one_step":
-        out.append(("world", user_clip if user_clip is not None else CHUNK[1], "chunk", CHUNK[0]))
-    return out
+    return [(f, c) for f in ("both", "world") for c in clips]
 
 
 def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray):
@@ -275,37 +260,34 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     x0 = spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
     data, steps = collect(cfg, spec, x0)
     seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
-    vs = variants(cfg.shaping.inverse_dynamics.query_clip, mphi_cfg.targets)
+    vs = variants(cfg.shaping.inverse_dynamics.query_clip)
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
-    models: dict[tuple, tuple[InverseDynamics, float]] = {}
-    for frame, clip, targets, horizon in vs:
-        key = (frame, targets, horizon)
-        if key not in models:
-            m = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, replace(
-                mphi_cfg, frame=frame, targets=targets, horizon=horizon or mphi_cfg.horizon))
+    models: dict[str, tuple[InverseDynamics, float]] = {}
+    for frame, clip in vs:
+        if frame not in models:
+            m = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, replace(mphi_cfg, frame=frame))
             for trs in data:
                 m.add(trs)
                 m.train()
             x = m.newest(m.dataset_size)[0][:, spec.obs_dim:]  # (N, d') training displacements
-            models[key] = (m, float(np.linalg.norm(x, axis=1).mean()) if len(x) else 0.0)
-        m, step = models[key]
-        name = variant_name(frame, clip, targets, horizon)
+            models[frame] = (m, float(np.linalg.norm(x, axis=1).mean()) if len(x) else 0.0)
+        m, step = models[frame]
         label = MphiLabels(m, frame, mphi_cfg.query_scale, mphi_cfg.query_mix)  # the run's own label source
         label.max_displacement = None if clip is None or step == 0 else clip * step
         r, n = drive(cfg, label, frame, seeds, mphi_cfg.query_mix)
-        returns[name] = [float(v) for v in r]
+        returns[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
         r, n = clone_rounds(cfg, spec, x0, [t for g in data for t in g], label, seeds, len(clones))
-        clones[name] = [float(v) for v in r]
+        clones[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
     zero, n = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
     steps += n
     name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
                           {k: np.array(v) for k, v in clones.items()})
-    frame, clip, targets, horizon = next(v for v in vs if variant_name(*v) == name)
+    frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
-                       clones, targets, horizon)
+                       clones)
 
 
 def parse(raw: bytes) -> ProbeResult:
@@ -326,8 +308,6 @@ def parse(raw: bytes) -> ProbeResult:
         (isinstance(d.get("zero_action", []), list), "zero_action"),
         (isinstance(d.get("clones", {}), dict) and all(isinstance(v, list) for v in d.get("clones", {}).values()),
          "clones"),
-        (d.get("targets", "one_step") in TARGETS, "targets"),
-        (d.get("horizon") is None or (type(d["horizon"]) is int and d["horizon"] >= 1), "horizon"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
@@ -365,7 +345,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
                 "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
     res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
     out = {"env": env_id, "zero_action": res.zero_action}
-    best = variant_name(res.frame, res.query_clip, res.targets, res.horizon)
+    best = variant_name(res.frame, res.query_clip)
     gain, se = paired(res.returns[best], res.zero_action)
     if gain > 2 * se:
         verdict = f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return"
@@ -377,8 +357,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
                    f"they keep losing)")
-    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "targets": res.targets,
-                       "horizon": res.horizon, "reason": res.reason},
+    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "env_steps": res.env_steps, "seconds": res.seconds,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out

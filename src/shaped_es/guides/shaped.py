@@ -112,8 +112,7 @@ class ShapedGuide(NoGuide, GenerationData):
         self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
-            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame, targets=res.targets,
-                                                horizon=res.horizon or self.mphi_cfg.horizon)
+            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
             self.query_clip = res.query_clip
             if fresh:
                 self.startup = (res.env_steps, res.seconds)

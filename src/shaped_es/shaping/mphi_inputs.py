@@ -43,8 +43,9 @@ def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon
       "the action which, held for h steps, moves the agent this far". On a torque-driven body a one-step
       displacement is almost all velocity (ReacherWay-v0 even reads the fingertip one physics substep
       late), so a one-step inverse is ill-posed: MuJoCo's exact one-step inverse, asked for
-      ``w_t - p_t``, drives the arm to -91 where zero torque scores -12.6, the exact 6-step held-action
-      inverse to -10 (``docs/shaped-results.md``).
+      ``w_t - p_t``, drives the arm to -91 where zero torque scores -11.5, the exact 6-step held-action
+      inverse to -10 (``docs/shaped-results.md``). An option, not a default: offered to the label probe,
+      its candidates did not pay in runs (the Reacher and the swimmer unchanged, two UR5 seeds unsolved).
 
     ``h`` never crosses the end of the episode. Returns ``(T', obs)``, ``(T', d)``, ``(T', act)``.
     """
