@@ -60,6 +60,7 @@ class MeanCandidate(Mechanism):
         self.extras: np.ndarray | None = None  # (k, n) float32: the candidates, [the pending one,] the mean
         self.pending = 0  # 1: the row before the mean is held from the last generation (confirm: its winner)
         self.learner: np.ndarray | None = None  # warm_start: the last clone, where the next one starts
+        self.jumped = False  # the last generation's new mean was an accepted candidate (keep_step_repeat)
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
@@ -71,6 +72,7 @@ class MeanCandidate(Mechanism):
                    map_tasks, judged=None) -> dict:
         out: dict = {}
         held = None  # a row for the next generation: the winner to confirm
+        jumped, self.jumped = self.jumped, False  # the last generation's, and this one's (set on a jump)
         if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
             E = self.host.cfg.rollout.episodes
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
@@ -98,7 +100,11 @@ class MeanCandidate(Mechanism):
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
                 jump = np.asarray(self.extras[k] if confirmed else self.extras[j], np.float64)  # (n,)
-                strategy.set_mean(jump + es_update if self.cfg.keep_step else jump)
+                # keep_step: the ES update too, unless it was estimated around a mean that was itself a
+                # jump (keep_step_repeat off): taken jump after jump, such updates can undo every jump
+                step = self.cfg.keep_step and (self.cfg.keep_step_repeat or not jumped)
+                strategy.set_mean(jump + es_update if step else jump)
+                self.jumped = True
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
         self.extras, self.pending = None, 0
@@ -119,12 +125,14 @@ class MeanCandidate(Mechanism):
 
     def sleep(self) -> None:
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
+        self.jumped = False
 
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params
         return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
                 "pending": np.array(self.pending, np.int64),
-                "learner": np.zeros(0) if self.learner is None else self.learner.copy()}
+                "learner": np.zeros(0) if self.learner is None else self.learner.copy(),
+                "jumped": np.array(self.jumped, np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
@@ -136,5 +144,6 @@ class MeanCandidate(Mechanism):
         if learner.size and (learner.shape != (n,) or not np.isfinite(learner).all()):
             raise ValueError(f"candidate learner has shape {learner.shape}, expected ({n},) and finite")
         self.learner = learner if learner.size else None
+        self.jumped = bool(np.asarray(state.get("jumped", 0)))  # a checkpoint from before: no jump pending
         self.extras = x if x.size else None
         self.pending = pending if x.size else 0
