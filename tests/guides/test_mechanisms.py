@@ -34,11 +34,13 @@ def _shaping(**over):
     ("candidate", "controller", None), ("candidate", "mphi", None),
     ("candidate", "controller", "confirm"), ("candidate", "controller", "extra_episodes"),
     ("candidate", "controller", "paired"), ("candidate", "controller", "best"),
-    ("candidate", "mphi", "warm_start"), ("pair", "controller", None)])
+    ("candidate", "mphi", "warm_start"), ("candidate", "controller", "no_repeat"), ("pair", "controller", None)])
 def test_mechanism_logs_its_columns_and_resumes_exactly(tmp_path, monkeypatch, mechanism, labels, option):
     opts = {} if option is None else {option: 2 if option == "extra_episodes" else True}
     if option == "paired":
         opts = {"accept": "paired", "extra_episodes": 3}
+    if option == "no_repeat":
+        opts = {"keep_step_repeat": False}
     if option == "best":  # the rule before the suite's defaults: beat every member on the common episodes
         opts = {"accept": "best", "extra_episodes": 0, "keep_step": False}
     sh = _shaping(mechanism=mechanism, labels=labels, mean_clone={**TINY["shaping"]["mean_clone"], **opts})
@@ -214,6 +216,35 @@ def test_extra_episodes_make_a_winner_beat_the_mean_where_nobody_was_chosen(monk
         es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
         out = mech.after_tell(1, None, np.array([1.0, 2.0, 3.0, 4.0]), np.array(extra), [], np.zeros(n), es, None)
         assert out["candidate_accepted"] == accepted
+
+
+@pytest.mark.parametrize("repeat", [True, False])
+def test_keep_step_repeat_decides_the_step_of_a_jump_right_after_a_jump(monkeypatch, repeat):
+    """Two accepted generations in a row: the first keeps the ES update; the second does too only with
+    keep_step_repeat (off: it lands on the candidate itself); a third, after a rejected one, keeps it again."""
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    n, P = 3, 4
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + 1.0, {"label_std": 0.1}))
+    mech = MeanCandidate(_Host(n, "mean", scales=(1.0,), keep_step=True, keep_step_repeat=repeat))
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+    es.ask(); es.tell(np.zeros(P))
+    mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
+    for g, (wins, stepped) in enumerate([(True, True), (True, repeat), (False, False), (True, True)], start=1):
+        cand = mech.extra_members(g)[0].astype(np.float64)  # (n,) this generation's candidate
+        old = np.array(es.mean)
+        es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+        update = np.array(es.mean) - old  # (n,) the ES update
+        out = mech.after_tell(g, None, np.ones(P), np.array([[5.0 if wins else 0.0], [1.0]]), [], old, es, None)
+        assert out["candidate_accepted"] == int(wins) and mech.jumped == wins
+        want = (cand + update if stepped else cand) if wins else old + update
+        np.testing.assert_allclose(es.mean, want, rtol=1e-5, atol=1e-6)
+    assert int(mech.state_dict()["jumped"]) == 1
+    fresh = MeanCandidate(_Host(n, "mean", scales=(1.0,)))
+    fresh.load_state_dict(mech.state_dict())
+    assert fresh.jumped
+    fresh.load_state_dict({k: v for k, v in mech.state_dict().items() if k != "jumped"})  # an older checkpoint
+    assert not fresh.jumped
 
 
 def test_babbling_policies_feed_m_phi_and_resume_exactly(tmp_path, monkeypatch):
