@@ -169,6 +169,9 @@ class MeanCloneSettings(_Strict):
     keep_step: Bool = Field(_MEAN.keep_step, description="candidate: an accepted candidate also takes the ES "
                             "update it replaces (the new mean is c_g + (mu_{g+1} - mu_g)): a candidate judged "
                             "against the old mean does not undo the ES step")
+    reset_momentum: Bool = Field(_MEAN.reset_momentum, description="candidate: an accepted jump also resets "
+                                 "the ES optimizer's momentum (Adam's first moment), which holds gradients "
+                                 "estimated around the old mean")
     keep_step_repeat: Bool = Field(_MEAN.keep_step_repeat, description="candidate: keep_step also on a jump "
                                    "right after a jump (false: the second jump in a row lands on the candidate "
                                    "itself, so the search restarts around it instead of cycling)")

@@ -89,6 +89,7 @@ class MeanCloneConfig:
     #                          on which a winner must beat the mean too
     keep_step: bool = True  # candidate: an accepted candidate also takes the ES update it replaces
     #                           (mu_{g+1} = c_g + (mu_{g+1} - mu_g)) instead of discarding it
+    reset_momentum: bool = False  # candidate: an accepted jump also resets the ES optimizer's momentum
     keep_step_repeat: bool = True  # keep_step also when the previous generation's mean was a jump too (False:
     #                                a second jump in a row lands on the candidate itself)
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and

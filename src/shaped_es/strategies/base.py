@@ -122,6 +122,13 @@ class Strategy:
         """This strategy's fitness shaping (``fitness_shaping``) applied to ``fitness``."""
         return shape_fitness(fitness, self.fitness_shaping)
 
+    def reset_momentum(self) -> None:
+        """Forget the optimizer's momentum (no optimizer: nothing to forget). The shaped method calls it
+        after moving the mean to an accepted candidate: the momentum holds gradients estimated around
+        the old mean, and carries the next steps away from the new one."""
+        if self.opt is not None:
+            self.opt.reset_momentum()
+
     def _ascend(self, mean: np.ndarray, grad: np.ndarray) -> np.ndarray:
         """One optimizer step of ``mean`` along ``grad`` after L2 weight decay on the mean."""
         g = l2_decay(grad, mean, self.weight_decay)  # (n,) grad of F - wd/2 ||mu||^2

@@ -32,6 +32,10 @@ class SGD:
         buf += grad
         return x + self.lr * buf
 
+    def reset_momentum(self) -> None:
+        """Forget the gradients of earlier steps (the momentum buffer), as after a jump of ``x``."""
+        self.buf[:] = 0.0
+
     def state_dict(self) -> dict[str, np.ndarray]:
         return {"buf": self.buf.copy()}
 
@@ -71,6 +75,12 @@ class Adam:
         tmp *= self.lr  # lr * m_hat / (sqrt(v_hat) + eps)
         tmp /= denom
         return x + tmp
+
+    def reset_momentum(self) -> None:
+        """Forget the gradients of earlier steps (the first moment ``m``), as after a jump of ``x``: the
+        next steps grow back from a tenth of their size (``m_hat`` rebuilds at rate ``1 - b1``); the
+        second moment, the per-coordinate scale, is kept."""
+        self.m[:] = 0.0
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {"m": self.m.copy(), "v": self.v.copy(), "t": np.array(self.t, dtype=np.int64)}

@@ -104,6 +104,8 @@ class MeanCandidate(Mechanism):
                 # jump (keep_step_repeat off): taken jump after jump, such updates can undo every jump
                 step = self.cfg.keep_step and (self.cfg.keep_step_repeat or not jumped)
                 strategy.set_mean(jump + es_update if step else jump)
+                if self.cfg.reset_momentum:
+                    strategy.reset_momentum()
                 self.jumped = True
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
