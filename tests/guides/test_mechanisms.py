@@ -240,6 +240,11 @@ def test_keep_step_repeat_decides_the_step_of_a_jump_right_after_a_jump(monkeypa
         want = (cand + update if stepped else cand) if wins else old + update
         np.testing.assert_allclose(es.mean, want, rtol=1e-5, atol=1e-6)
     assert int(mech.state_dict()["jumped"]) == 1
+    assert np.any(es.opt.m != 0)  # reset_momentum off: the ES optimizer's momentum is kept across jumps
+    mech.cfg = MeanCloneConfig(**{**mech.cfg.__dict__, "reset_momentum": True})
+    es.ask(); es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
+    mech.after_tell(5, None, np.ones(P), np.array([[5.0], [1.0]]), [], np.array(es.mean), es, None)
+    assert np.all(es.opt.m == 0) and np.any(es.opt.v != 0)  # on: the jump forgot it (Adam's scale kept)
     fresh = MeanCandidate(_Host(n, "mean", scales=(1.0,)))
     fresh.load_state_dict(mech.state_dict())
     assert fresh.jumped

@@ -112,6 +112,22 @@ def test_adam_first_step_is_lr_times_sign():
         make_optimizer("rmsprop", 3, 0.1)
 
 
+def test_reset_momentum_forgets_the_direction_and_keeps_the_scale():
+    sgd = SGD(2, lr=0.5, momentum=0.5)
+    sgd.step(np.zeros(2), np.array([1.0, -2.0]))
+    sgd.reset_momentum()
+    np.testing.assert_array_equal(sgd.step(np.zeros(2), np.array([1.0, 0.0])), [0.5, 0.0])  # buf = g alone
+    adam = Adam(2, lr=0.1, eps=0.0)
+    adam.step(np.zeros(2), np.array([3.0, -3.0]))
+    v, t = adam.v.copy(), adam.t
+    adam.reset_momentum()
+    assert np.all(adam.m == 0) and np.array_equal(adam.v, v) and adam.t == t
+    # the next step along the opposite gradient: only (1 - b1) of it, bias-corrected at t = 2, over sqrt(v_hat)
+    x = adam.step(np.zeros(2), np.array([-3.0, 3.0]))
+    want = 0.1 * (0.1 * np.array([-3.0, 3.0]) / (1 - 0.9**2)) / np.sqrt(9.0)  # v_hat = 9 exactly
+    np.testing.assert_allclose(x, want, rtol=1e-12)
+
+
 def test_strategies_layer_imports_only_numpy_and_cma():
     import ast
     from pathlib import Path
