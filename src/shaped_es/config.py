@@ -221,6 +221,9 @@ class ShapingConfig(_Strict):
         "generation), first for 4 generations, then twice as long each time its labels lose again, waking "
         "to try; an acceptance resets it (guides/label_budget.py); 0: never back off")
     backoff_max: Int = Field(32, ge=0, le=100_000, description="the longest sleep, in generations")
+    backoff_judges_jumps: Bool = Field(False, description="candidate: an accepted candidate after which the "
+                                       "next population's mean return falls below the one before the jump counts "
+                                       "as a lost judgement for the back-off (guides/label_budget.py)")
     inverse_dynamics: InverseDynamicsSettings = Field(default_factory=InverseDynamicsSettings)
     cloning: CloningSettings = Field(default_factory=CloningSettings)
     mean_clone: MeanCloneSettings = Field(default_factory=MeanCloneSettings)

@@ -52,6 +52,39 @@ def test_state_round_trip_continues_the_schedule():
         b.load_state_dict({"ints": np.array([1, 2])})
 
 
+@pytest.mark.parametrize("judge_jumps", [False, True])
+def test_a_jump_after_which_the_population_fell_counts_as_lost_with_judge_jumps(judge_jumps):
+    b = LabelBudget(patience=5, max_sleep=8, judge_jumps=judge_jumps)
+    for _ in range(3):
+        assert b.begin() and not b.judge(False, 0.0, population=1.0)
+    assert b.begin() and not b.judge(True, 2.0, population=1.0)  # a jump: the streak of 3 is reset ...
+    assert b.losses == 0
+    # ... and the population around it falls (0.5 < 1.0): with judge_jumps the jump lost after all
+    # (3 + 1 losses), and this generation's own loss makes 5: asleep from the next generation
+    assert b.begin() and b.judge(False, 0.0, population=0.5) == judge_jumps
+    assert b.fell == 1 and b.losses == (5 if judge_jumps else 1)
+    assert b.summary()["accepted_then_fell"] == 1
+    # a jump after which the population rose keeps its reset
+    c = LabelBudget(patience=5, max_sleep=8, judge_jumps=judge_jumps)
+    for won, pop in [(False, 1.0), (False, 1.0), (True, 1.0), (False, 1.5)]:
+        c.begin(); c.judge(won, 0.0, population=pop)
+    assert c.fell == 0 and c.losses == 1
+
+
+def test_state_keeps_the_jump_and_an_older_checkpoint_loads():
+    a = LabelBudget(5, 32, judge_jumps=True)
+    for won in (False, False, True):
+        a.begin(); a.judge(won, 0.0, population=2.0)
+    b = LabelBudget(5, 32, judge_jumps=True)
+    b.load_state_dict(npz_round_trip(a.state_dict()))
+    b.begin(); a.begin()
+    assert b.judge(False, 0.0, population=1.0) == a.judge(False, 0.0, population=1.0) is False
+    assert b.losses == a.losses == 4 and b.fell == a.fell == 1
+    old = LabelBudget(5, 32)
+    old.load_state_dict({"ints": np.array([2, 4, 0, 0, 0, 0, 7, 1]), "gain_sum": np.array([1.0])})  # 8 counters
+    assert (old.losses, old.judged, old.accepted, old.prev_accepted, old.fell) == (2, 7, 1, 0, 0)
+
+
 def test_rows_summary():
     rows = [{"candidate_accepted": "", "candidate_gain": "", "shaping_awake": "1"},
             {"candidate_accepted": "1", "candidate_gain": "2.0", "shaping_awake": "1"},

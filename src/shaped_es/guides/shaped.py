@@ -147,7 +147,8 @@ class ShapedGuide(NoGuide, GenerationData):
         self._warned = False
         self._babblers = 0  # babbling policies among this generation's extra members (the last rows)
         # labels that keep losing put the shaping work to sleep (guides/label_budget.py)
-        self.budget = LabelBudget(self.sh.backoff_after, self.sh.backoff_max)
+        self.budget = LabelBudget(self.sh.backoff_after, self.sh.backoff_max,
+                                  judge_jumps=self.sh.backoff_judges_jumps)
         self.awake = True  # this generation is shaped (False: asleep, a Vanilla-ES generation)
         self._silent: set[int] = set()  # recent generations slept through: no steps were recorded
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
@@ -357,7 +358,7 @@ class ShapedGuide(NoGuide, GenerationData):
         def judged(metrics: dict) -> None:  # the judgement is made and the strategy final; the clone follows
             if verdict:
                 return
-            verdict.append(self._verdict(metrics))
+            verdict.append(self._verdict(metrics, float(np.mean(fitness))))
             if ready is not None and self.placement == "master":
                 t = time.perf_counter()
                 ready(self._next_population_mask(P))
@@ -368,7 +369,7 @@ class ShapedGuide(NoGuide, GenerationData):
                                              strategy, map_tasks, judged=judged))
         out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
         if not verdict:  # the mechanism never judged early: judged on its metrics now
-            verdict.append(self._verdict(out))
+            verdict.append(self._verdict(out, float(np.mean(fitness))))
         if verdict[0]:
             self._sleep()
         self._trim_cache(generation)
@@ -381,12 +382,12 @@ class ShapedGuide(NoGuide, GenerationData):
             return np.zeros(population, bool)
         return self.mechanism.record_mask(population, 0)[:population]
 
-    def _verdict(self, out: dict) -> bool:
+    def _verdict(self, out: dict, population: float) -> bool:
         """Tell the label budget whether this generation's candidate paid; True: the labels keep losing,
         the guide sleeps from the next generation (:meth:`_sleep`, once the mechanism's work is done)."""
         if out.get("candidate_accepted") is None:
             return False
-        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"))
+        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), population)
 
     def _sleep(self) -> None:
         """Asleep from the next generation: the mechanism drops what it prepared, with one warning line the
