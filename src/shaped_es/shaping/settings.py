@@ -90,8 +90,8 @@ class MeanCloneConfig:
     keep_step: bool = True  # candidate: an accepted candidate also takes the ES update it replaces
     #                           (mu_{g+1} = c_g + (mu_{g+1} - mu_g)) instead of discarding it
     reset_momentum: bool = False  # candidate: an accepted jump also resets the ES optimizer's momentum
-    keep_step_repeat: bool = True  # keep_step also when the previous generation's mean was a jump too (False:
-    #                                a second jump in a row lands on the candidate itself)
+    keep_step_repeat: bool = False  # keep_step also when the previous generation's mean was a jump too
+    #                                 (False, the suite's choice: a second jump in a row lands on the candidate)
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
 
