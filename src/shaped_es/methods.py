@@ -69,7 +69,7 @@ class Method:
     needs: tuple[str, ...] = ()
     no_obs_norm: str | None = None
     # Its guide runs the compiled shaping kernels (shaping/kernels.py): a run says so in one line when they
-    # are about to compile (monitor/kernel_notice.py).
+    # are about to compile (shaping/kernel_notice.py).
     kernels: bool = False
 
 

@@ -35,9 +35,7 @@ import sys
 import time
 
 from shaped_es.config import RunConfig
-from shaped_es.methods import METHODS
 from shaped_es.monitor.callbacks import as_callbacks
-from shaped_es.monitor.kernel_notice import say_if_compiling
 from shaped_es.monitor.progress import ProgressDisplay
 from shaped_es.rundir.atomic import atomic_write_text
 from shaped_es.rundir.meta import Counters, config_digest
@@ -59,8 +57,6 @@ class RunLoop:
         # the run's start-up (worker pools, the env probe, the shaped method's label probe) begins here:
         # the progress line's elapsed time counts it (wall_time_s counts the label probe)
         self._started = time.perf_counter()
-        if progress and METHODS[cfg.method].kernels:  # before the start-up that compiles them (a cold cache)
-            say_if_compiling(self.label)
         self.c = Counters()
         # generations done when the best policy was found (0: the initial one; None: an old checkpoint's)
         self.best_generation: int | None = 0

@@ -55,6 +55,7 @@ from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
                                probe_env, run_task, run_tasks, warn_if_endless)
 from shaped_es.run_loop import RunLoop
+from shaped_es.shaping.kernel_notice import say_if_compiling
 from shaped_es.rundir.store import RunStore
 from shaped_es.strategies import Strategy
 
@@ -118,6 +119,12 @@ class _Row:
     futures: list[Future] = field(default_factory=list)
 
 
+def startup_notice(cfg: RunConfig, progress: bool, label: str) -> bool:
+    """The line before a cold cache's kernel compile (``shaping/kernel_notice.py``), for the methods that
+    use the kernels and not with ``--quiet``; returns whether it printed."""
+    return bool(progress and METHODS[cfg.method].kernels and say_if_compiling(label))
+
+
 class Trainer(RunLoop):
     """The ES generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints)."""
 
@@ -125,6 +132,7 @@ class Trainer(RunLoop):
                  progress: bool = True, probe: EnvProbe | None = None, callback=None):
         check_obs_norm(cfg)
         super().__init__(cfg, store, cfg.method, progress, callback)
+        startup_notice(cfg, progress, self.label)  # before the start-up that compiles the kernels
         self._own_executor = executor is None
         self.executor = executor or make_executor(
             cfg.executor, workers=cfg.workers, **_executor_options(cfg)

@@ -246,7 +246,7 @@ def cmd_check_env(a: argparse.Namespace) -> int:
 
     labels = None
     if a.labels and "shaped" in methods:
-        from shaped_es.monitor.kernel_notice import say_if_compiling
+        from shaped_es.shaping.kernel_notice import say_if_compiling
 
         say_if_compiling("check-env")  # the probe compiles the shaping kernels on a cold cache
         labels = check_labels(a.env_id, parse_set(a.set))

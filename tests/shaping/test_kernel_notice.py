@@ -5,8 +5,8 @@ import pytest
 from helpers import CARTPOLE_TINY
 
 from shaped_es.config import build_config
-from shaped_es.monitor import kernel_notice
-from shaped_es.run_loop import RunLoop
+from shaped_es.shaping import kernel_notice
+from shaped_es.trainer import startup_notice
 from shaped_es.shaping import kernels
 
 
@@ -29,5 +29,5 @@ def test_kernels_off_compile_nothing(monkeypatch, capsys):
                                                     ("ppo", True, False)])
 def test_a_run_says_it_when_its_method_compiles_them(monkeypatch, capsys, method, progress, said):
     monkeypatch.setattr(kernels, "cached", lambda fns=None: False)  # a cold cache
-    RunLoop(build_config({**CARTPOLE_TINY, "method": method}), store=None, method=method, progress=progress)
+    assert startup_notice(build_config({**CARTPOLE_TINY, "method": method}), progress, "train") is said
     assert ("compiling the shaping kernels" in capsys.readouterr().err) is said
