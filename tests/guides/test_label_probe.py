@@ -103,7 +103,7 @@ def _episode(rng, T=6, d=2) -> Transitions:
                        np.zeros(T, np.float32))
 
 
-@pytest.mark.parametrize("frame", ["world", "both"])
+@pytest.mark.parametrize("frame", ["world", "both", "motion", "waypoint"])
 @pytest.mark.parametrize("mix", [1.0, 0.25])
 @pytest.mark.parametrize("d", [2, 3])
 def test_online_queries_equal_the_offline_ones(frame, mix, d):

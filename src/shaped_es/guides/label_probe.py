@@ -132,12 +132,18 @@ def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray):
 def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: float = 1.0) -> np.ndarray:
     """M_phi's query ``(B, d)`` or ``(B, 2d)`` online, as ``query_displacement`` offline: ``w_t - p_t``
     mixed with the last step (``mixed_query``) in ``frame`` (the motion frame: the angle of
-    ``p_t - p_{t-1}``, 0 at an episode's first step, as ``shaping/frames.py``)."""
+    ``p_t - p_{t-1}``, 0 at an episode's first step; the waypoint frame: the angle of ``w_t - p_t``; as
+    ``shaping/frames.py``)."""
     last = (pos - prev).astype(np.float64)  # (B, d) the last step
-    d = mixed_query((wp - pos).astype(np.float64), last, mix)  # (B, d)
+    toward = (wp - pos).astype(np.float64)  # (B, d)
+    d = mixed_query(toward, last, mix)  # (B, d)
     if frame == "world":
         return d.astype(np.float32)
+    if frame == "waypoint":  # x toward the waypoint (frames.waypoint_angle)
+        return rotate(d, np.arctan2(toward[:, 1], toward[:, 0])).astype(np.float32)
     m = rotate(d, np.arctan2(last[:, 1], last[:, 0]))  # motion frame; angle 0 where the agent did not move
+    if frame == "motion":
+        return m.astype(np.float32)
     return np.concatenate([d, m], axis=1).astype(np.float32)  # (B, 2d)
 
 
