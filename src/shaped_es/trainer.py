@@ -406,7 +406,9 @@ class Trainer(RunLoop):
         returns the rows completed now (this one unless it waits for its test episodes)."""
         master_cpu = time.process_time() - cpu0
         steps = int(sum(r.lengths.sum() for r in results))
-        pre_steps, pre_s = self.guide.startup  # work done before generation 0 (the label probe): in the totals
+        # work done before generation 0 (the label probe): in its row's totals; a run resumed from a later
+        # checkpoint has it in the counters already
+        pre_steps, pre_s = self.guide.startup if g == 0 else (0, 0.0)
         self.guide.startup = (0, 0.0)
         self.c.env_steps += int(pre_steps)
         self.c.wall_time_s += float(pre_s)

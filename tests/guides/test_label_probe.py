@@ -134,13 +134,16 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
     # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
     assert int(full[0]["env_steps"]) > res.env_steps
-    # killed after generation 1, resumed: the saved choice is read (no second probe), the run is exact
-    cfg, store = new_run(tmp_path / "crashed", {**POINT, "generations": 3})
-    run_until_crash(monkeypatch, cfg, store, 2)
-    capsys.readouterr()
-    Trainer(cfg, store, progress=False).run()
-    assert "labels: frame=" not in capsys.readouterr().err
-    assert strip_time(store.read_metrics()) == strip_time(full)
+    # killed after generation 1, or in generation 0 (the probe on file, no checkpoint yet), resumed: the
+    # saved choice is read (no second probe), its env steps still counted once, the run is exact
+    for crash_at in (2, 0):
+        cfg, store = new_run(tmp_path / f"crashed{crash_at}", {**POINT, "generations": 3})
+        run_until_crash(monkeypatch, cfg, store, crash_at)
+        assert (tmp_path / f"crashed{crash_at}" / FILE).exists()
+        capsys.readouterr()
+        Trainer(cfg, store, progress=False).run()
+        assert "labels: frame=" not in capsys.readouterr().err
+        assert strip_time(store.read_metrics()) == strip_time(full)
 
 
 def test_an_explicit_frame_skips_the_probe(tmp_path, capsys):

@@ -114,8 +114,9 @@ class ShapedGuide(NoGuide, GenerationData):
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
             self.query_clip = res.query_clip
+            # counted in generation 0's row, also by a run that restarts it with the probe on file
+            self.startup = (res.env_steps, res.seconds)
             if fresh:
-                self.startup = (res.env_steps, res.seconds)
                 print(f"shaped-es: {res.line()}", file=sys.stderr)
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
