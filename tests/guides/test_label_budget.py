@@ -91,8 +91,26 @@ def test_rows_summary():
             {"candidate_accepted": "0", "candidate_gain": "-4.0", "shaping_awake": "1"},
             {"candidate_accepted": "", "candidate_gain": "", "shaping_awake": "0"}]
     assert rows_summary(rows) == {"candidates_judged": 2, "candidates_accepted": 1, "mean_gain": -1.0,
-                                  "generations_backed_off": 1}
+                                  "accepted_then_fell": 0, "generations_backed_off": 1}
+    pops = ["1.0", "2.0", "1.5", "3.0", "2.5", "2.0"]  # train_reward_mean; accepted at rows 1, 3 and 5
+    seq = [{"candidate_accepted": str(i % 2), "candidate_gain": "0", "shaping_awake": "1", "train_reward_mean": p}
+           for i, p in enumerate(pops)]
+    assert rows_summary(seq)["accepted_then_fell"] == 2  # 2.0 -> 1.5 and 3.0 -> 2.5 (row 5 has no successor)
     assert rows_summary([{"train_reward_mean": "1"}]) is None
+
+
+def test_the_final_summary_counts_what_the_budget_counted(tmp_path):
+    """``accepted_then_fell`` read back from metrics.csv (the final JSON's, also after a resume) is the
+    budget's own count in the run."""
+    from test_mechanisms import TINY
+
+    cfg, store = new_run(tmp_path / "run", {**TINY, "generations": 8,
+                                            "shaping": {**TINY["shaping"], "labels": "controller"}})
+    trainer = Trainer(cfg, store, progress=False)
+    trainer.run()
+    summary = rows_summary(store.read_metrics())
+    assert summary["candidates_accepted"] > 0
+    assert summary["accepted_then_fell"] == trainer.guide.budget.fell >= 1  # this run has one such jump
 
 
 class NoisyWaypoints(gym.Env):

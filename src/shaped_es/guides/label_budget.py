@@ -136,11 +136,22 @@ def _num(v) -> float | None:
 
 def rows_summary(rows: list[dict]) -> dict | None:
     """What shaping did over a run's metrics rows (None: no candidate columns, not a candidate run):
-    candidates judged and accepted, their mean return gain, generations backed off."""
+    candidates judged and accepted, their mean return gain, acceptances after which the population's mean
+    return (``train_reward_mean``) fell (as :meth:`LabelBudget.judge` counts them), generations backed off."""
     if not rows or "candidate_accepted" not in rows[0]:
         return None
     acc = [a for a in (_num(r.get("candidate_accepted")) for r in rows) if a is not None]
     gains = [g for g in (_num(r.get("candidate_gain")) for r in rows) if g is not None]
     asleep = sum(1 for r in rows if _num(r.get("shaping_awake")) == 0)
+    fell, prev_accepted, prev_pop = 0, False, 0.0
+    for r in rows:
+        a, pop = _num(r.get("candidate_accepted")), _num(r.get("train_reward_mean"))
+        if _num(r.get("shaping_awake")) == 0:
+            prev_accepted = False
+        if a is None:
+            continue
+        fell += int(prev_accepted and pop is not None and pop < prev_pop)
+        prev_accepted, prev_pop = bool(a) and pop is not None, pop if pop is not None else 0.0
     return {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
-            "mean_gain": float(np.mean(gains)) if gains else None, "generations_backed_off": asleep}
+            "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
+            "generations_backed_off": asleep}
