@@ -4,6 +4,8 @@ measured from it (start-up excluded); in 80 columns the terminal bar keeps steps
 import io
 import re
 
+import pytest
+
 from rich.console import Console
 
 from shaped_es.monitor.progress import ProgressDisplay
@@ -40,17 +42,29 @@ def test_plain_lines_come_at_once_and_the_eta_leaves_the_start_up_out():
     assert lines[-1].endswith("ETA 0s")
 
 
-def test_80_columns_keep_steps_per_second_and_the_eta():
+@pytest.mark.parametrize("shaped", [False, True])
+def test_80_columns_keep_steps_per_second_and_the_eta(shaped):
+    """A shaped run's line (its labels count, asleep) at the widest figures still fits: a new user's
+    80-column terminal cut the elapsed time and the ETA off."""
     clock, file = Clock(), io.StringIO()
     console = Console(file=file, width=80, force_terminal=True, color_system=None)
-    bar = ProgressDisplay(60, enabled=True, clock=clock, console=console, label="train")
+    bar = ProgressDisplay(800, enabled=True, clock=clock, console=console, label="train")
+    big = {"train_reward_mean": -123.45, "test_reward_mean": -123.456, "gen_env_steps": 12_345_678}
     for g in range(3):
-        clock.t += 1.0
-        bar.update(g, {**_row(g), "gen_env_steps": 1_234_567})
+        clock.t += 4000.0
+        extra = {"candidate_accepted": str(g % 2), "shaping_awake": "0" if g == 2 else "1"} if shaped else {}
+        bar.update(g, {**_row(g), **big, **extra})
+    for g in range(3, 300):  # 3-digit label counts
+        bar._labels({"candidate_accepted": "1", "shaping_awake": "1"})
+    clock.t += 4000.0
+    bar.update(300, {**_row(300), **big, **({"candidate_accepted": "1", "shaping_awake": "0"} if shaped else {})})
     bar.close()
-    last = [x for x in file.getvalue().replace("\r", "\n").splitlines() if "gen 3/60" in x][-1]
+    last = [x for x in file.getvalue().replace("\r", "\n").splitlines() if "gen 301/800" in x][-1]
     text = re.sub(r"\x1b\[[0-9;?]*[a-zA-Z]", "", last).rstrip()
-    assert len(text) <= 80 and "steps/s" in text and "ETA" in text and "test 3.2" in text, text
+    assert len(text) <= 80 and "/s" in text and "ETA" in text and "test -123.5" in text, text
+    assert re.search(r"\d:\d\d:\d\d ETA [-\d]:[-\d]{2}:[-\d]{2}$", text) and "…" not in text, text  # nothing cut
+    if shaped:
+        assert re.search(r" \d{3}/\d{3} acc off ", text), text
 
 
 def test_rows_written_together_keep_their_own_pace():

@@ -4,7 +4,9 @@ Off a terminal the first line comes with the first generation, the second with t
 ~5% of the run. Its pace, the steps/s and the ETA, is measured from the first generation's line on: the
 first generation carries the start-up (worker processes, compiled kernels, imports), so the time to it
 would inflate every ETA; the first line therefore has no ETA yet. Below ~110 columns the terminal bar
-drops its bar graphic and keeps the generation count, the rewards, steps/s and the ETA (80 columns fit).
+drops its bar graphic and shortens its words (``gen 12/80 -3.1 test 4.2 1.2M/s 3/9 acc off 0:01:02 ETA
+0:03:10``: the train and test rewards, steps/s, candidates accepted of judged and whether shaping
+sleeps, elapsed, ETA), so that 80 columns fit it whole.
 
 Steps/s is timed by the rows' own clock (``wall_time_s``: the run's wall time when each generation was
 done, as ``metrics.csv`` has it), not by when a row reaches the display: rows can arrive together (a
@@ -97,9 +99,11 @@ class ProgressDisplay:
         rate = self._rate(now, row)
         test = row.get("test_reward_mean")
         labels = self._labels(row)
-        if self._compact:
+        if self._compact:  # 80 columns: short words, so that the elapsed time and the ETA stay on the line
             test_s = "" if test in (None, "") else f" test {float(test):.1f}"
-            info = f"train {float(row['train_reward_mean']):.1f}{test_s} {_si(rate)} steps/s{labels}"
+            short = labels.replace("  labels ", " ").replace(" [backed off]", " off")
+            short = f"{short} acc" if short and not short.endswith(" off") else short.replace(" off", " acc off")
+            info = f"{float(row['train_reward_mean']):.1f}{test_s} {_si(rate)}/s{short}"
         else:
             test_s = "" if test in (None, "") else f" test {float(test):8.2f}"
             info = (f"train mean {float(row['train_reward_mean']):8.2f} max {float(row['train_reward_max']):8.2f}"
