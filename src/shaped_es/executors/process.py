@@ -45,8 +45,6 @@ def _init_worker(owner_pid: int | None = None, counter=None, warning_log_path: s
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
     warning_log.to_log(warning_log_path)  # other libraries' warnings: the run's error.log, not the terminal
-    # Ctrl-C reaches the whole process group: the trainer alone handles it (one line) and ends the workers
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
     for var in _THREAD_VARS:
         os.environ[var] = "1"
     if counter is not None:  # the pool's shared counter: this worker's index (0..workers-1)
