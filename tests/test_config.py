@@ -101,6 +101,15 @@ def test_a_misspelt_key_is_named_with_what_it_may_mean():
         build_config({"zzz": 1})
 
 
+def test_every_error_is_named_on_the_one_line():
+    """A config with several mistakes names them all, so a user fixes them in one go (one line still)."""
+    with pytest.raises(ConfigError) as e:
+        build_config({"es": {"sigma": -1, "lrr": 0.1}, "shaping": {"mean_clone": {"acept": "paired"}}})
+    line = str(e.value)
+    assert "\n" not in line and line.startswith("invalid config: es.sigma: ")
+    assert line.endswith(" (+2 more: es.lrr, shaping.mean_clone.acept)"), line
+
+
 @pytest.mark.parametrize("data", [
     {"shaping": {"mean_clone": {"acept": "paired"}}},  # a YAML file's sections
     {"shaping.mean_clone.acept": "paired"},  # a dotted key (--set, the API, a YAML file's top level)

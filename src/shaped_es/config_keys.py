@@ -42,7 +42,8 @@ def first_error(exc: ValidationError, model: type[BaseModel] | None = None) -> s
     of ``model`` (the model validated) names the fields it may mean."""
     err = exc.errors()[0]
     where = ".".join(str(p) for p in err["loc"]) or "config"
-    more = f" (+{exc.error_count() - 1} more)" if exc.error_count() > 1 else ""
+    others = [".".join(str(p) for p in e["loc"]) or "config" for e in exc.errors()[1:]]  # named, to fix in one go
+    more = f" (+{len(others)} more: {', '.join(others[:3])}{', ...' if len(others) > 3 else ''})" if others else ""
     msg = " ".join(str(err["msg"]).removeprefix("Value error, ").split())
     if err.get("type") == "extra_forbidden":  # a misspelt key: name the section's fields it may mean
         msg = "unknown field" + (did_you_mean(model, err["loc"]) if model is not None else "")
