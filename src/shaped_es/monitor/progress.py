@@ -98,12 +98,10 @@ class ProgressDisplay:
         self._steps += int(row.get("gen_env_steps", 0) or 0)
         rate = self._rate(now, row)
         test = row.get("test_reward_mean")
-        labels = self._labels(row)
+        labels = self._labels(row, short=self._compact)
         if self._compact:  # 80 columns: short words, so that the elapsed time and the ETA stay on the line
             test_s = "" if test in (None, "") else f" test {float(test):.1f}"
-            short = labels.replace("  labels ", " ").replace(" [backed off]", " off")
-            short = f"{short} acc" if short and not short.endswith(" off") else short.replace(" off", " acc off")
-            info = f"{float(row['train_reward_mean']):.1f}{test_s} {_si(rate)}/s{short}"
+            info = f"{float(row['train_reward_mean']):.1f}{test_s} {_si(rate)}/s{labels}"
         else:
             test_s = "" if test in (None, "") else f" test {float(test):8.2f}"
             info = (f"train mean {float(row['train_reward_mean']):8.2f} max {float(row['train_reward_max']):8.2f}"
@@ -125,7 +123,7 @@ class ProgressDisplay:
             if "candidate_accepted" in row:
                 self._labels(row)
 
-    def _labels(self, row: dict) -> str:
+    def _labels(self, row: dict, short: bool = False) -> str:
         """`` labels A/J`` (candidates accepted of judged, this display's rows) for candidate runs, with
         ``[backed off]`` while shaping sleeps (guides/label_budget.py); empty otherwise."""
         if "candidate_accepted" not in row:
@@ -134,6 +132,8 @@ class ProgressDisplay:
         if acc is not None:
             self._judged, self._accepted = self._judged + 1, self._accepted + int(acc)
         asleep = _number(row.get("shaping_awake")) == 0
+        if short:  # the compact line's `` 3/9 acc off``
+            return f" {self._accepted}/{self._judged} acc" + (" off" if asleep else "")
         return f"  labels {self._accepted}/{self._judged}" + (" [backed off]" if asleep else "")
 
     def close(self) -> None:
