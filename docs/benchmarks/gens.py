@@ -1,5 +1,6 @@
 """Generations to each task's threshold per seed, and the label probe's choice per seed, for suite directories
-(shaped-es suite run): python gens.py DIR [DIR...]. Thresholds and budgets as the waypoint suite's."""
+(shaped-es suite run): python docs/benchmarks/gens.py DIR [DIR...] (the one script every suite study here uses;
+``+c``: the query clipped, ``+k``: action-chunk targets). Thresholds and budgets as the waypoint suite's."""
 import csv, glob, sys, os, json, numpy as np
 TH = {"PointVel-v0": (8.5, 80), "PointForce-v0": (8.5, 80), "Unicycle-v0": (8.5, 50), "ReacherWay-v0": (-6.5, 80),
       "SwimmerWay-v0": (30, 30), "CarNav-v0": (200, 80), "UR5Reach-v0": (40, 60)}
