@@ -109,6 +109,11 @@ class InverseDynamicsSettings(_Strict):
         "query_clip (none or 2) whose simulated candidate (the initial mean cloned toward its labels) "
         "clearly drives the body better, or zero action driving it better than both's labels "
         "(RUN/label_probe.json; shaped-es check-env ID --labels)")
+    rival_frame: Literal["none", "world", "motion", "waypoint", "both"] = Field(
+        "waypoint", description="mechanism candidate, labels mphi: a second M_phi in this frame trains on the same "
+        "steps, and the mean's clone toward its labels is a second candidate each generation, judged like the "
+        "first (selection picks whichever frame pays on this body; guides/rival.py); none: off; skipped where "
+        "it is the run's frame or the waypoint space is 1-D")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
     targets: Literal["one_step", "hindsight", "matched", "chunk"] = Field(

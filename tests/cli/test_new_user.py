@@ -172,7 +172,7 @@ def test_the_readmes_quickstart_ranges_are_the_committed_studys():
 
     root = SRC.parent
     readme = " ".join((root / "README.md").read_text().split())
-    study = root / "docs" / "benchmarks" / "suite_waypoints_v4"
+    study = root / "docs" / "benchmarks" / "suite_waypoints_v5"
     gens = []  # generations (counted from 1) until the first test reward of 200, seeds 0-9 of the shaped runs
     for seed in range(10):
         with open(study / "CarNav-v0" / "runs" / f"shaped_s{seed}" / "metrics.csv") as fh:

@@ -136,8 +136,10 @@ class NoisyWaypoints(gym.Env):
 
 gym.register("NoisyWaypoints-v0", entry_point=NoisyWaypoints, max_episode_steps=10)
 
+# 16 members x 2 episodes: the candidates' 3 x 6 episodes (the clone, the rival frame's clone, the mean) are
+# over half of them (the default population: 128 episodes)
 CFG = {"env": "NoisyWaypoints-v0", "executor": "inline", "method": "shaped", "generations": 40, "seed": 3,
-       "es": {"pairs": 4}, "policy": {"hidden": [4]},
+       "es": {"pairs": 8}, "policy": {"hidden": [4]},
        "rollout": {"episodes": 2, "test_episodes": 2, "test_every": 5},
        # frame set: no label probe (guides/label_probe.py; its fixed 32 + 40 episodes are 2 generations of
        # this 8-member population), so the env steps measure the back-off alone

@@ -82,6 +82,7 @@ from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_parts import DataParts
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
+from shaped_es.guides.rival import RivalLabels, rival_frame
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
                                           waypoint_dim)
@@ -125,6 +126,10 @@ class ShapedGuide(NoGuide, GenerationData):
                      if self.sh.labels == "mphi" else None)
         self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
         self.labels = label_source(cfg, spec, self.mphi, self.mphi_cfg, self.reference, probe)
+        # a second M_phi in another frame whose labels make a second candidate (guides/rival.py)
+        rf = rival_frame(cfg, self.mphi_cfg.frame, pos_dim) if self.mphi is not None else None
+        self.rival = None if rf is None else RivalLabels(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg, rf,
+                                                          Path(store.root), cfg.seed)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
@@ -140,7 +145,7 @@ class ShapedGuide(NoGuide, GenerationData):
         self.parts = DataParts(Path(store.root) / "mphi_data")
         # generations of slack for the older checkpoints kept on disk (a fallback if the newest is lost)
         self._ckpt_margin = (cfg.keep_checkpoints - 1) * cfg.checkpoint_every
-        self._saved: tuple[int, int] | None = None  # (generation, oldest data part) of the last state_dict
+        self._saved: tuple[int, int, int] | None = None  # (generation, oldest data part, the rival's) of the last state_dict
         # master placement on local processes: labels here, the gradient steps in the idle workers
         self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
         self.shared_rows = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
@@ -224,13 +229,15 @@ class ShapedGuide(NoGuide, GenerationData):
         checkpoint is durable would lose what the previous one needs if the run dies in between."""
         if self._saved is None:
             return
-        g, oldest_part = self._saved
+        g, oldest_part, rival_oldest = self._saved
         self._saved = None
         old = [x for x in list_generations(self.traj_root)
                if x <= g + 1 - max(self.sh.history, 2) - self._ckpt_margin]
         if old:
             delete_generations(self.traj_root, old)
         self.parts.delete_before(oldest_part - self._ckpt_margin)
+        if self.rival is not None:
+            self.rival.parts.delete_before(rival_oldest - self._ckpt_margin)
 
     def _join_writes(self) -> float:
         """Wait for the background shard writes; returns their total time (raises their errors)."""
@@ -266,10 +273,8 @@ class ShapedGuide(NoGuide, GenerationData):
             self._thread.start()
 
     def _add_mphi_data(self, generation: int, data: list[Transitions]) -> bool:
-        """M_phi's training pairs from generation ``generation - 1``'s recorded steps ``data``; True: train it."""
-        blk = self._cache.get(generation - 1)
-        if data:  # one Transitions for the generation: per-step work once, not per member
-            data = [blk.big if blk is not None else concat_members(data)[0]]
+        """M_phi's training pairs from generation ``generation - 1``'s recorded steps ``data`` (one
+        Transitions); True: train it."""
         trained = self.mphi.iterations > 0
         stats = self.mphi.add(data)
         rows = int(stats["added"])
@@ -295,11 +300,17 @@ class ShapedGuide(NoGuide, GenerationData):
         label with it). An error is raised again where the thread is joined."""
         try:
             if train:
+                blk = self._cache.get(generation - 1)
+                if data:  # one Transitions for the generation: per-step work once, not per member
+                    data = [blk.big if blk is not None else concat_members(data)[0]]
                 self._add_mphi_data(generation, data)
                 t0 = time.perf_counter()
                 losses = self.mphi.train()
                 self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
                 self._pending["mphi_iterations"] = self.mphi.iterations
+                if self.rival is not None:  # the rival model on the same steps (its own frame's pairs)
+                    self._writes.extend(self.rival.add(generation, data, self._writer))
+                    self.rival.train()
                 self._pending["time_mphi_s"] = time.perf_counter() - t0
             if job is not None:
                 job()
@@ -421,10 +432,14 @@ class ShapedGuide(NoGuide, GenerationData):
         st |= {f"budget/{k}": v for k, v in self.budget.state_dict().items()}
         st["silent"] = np.array(sorted(self._silent), np.int64)
         if self.mphi is None:
-            self._saved = (self._last_generation, self._last_generation + 1)
+            self._saved = (self._last_generation, self._last_generation + 1, self._last_generation + 1)
             return st
         self.parts.trim(self.mphi.dataset_size)
-        self._saved = (self._last_generation, self.parts.oldest(default=self._last_generation + 1))
+        rival_oldest = self._last_generation + 1
+        if self.rival is not None:
+            st |= {f"rival/{k}": v for k, v in self.rival.state_dict().items()}
+            rival_oldest = self.rival.parts.oldest(default=rival_oldest)
+        self._saved = (self._last_generation, self.parts.oldest(default=self._last_generation + 1), rival_oldest)
         st |= {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
         st["step_norm"] = self.step_norm
         st["mphi_parts"] = np.array(self.parts.kept, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
@@ -444,6 +459,8 @@ class ShapedGuide(NoGuide, GenerationData):
             self.mphi.set_data(*self.parts.read(parts, int(mphi["data/size"][0]), self.mphi.in_dim,
                                                  self.mphi.act_dim))
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
+        if self.rival is not None:
+            self.rival.load_state_dict({k[6:]: v for k, v in state.items() if k.startswith("rival/")})
         self.labels.max_displacement = self.labels_max_displacement()
 
     def close(self) -> None:

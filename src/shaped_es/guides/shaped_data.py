@@ -88,17 +88,20 @@ class GenerationData:
                               spans)
         return MemberRows([blk.big.state for blk in blocks], [blk.queries for blk in blocks], spans)
 
-    def dagger_rows(self, generation: int) -> MemberRows:
+    def dagger_rows(self, generation: int, labels=None) -> MemberRows:
         """Every recorded step of the last ``history`` generations up to ``generation`` as the rows of one
-        data set (``MemberRows`` with one member, oldest block first): the mean's DAgger set."""
+        data set (``MemberRows`` with one member, oldest block first): the mean's DAgger set; ``labels``: a
+        label source other than the guide's (the rival's, ``guides/rival.py``), whose inputs are computed
+        here instead of read from the blocks."""
         gens = self.history_generations(generation)
+        labels = self.labels if labels is None else labels
         if self.placement == "workers":  # nothing in memory: read the generations' shards
             trs = [t for g in gens for t in self._generation(g) if len(t)]
             if not trs:
                 return MemberRows.from_lists([np.zeros((0, self.spec.obs_dim), np.float32)],
                                              [np.zeros((0, 0), np.float32)])
             big, _ = concat_members(trs)
-            return MemberRows.from_lists([big.state], [self.labels.inputs(big)])
+            return MemberRows.from_lists([big.state], [labels.inputs(big)])
         for g in gens:
             self._generation(g)
         blocks = [self._cache[g] for g in gens if self._cache[g].trs]
@@ -106,7 +109,8 @@ class GenerationData:
             return MemberRows.from_lists([np.zeros((0, self.spec.obs_dim), np.float32)],
                                          [np.zeros((0, 0), np.float32)])
         spans = np.array([[[0, blk.offsets[-1]] for blk in blocks]], np.int64)  # (1, nb, 2): whole blocks
-        return MemberRows([blk.big.state for blk in blocks], [blk.queries for blk in blocks], spans)
+        queries = [blk.queries if labels is self.labels else labels.inputs(blk.big) for blk in blocks]
+        return MemberRows([blk.big.state for blk in blocks], queries, spans)
 
     def _trim_cache(self, generation: int) -> None:
         """Memory keeps what the next generation reads: ``g`` (M_phi) and ``g-history+2 .. g`` (D_i)."""

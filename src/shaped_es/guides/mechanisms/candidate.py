@@ -32,10 +32,12 @@ from __future__ import annotations
 import numpy as np
 
 from shaped_es.guides.mechanisms import Mechanism, every_kth
-from shaped_es.guides.mechanisms.mean_clone import clone_mean
+from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.shaping.surrogate import cosine
 
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
+RIVAL_METRICS = ("candidate_rival", "rival_gain")  # with a rival label variant (guides/rival.py)
+RIVAL_CLONE_KEY = CLONE_KEY + 1  # the seed key of the rival's clone
 
 
 def paired_win(cand: np.ndarray, mean: np.ndarray) -> bool:
@@ -61,6 +63,10 @@ class MeanCandidate(Mechanism):
         self.pending = 0  # 1: the row before the mean is held from the last generation (confirm: its winner)
         self.learner: np.ndarray | None = None  # warm_start: the last clone, where the next one starts
         self.jumped = False  # the last generation's new mean was an accepted candidate (keep_step_repeat)
+        self.rivals = 0  # 1: the row after the scaled candidates is the rival's clone (guides/rival.py)
+        self.rival_learner: np.ndarray | None = None  # warm_start: the rival's last clone
+        if getattr(host, "rival", None) is not None:
+            self.metric_keys = self.metric_keys + RIVAL_METRICS
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
@@ -78,7 +84,7 @@ class MeanCandidate(Mechanism):
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
             # with extra_episodes: the candidates must also beat the mean on episodes nobody was chosen on
             more = extra_returns[:, E:].mean(axis=1) if extra_returns.shape[1] > E else None  # (k,)
-            k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates
+            k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates (scales, rival)
             f_cand, f_mean = common[:k], float(common[-1])  # (k,), the mean's
             j = int(np.argmax(f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept in ("best", "best_paired") else f_mean
@@ -95,9 +101,13 @@ class MeanCandidate(Mechanism):
             accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             gain = float(np.mean(extra_returns[j] - extra_returns[-1]))  # over every episode both ran
+            ns = len(self.cfg.scales)  # the rival's row, if any, follows the scaled candidates
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean, candidate_gain=gain, candidate_accepted=int(accept),
-                       candidate_scale=float(self.cfg.scales[j]),
+                       candidate_scale=float(self.cfg.scales[j]) if j < ns else 1.0,
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
+            if self.rivals:
+                out.update(candidate_rival=int(j >= ns),
+                           rival_gain=float(np.mean(extra_returns[ns] - extra_returns[-1])))
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
                 jump = np.asarray(self.extras[k] if confirmed else self.extras[j], np.float64)  # (n,)
                 # keep_step: the ES update too, unless it was estimated around a mean that was itself a
@@ -109,7 +119,7 @@ class MeanCandidate(Mechanism):
                 self.jumped = True
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
-        self.extras, self.pending = None, 0
+        self.extras, self.pending, self.rivals = None, 0, 0
         if judged is not None:  # the strategy is final: the next population may roll out during the clone
             judged(out)
         mean = mu = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
@@ -119,14 +129,32 @@ class MeanCandidate(Mechanism):
         if info and self.cfg.warm_start:
             self.learner = theta_star.copy()
         out.update(info)
+        rival = self._rival_clone(generation, mu) if info else None
         if info:
             d = theta_star - mu  # (n,) the label direction
-            rows = [mu + s * d for s in self.cfg.scales] + ([held] if held is not None else []) + [mean]
+            rows = [mu + s * d for s in self.cfg.scales] + ([rival] if rival is not None else []) \
+                + ([held] if held is not None else []) + [mean]
             self.extras, self.pending = np.stack(rows).astype(np.float32), int(held is not None)
+            self.rivals = int(rival is not None)
         return out
+
+    def _rival_clone(self, generation: int, mu: np.ndarray) -> np.ndarray | None:
+        """The mean cloned toward the rival model's labels (``guides/rival.py``), or None: no rival, or
+        not trained yet."""
+        rival = getattr(self.host, "rival", None)
+        if rival is None or not rival.ready:
+            return None
+        start = mu if not self.cfg.warm_start or self.rival_learner is None else self.rival_learner
+        theta, info = clone_mean(self.host, generation, start, self.cfg, labels=rival.labels, key=RIVAL_CLONE_KEY)
+        if not info:
+            return None
+        if self.cfg.warm_start:
+            self.rival_learner = theta.copy()
+        return theta
 
     def sleep(self) -> None:
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
+        self.rivals, self.rival_learner = 0, None
         self.jumped = False
 
     def state_dict(self) -> dict[str, np.ndarray]:
@@ -134,18 +162,29 @@ class MeanCandidate(Mechanism):
         return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
                 "pending": np.array(self.pending, np.int64),
                 "learner": np.zeros(0) if self.learner is None else self.learner.copy(),
-                "jumped": np.array(self.jumped, np.int64)}
+                "jumped": np.array(self.jumped, np.int64), "rivals": np.array(self.rivals, np.int64),
+                "rival_learner": np.zeros(0) if self.rival_learner is None else self.rival_learner.copy()}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
         pending = int(np.asarray(state.get("pending", 0)))
-        k, n = len(self.cfg.scales) + 1 + pending, self.host.spec.num_params
-        if pending not in (0, 1) or x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
+        rivals = int(np.asarray(state.get("rivals", 0)))
+        if rivals and getattr(self.host, "rival", None) is None:
+            raise ValueError("the checkpoint holds a rival candidate but this run has no rival label variant")
+        k, n = len(self.cfg.scales) + 1 + pending + rivals, self.host.spec.num_params
+        if pending not in (0, 1) or rivals not in (0, 1) or \
+                x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
-        learner = np.asarray(state.get("learner", np.zeros(0)), np.float64).reshape(-1)
-        if learner.size and (learner.shape != (n,) or not np.isfinite(learner).all()):
-            raise ValueError(f"candidate learner has shape {learner.shape}, expected ({n},) and finite")
-        self.learner = learner if learner.size else None
+        self.learner = self._vector(state, "learner", n)
+        self.rival_learner = self._vector(state, "rival_learner", n)
         self.jumped = bool(np.asarray(state.get("jumped", 0)))  # a checkpoint from before: no jump pending
         self.extras = x if x.size else None
         self.pending = pending if x.size else 0
+        self.rivals = rivals if x.size else 0
+
+    @staticmethod
+    def _vector(state: dict[str, np.ndarray], key: str, n: int) -> np.ndarray | None:
+        v = np.asarray(state.get(key, np.zeros(0)), np.float64).reshape(-1)
+        if v.size and (v.shape != (n,) or not np.isfinite(v).all()):
+            raise ValueError(f"candidate {key} has shape {v.shape}, expected ({n},) and finite")
+        return v if v.size else None

@@ -27,18 +27,19 @@ CLONE_KEY = 1_000_003  # the seed key of the mean's clone (members use 0..P-1)
 
 
 def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
-               rows=None) -> tuple[np.ndarray, dict]:
+               rows=None, labels=None, key: int = CLONE_KEY) -> tuple[np.ndarray, dict]:
     """``(theta*, metrics)``: ``theta`` ``(n,)`` (the mean; with ``warm_start`` the previous clone)
-    cloned toward the labels of the recorded steps of generations up to ``generation`` (``rows``, else
-    ``host.dagger_rows(generation)``); ``theta*`` is ``theta`` itself (and the metrics empty) without
-    data."""
-    rows = host.dagger_rows(generation) if rows is None else rows
+    cloned toward the labels (``labels``, else ``host.labels``) of the recorded steps of generations up
+    to ``generation`` (``rows``, else ``host.dagger_rows(generation, labels)``); ``theta*`` is ``theta``
+    itself (and the metrics empty) without data. ``key``: the seed key of the clone's minibatches."""
+    rows = host.dagger_rows(generation, labels) if rows is None else rows
+    labels = host.labels if labels is None else labels
     if int(rows.lengths().sum()) == 0 or cfg.steps == 0:
         return np.asarray(theta, np.float64), {}
-    seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, CLONE_KEY)
+    seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, key)
     clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
                               max_samples=cfg.max_samples)
-    res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, host.labels, clone_cfg,
+    res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, labels, clone_cfg,
                         np.array([seed]), reference_fn=host.reference,
                         obs_norm=getattr(host, "obs_norm", None))  # (1, n)
     out = {"clone_loss_before": float(res.loss_before[0]), "clone_loss_after": float(res.loss_after[0]),
