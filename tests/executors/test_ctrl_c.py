@@ -8,19 +8,24 @@ import subprocess
 import sys
 import time
 
+import pytest
+
 from helpers import SRC
 from shaped_es.executors.process import ProcessExecutor
 
 
 def _sigint_disposition(_):
-    return signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    blocked = signal.SIGINT in signal.pthread_sigmask(signal.SIG_BLOCK, [])  # born blocked, unblocked at start
+    return signal.getsignal(signal.SIGINT) is signal.SIG_IGN and not blocked
 
 
 def test_workers_ignore_sigint():
     before = signal.getsignal(signal.SIGINT)  # Python's default_int_handler, or SIG_IGN under `nohup ... &`
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])
     with ProcessExecutor(workers=2) as ex:
         assert ex.map(_sigint_disposition, [0, 1, 2, 3]) == [True] * 4
     assert signal.getsignal(signal.SIGINT) is before  # the parent keeps its own
+    assert signal.pthread_sigmask(signal.SIG_BLOCK, []) == mask  # and its signal mask
 
 
 def _rows(run) -> int:
@@ -48,3 +53,54 @@ def test_ctrl_c_prints_only_the_resume_line(tmp_path):
                           str(more), "--quiet"], env=env, capture_output=True, text=True, timeout=240)
     assert res.returncode == 0, res.stderr
     assert _rows(run) == more
+
+
+# sitecustomize.py for the processes multiprocessing starts (the forkserver, a spawned worker, the resource
+# tracker: their command lines name it): each sends itself SIGINT while its interpreter starts, as a Ctrl-C
+# in that moment would
+_SIGINT_AT_START = """import os, signal, sys
+if "multiprocessing" in " ".join(getattr(sys, "orig_argv", None) or sys.argv or []):
+    os.kill(os.getpid(), signal.SIGINT)
+"""
+
+
+@pytest.mark.parametrize("start_method", ["forkserver", "spawn"])
+def test_ctrl_c_while_the_workers_start_prints_nothing_from_them(tmp_path, start_method):
+    """A Ctrl-C while the pool starts reaches the forkserver and the workers before they ignore SIGINT: they
+    are born with it blocked (then ignore it), so none ends with a KeyboardInterrupt traceback (or a
+    "Fatal Python error: init_import_site"); the pool starts and works."""
+    (tmp_path / "sitecustomize.py").write_text(_SIGINT_AT_START)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(SRC)])}
+    code = ("from shaped_es.executors.process import ProcessExecutor\n"
+            f"with ProcessExecutor(workers=2, start_method={start_method!r}) as ex:\n"
+            "    print(ex.map(abs, [-1, -2, -3]))\n")
+    res = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
+                         timeout=120)
+    assert (res.returncode, res.stdout, res.stderr) == (0, "[1, 2, 3]\n", "")
+
+
+# sitecustomize.py for the forkserver: it sends SIGINT to the trainer (its parent) as it starts, i.e. while
+# the trainer waits for the forkserver to fork the first worker
+_SIGINT_TO_PARENT = """import os, signal, sys
+if "multiprocessing.forkserver" in " ".join(getattr(sys, "orig_argv", None) or sys.argv or []):
+    os.kill(os.getppid(), signal.SIGINT)
+"""
+
+
+def test_ctrl_c_while_the_workers_start_waits_until_the_pool_knows_them(tmp_path):
+    """A Ctrl-C that reaches the trainer while it starts the workers takes effect once every worker is
+    started and known to the pool (so shutdown ends them); one started after the trainer's clean-up had
+    begun would fail on its pool's semaphores, gone by then, with a traceback."""
+    (tmp_path / "sitecustomize.py").write_text(_SIGINT_TO_PARENT)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(SRC)])}
+    code = ("from shaped_es.executors.process import ProcessExecutor\n"
+            "ex = ProcessExecutor(workers=2, start_method='forkserver')\n"
+            "try:\n"
+            "    ex.map(abs, [-1])\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted;', len(ex._pool._processes), 'workers started')\n"
+            "finally:\n"
+            "    ex.shutdown()\n")
+    res = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
+                         timeout=120)
+    assert (res.returncode, res.stdout, res.stderr) == (0, "interrupted; 2 workers started\n", "")

@@ -197,10 +197,11 @@ def test_debug_prints_the_env_traceback(tmp_path, capsys, faults_path):
 
 
 def test_disk_full_is_one_line_and_leaves_the_run_resumable(tmp_path, capsys, monkeypatch):
+    import shaped_es.rundir.checkpoints as checkpoints
     import shaped_es.rundir.store as store
 
     run = tmp_path / "r"
-    real = store.atomic_write_bytes
+    real = checkpoints.atomic_write_bytes  # the checkpoints' writes (rundir/checkpoints.py)
     calls = {"n": 0}
 
     def full(path, data):
@@ -210,13 +211,13 @@ def test_disk_full_is_one_line_and_leaves_the_run_resumable(tmp_path, capsys, mo
                 raise OSError(errno.ENOSPC, "No space left on device", str(path))
         real(path, data)
 
-    monkeypatch.setattr(store, "atomic_write_bytes", full)
+    monkeypatch.setattr(checkpoints, "atomic_write_bytes", full)
     argv = ["train", "--env", "CartPole-v1", *TRAIN, "--generations", "4", "--out", str(run)]
     assert main(argv) == 2
     line = capsys.readouterr().err.strip().splitlines()[-1]
     assert line.startswith("shaped-es: error: no space left on device") and "last checkpoint" in line
     assert f"shaped-es resume {run}" in line
-    monkeypatch.setattr(store, "atomic_write_bytes", real)
+    monkeypatch.setattr(checkpoints, "atomic_write_bytes", real)
     assert main(["resume", str(run), "--quiet"]) == 0
     assert [int(r["generation"]) for r in store.RunStore(run).read_metrics()] == [0, 1, 2, 3]
     assert leftovers(run) == []

@@ -7,6 +7,10 @@ lost attempt would have given. A new pool starts all its workers before tasks ar
 timeout never counts process start-up; an exception raised by the task function itself propagates.
 Tasks started with ``submit`` get the same treatment through ``collect``.
 
+A Ctrl-C while the pool starts or works ends the run with the trainer's one line only: a worker ignores
+SIGINT (blocked from its birth until then), and a Ctrl-C while the pool starts its workers takes effect
+once all are started (so ``shutdown`` ends them).
+
 Workers never outlive the process that started them: each one is killed when its parent (the
 forkserver, which exits with the trainer) dies (Linux ``PR_SET_PDEATHSIG``), and a watchdog thread ends
 it within a second of the trainer's death elsewhere, even while a task hangs inside ``env.step``.
@@ -20,6 +24,7 @@ simulator server) is not retried here: it propagates and the run stops with one 
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing as mp
 import os
 import signal
@@ -40,8 +45,11 @@ _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "N
 def _init_worker(owner_pid: int | None = None, counter=None, warning_log_path: str | None = None) -> None:
     # Ctrl-C reaches the terminal's whole process group: the trainer handles it (one line and the resume
     # command; ``shutdown`` then ends the workers), so a worker ignores it instead of printing a
-    # KeyboardInterrupt traceback from wherever it was waiting.
+    # KeyboardInterrupt traceback from wherever it was waiting. It was born with SIGINT blocked
+    # (_starting_workers), so a Ctrl-C during its start-up waited, pending, and is dropped here.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # ignored from now on, not held back
     # One BLAS/OpenMP/Numba/torch thread per worker. torch reads OMP_NUM_THREADS when a task first
     # imports it, so a worker pays torch's import (seconds) only if a task needs torch.
     warning_log.to_log(warning_log_path)  # other libraries' warnings: the run's error.log, not the terminal
@@ -56,6 +64,37 @@ def _init_worker(owner_pid: int | None = None, counter=None, warning_log_path: s
         torch.set_num_threads(1)
     if owner_pid is not None:
         die_with(owner_pid)
+
+
+@contextlib.contextmanager
+def _starting_workers():
+    """The pool's processes are started inside this block. Each is born with SIGINT blocked (the mask of
+    the thread that starts it), so a Ctrl-C during its start-up (``site``, imports, before
+    :func:`_init_worker` ignores SIGINT) prints no traceback from it; in the main thread, a Ctrl-C (or
+    SIGTERM) that comes meanwhile takes effect at the end of the block, once the pool knows every worker
+    it started and ``shutdown`` can end them (a worker started while the trainer already cleaned up
+    would fail on its pool's semaphores, gone by then, with a traceback)."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()  # first: starting it unblocks SIGINT in this thread when it returns
+    came: list[int] = []
+    held = (signal.SIGINT, signal.SIGTERM)
+    old = {s: signal.getsignal(s) for s in held} if threading.current_thread() is threading.main_thread() else {}
+    old = {s: h for s, h in old.items() if h is not None}  # None: a handler not set from Python, left alone
+    for s in old:
+        signal.signal(s, lambda signum, frame: came.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        for s, h in old.items():
+            signal.signal(s, h)
+        if came:
+            signal.raise_signal(came[0])  # now, to the handler it would have reached
 
 
 def _gone(pid: int) -> bool:
@@ -138,7 +177,8 @@ class ProcessExecutor(Executor):
         seen: set[int] = set()
         deadline = time.monotonic() + self.startup_timeout_s
         while len(seen) < self.workers:
-            futures = [pool.submit(pid_after, 0.02) for _ in range(self.workers)]
+            with _starting_workers():  # submit starts the workers (and the forkserver), not awaiting their start-up
+                futures = [pool.submit(pid_after, 0.02) for _ in range(self.workers)]
             try:
                 seen.update(f.result(timeout=max(0.0, deadline - time.monotonic())) for f in futures)
             except TimeoutError:

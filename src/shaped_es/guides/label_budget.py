@@ -45,7 +45,6 @@ class LabelBudget:
         self.gain_sum = 0.0
         self.streak_before = 0  # the losses in a row the last acceptance reset (judge_jumps restores them)
         self.prev_accepted = 0  # the last judgement was an acceptance
-        self.fell = 0  # acceptances after which the population's mean return fell (judge_jumps)
         self.prev_population = 0.0  # the last judged generation's population mean return (read if prev_accepted)
 
     @property
@@ -74,10 +73,9 @@ class LabelBudget:
         self.accepted += int(accepted)
         if gain is not None and np.isfinite(gain):
             self.gain_sum += float(gain)
-        if population is not None and self.prev_accepted and population < self.prev_population:
-            self.fell += 1  # the population fell after the last jump
-            if self.judge_jumps:
-                self.losses = self.streak_before + 1
+        if (self.judge_jumps and population is not None and self.prev_accepted
+                and population < self.prev_population):  # the population fell after the last jump
+            self.losses = self.streak_before + 1
         self.prev_population = 0.0 if population is None else float(population)
         self.prev_accepted = int(accepted and population is not None)
         if accepted:
@@ -98,15 +96,16 @@ class LabelBudget:
         return True
 
     def summary(self) -> dict:
-        """What shaping did, for the final JSON and the progress line."""
+        """What shaping did so far (the final JSON's ``shaping``, with ``accepted_then_fell``, is
+        :func:`rows_summary`'s, read from metrics.csv)."""
         return {"candidates_judged": self.judged, "candidates_accepted": self.accepted,
                 "mean_gain": self.gain_sum / self.judged if self.judged else None,
-                "accepted_then_fell": self.fell,
                 "generations_backed_off": self.silent, "asleep": not self.awake}
 
     _FIELDS = ("losses", "sleep", "asleep_left", "trial", "sleeps", "silent", "judged", "accepted",
-               "streak_before", "prev_accepted", "fell")
+               "streak_before", "prev_accepted")
     _OLD = 8  # counters of a checkpoint from before judge_jumps (the rest start at 0)
+    _FELL = 11  # counters of a checkpoint that also counted accepted_then_fell (the last, now dropped)
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {"ints": np.array([getattr(self, f) for f in self._FIELDS], np.int64),
@@ -117,9 +116,10 @@ class LabelBudget:
         if "ints" not in state:  # a checkpoint from before the budget: start counting now
             return
         ints = np.asarray(state["ints"], np.int64).reshape(-1)
-        if ints.size not in (self._OLD, len(self._FIELDS)) or (ints < 0).any():
+        if ints.size not in (self._OLD, len(self._FIELDS), self._FELL) or (ints < 0).any():
             raise ValueError(f"label budget state has {ints.size} counters (expected {len(self._FIELDS)}, "
                              f"none negative)")
+        ints = ints[: len(self._FIELDS)]
         for f, v in zip(self._FIELDS, np.pad(ints, (0, len(self._FIELDS) - ints.size))):
             setattr(self, f, int(v))
         self.gain_sum = float(np.asarray(state.get("gain_sum", [0.0]), np.float64).reshape(-1)[0])
@@ -137,7 +137,8 @@ def _num(v) -> float | None:
 def rows_summary(rows: list[dict]) -> dict | None:
     """What shaping did over a run's metrics rows (None: no candidate columns, not a candidate run):
     candidates judged and accepted, their mean return gain, acceptances after which the population's mean
-    return (``train_reward_mean``) fell (as :meth:`LabelBudget.judge` counts them), generations backed off."""
+    return (``train_reward_mean``) fell (the jumps :meth:`LabelBudget.judge` counts as lost with
+    ``judge_jumps``), generations backed off."""
     if not rows or "candidate_accepted" not in rows[0]:
         return None
     acc = [a for a in (_num(r.get("candidate_accepted")) for r in rows) if a is not None]

@@ -2,7 +2,7 @@
 built into one block per task (``data.PackedTransitions``), and the env's waypoint controller whose
 action a recorded step keeps as ``Transitions.expert`` (``RolloutTask.expert``).
 
-The rollout loops (``rollout/__init__.py``) call these; nothing here steps an env.
+The rollout loops (``rollout/batched.py``, ``rollout/gym_loop.py``) call these; nothing here steps an env.
 """
 
 from __future__ import annotations

@@ -35,59 +35,33 @@ the same numbers whatever the executor or worker count) update the statistics, a
 are policies of generation g+1, fitted on normalized states). The checkpoint holds
 them (``policy/obs_count``, ``policy/obs_mean``, ``policy/obs_m2``: the "mean" policy's normalizer)
 and the normalizer the best policy was tested with (``policy/best_obs_mean``, ``policy/best_obs_std``).
+
+Here: :class:`Trainer`'s generation (ask, roll out, tell, guide, the overlapped next population).
+``build.py`` the strategy, guide and executor options of a run; ``rows.py`` the metrics rows and their
+test episodes; ``state.py`` what a checkpoint holds and how a resume takes it back.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from concurrent.futures import Future
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from shaped_es import seeding
-from shaped_es.config import ConfigError, RunConfig, dump_config
+from shaped_es.config import RunConfig, dump_config
 from shaped_es.executors import Executor, InlineExecutor, ProcessExecutor, make_executor
-from shaped_es.methods import METHODS, resolve
-from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
-from shaped_es.rollout import (EnvProbe, mean_returns, policy_episode_tasks, policy_spec, population_tasks,
-                               probe_env, run_task, run_tasks, warn_if_endless)
+from shaped_es.methods import METHODS
+from shaped_es.policies import ObsNorm, ObsStats
+from shaped_es.rollout import (EnvProbe, mean_returns, policy_spec, population_tasks, probe_env, run_task,
+                               run_tasks, warn_if_endless)
 from shaped_es.run_loop import RunLoop
-from shaped_es.shaping.kernel_notice import say_if_compiling
 from shaped_es.rundir.store import RunStore
-from shaped_es.strategies import Strategy
-
-class DivergedError(RuntimeError):
-    """The search went non-finite (inf/NaN mean or state); the run stops, its last good checkpoint kept."""
-
-
-TIME_COLUMNS = ("wall_time_s", "cpu_time_s", "gen_time_s", "rollout_time_s", "clone_cpu_time_s")
-
-
-def build_strategy(cfg: RunConfig, x0: np.ndarray) -> Strategy:
-    """The strategy of ``cfg.method`` (its entry in :data:`methods.METHODS`) at ``x0`` ``(n,)``."""
-    method = METHODS[cfg.method]
-    if method.strategy is None:
-        raise ValueError(f"method {cfg.method!r} is not an ES method (it has its own run loop)")
-    seed = seeding.derive_seed(cfg.seed, seeding.STRATEGY)
-    return resolve(method.strategy)(x0, **method.strategy_args(cfg, seed))
-
-
-def check_obs_norm(cfg: RunConfig) -> None:
-    """``ConfigError`` (one line) if ``es.obs_norm`` is set for a method that cannot use it yet
-    (``methods.Method.no_obs_norm``)."""
-    why = METHODS[cfg.method].no_obs_norm
-    if cfg.es.obs_norm and why:
-        raise ConfigError(f"es.obs_norm is not supported with --method {cfg.method} yet: {why}; "
-                          f"set es.obs_norm=false")
-
-
-def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe | None = None):
-    """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`); ``probe``: the run's env probe."""
-    method = METHODS[cfg.method]
-    return resolve(method.guide)(**method.guide_args(cfg, spec, store, probe))
+from shaped_es.trainer.build import _executor_options, build_guide, build_strategy, check_obs_norm, startup_notice
+from shaped_es.trainer.rows import TIME_COLUMNS, Rows, _Row  # noqa: F401 - TIME_COLUMNS: re-exported
+from shaped_es.trainer.state import CheckpointState, DivergedError
 
 
 def train(cfg: RunConfig, store: RunStore, progress: bool = True, probe: EnvProbe | None = None,
@@ -108,25 +82,9 @@ class _Next:
     futures: list[Future]
 
 
-@dataclass
-class _Row:
-    """A metrics row waiting for its generation's test episodes (``futures`` empty: none due)."""
-
-    row: dict
-    theta: np.ndarray | None = None
-    obs_norm: ObsNorm | None = None  # the normalizer theta's test episodes run with (es.obs_norm)
-    tasks: list = field(default_factory=list)
-    futures: list[Future] = field(default_factory=list)
-
-
-def startup_notice(cfg: RunConfig, progress: bool, label: str) -> bool:
-    """The line before a cold cache's kernel compile (``shaping/kernel_notice.py``), for the methods that
-    use the kernels and not with ``--quiet``; returns whether it printed."""
-    return bool(progress and METHODS[cfg.method].kernels and say_if_compiling(label))
-
-
-class Trainer(RunLoop):
-    """The ES generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints)."""
+class Trainer(CheckpointState, Rows, RunLoop):
+    """The ES generation loop (:class:`RunLoop` holds the lock, restores, writes rows and checkpoints;
+    :class:`CheckpointState` what a checkpoint holds, :class:`Rows` the metrics rows and test episodes)."""
 
     def __init__(self, cfg: RunConfig, store: RunStore, executor: Executor | None = None,
                  progress: bool = True, probe: EnvProbe | None = None, callback=None):
@@ -165,77 +123,11 @@ class Trainer(RunLoop):
         return super().columns() + tuple(self.guide.metric_keys())
 
     # -- checkpointing -----------------------------------------------------------------------------
-    def checkpoint_state(self) -> tuple[dict, dict]:
-        arrays = {f"strategy/{k}": v for k, v in self.strategy.state_dict().items()}
-        arrays |= {f"guide/{k}": v for k, v in self.guide.state_dict().items()}
-        arrays["policy/best"] = self.best_params
-        arrays["policy/mean"] = np.asarray(self.strategy.mean, dtype=np.float32)
-        if self.obs_stats is not None:  # float64: a resume continues with exactly these statistics
-            arrays["policy/obs_count"] = np.array(self.obs_stats.count, dtype=np.float64)
-            arrays["policy/obs_mean"], arrays["policy/obs_m2"] = self.obs_stats.mean, self.obs_stats.m2
-            arrays["policy/best_obs_mean"], arrays["policy/best_obs_std"] = self.best_norm.mean, self.best_norm.std
-        meta = {"policy": {"obs_dim": self.spec.obs_dim, "act_dim": self.spec.act_dim,
-                           "hidden": list(self.spec.hidden)}}
-        # Rows whose test episodes are still running: resume submits them again (same seeds).
-        meta["waiting_rows"] = [_jsonable(item.row) for item in self._waiting]
-        for i, item in enumerate(self._waiting):
-            if item.theta is not None:
-                arrays[f"waiting/{i}"] = item.theta
-            if item.obs_norm is not None:
-                arrays[f"waiting/{i}/obs_mean"], arrays[f"waiting/{i}/obs_std"] = item.obs_norm.mean, item.obs_norm.std
-        bad = _non_finite(arrays)
-        if bad:  # never save a state a resume could not continue from; the previous one stays
-            raise DivergedError(self._diverged(self.c.generation - 1, f"the state to checkpoint ({bad[0]})"))
-        return arrays, meta
-
     def checkpoint(self) -> None:
         super().checkpoint()
         after = getattr(self.guide, "after_checkpoint", None)
         if after is not None:  # the checkpoint is durable: what only older ones needed may go
             after(self.c.generation)
-
-    def _diverged(self, g: int, what: str) -> str:
-        gens = self.store.checkpoints()
-        kept = f"generation {gens[-1]}" if gens else "none yet"
-        knobs = " / ".join(METHODS[self.cfg.method].knobs)
-        return (f"generation {g}: {what} became non-finite (inf/NaN); the run stopped, its last good "
-                f"checkpoint ({kept}) is kept; lower {knobs}")
-
-    def load_state(self, arrays: dict, meta: dict) -> None:
-        bad = _non_finite(arrays)
-        if bad:  # what checkpoint_state never saves: the run would blame its env for the NaN actions
-            raise ValueError(f"{bad[0]} holds non-finite values (inf/NaN)")
-        waiting = meta.get("waiting_rows", [])
-        if not isinstance(waiting, list) or not all(
-                isinstance(r, dict) and type(r.get("generation")) is int for r in waiting):
-            raise ValueError("malformed waiting_rows")
-        self.strategy.load_state_dict(_sub(arrays, "strategy/"))
-        self.guide.load_state_dict(_sub(arrays, "guide/"))
-        self.best_params = arrays["policy/best"]
-        if np.shape(self.best_params) != (self.spec.num_params,):
-            raise ValueError(f"policy/best has shape {np.shape(self.best_params)}")
-        if self.obs_stats is not None:
-            d = self.spec.obs_dim
-            self.obs_stats = ObsStats(float(_shaped(arrays, "policy/obs_count", ())),
-                                      _shaped(arrays, "policy/obs_mean", (d,)).astype(np.float64),
-                                      _shaped(arrays, "policy/obs_m2", (d,)).astype(np.float64))
-            self.best_norm = ObsNorm(_shaped(arrays, "policy/best_obs_mean", (d,)).astype(np.float32),
-                                     _shaped(arrays, "policy/best_obs_std", (d,)).astype(np.float32))
-
-    def resumed(self, arrays: dict, meta: dict) -> None:
-        """Submit the test episodes of the rows still waiting at the checkpoint again (``recover`` kept
-        the metrics rows before the first of them)."""
-        self._waiting = []
-        for i, row in enumerate(meta.get("waiting_rows", [])):
-            item = _Row(dict(row))
-            if f"waiting/{i}" in arrays:
-                norm = None
-                if f"waiting/{i}/obs_mean" in arrays:
-                    norm = ObsNorm(np.asarray(arrays[f"waiting/{i}/obs_mean"], np.float32),
-                                   np.asarray(arrays[f"waiting/{i}/obs_std"], np.float32))
-                self._submit_eval(item, np.asarray(arrays[f"waiting/{i}"], dtype=np.float32),
-                                  int(row["generation"]), norm)
-            self._waiting.append(item)
 
     # -- one generation ----------------------------------------------------------------------------
     def _tasks(self, params: np.ndarray, seeds: np.ndarray, g: int, record, obs_stats: bool = False):
@@ -244,47 +136,6 @@ class Trainer(RunLoop):
                                 self.executor.workers, g, record, self.cfg.rollout.max_steps,
                                 expert=self.guide.expert, obs_norm=self.obs_norm(),
                                 obs_stats=obs_stats and self.obs_stats is not None)
-
-    def _submit_eval(self, item: _Row, theta: np.ndarray, g: int, obs_norm: ObsNorm | None) -> None:
-        """Start generation ``g``'s test episodes of ``theta`` ``(n,)`` seeing observations through
-        ``obs_norm`` (the normalizer of its training rollouts) for ``item``'s row."""
-        E = self.cfg.rollout.test_episodes
-        seeds = seeding.episode_seeds(self.cfg.seed, seeding.TEST, g, np.zeros(1), E)  # (1, E)
-        item.theta, item.obs_norm = theta, obs_norm
-        # rowwise: each episode's actions independent of how the E episodes are split over the workers
-        # (one BLAS product over a chunk rounds by its size), so the test rewards are the same for any
-        # executor and worker count -- and equal evaluate's on the same seeds
-        item.tasks = policy_episode_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, theta, seeds,
-                                          self.eval_executor.workers, g, self.cfg.rollout.max_steps,
-                                          obs_norm=obs_norm, rowwise=True)
-        item.futures = [self.eval_executor.submit(run_task, t) for t in item.tasks]
-
-    def _collect(self, item: _Row) -> dict:
-        """Finish a waiting row: gather its test episodes (``Executor.collect``: attempts lost with their
-        worker, or still running ``task_timeout_s`` after this call, are rerun through ``map``, which
-        retries) and update the best-so-far policy."""
-        row = item.row
-        if item.tasks:
-            res = self.eval_executor.collect(run_task, item.tasks, item.futures)
-            test_ret = np.concatenate([r.returns[0] for r in res])  # (E,)
-            test_cpu = 0.0 if _in_process(self.eval_executor) else sum(r.cpu_time_s for r in res)
-            self.c.cpu_time_s += test_cpu
-            row["cpu_time_s"] += test_cpu
-            row["test_reward_mean"], row["test_reward_std"] = float(test_ret.mean()), float(test_ret.std())
-            row["test_env_steps"] = int(sum(r.lengths.sum() for r in res))
-            if test_ret.mean() > self.c.best_test_reward:
-                self.c.best_test_reward, self.best_params = float(test_ret.mean()), item.theta
-                self.best_norm = item.obs_norm
-                self.best_generation = int(row["generation"]) + 1
-        row["test_reward_best_so_far"] = self.c.best_test_reward if math.isfinite(
-            self.c.best_test_reward) else None
-        return row
-
-    def _drain(self) -> list[dict]:
-        """Every waiting row, completed, in generation order."""
-        rows = [self._collect(item) for item in self._waiting]
-        self._waiting.clear()
-        return rows
 
     def step(self, g: int) -> list[dict]:
         """Run generation ``g``; returns the metrics rows completed meanwhile (in order; with
@@ -384,54 +235,6 @@ class Trainer(RunLoop):
             results = self.executor.map(fn or run_task, tasks + extra)
         return results, time.perf_counter() - t_roll
 
-    def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray, P: int) -> _Row:
-        """Generation ``g``'s metrics row (train rewards of the population's ``fitness[:P]``); the test
-        episodes of its best population member start when they are due. Every method tests by this one
-        rule: the guide's extra members (candidates, babblers) are never tested; an accepted candidate
-        becomes the mean and so the centre of the next population."""
-        pop = fitness[:P]
-        item = _Row({"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
-                     "train_reward_mean": float(pop.mean()), "train_reward_max": float(pop.max()),
-                     "train_reward_min": float(pop.min()), "test_reward_mean": None,
-                     "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
-        cfg = self.cfg
-        if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
-            # the population's best member, with the normalizer it was trained with
-            self._submit_eval(item, X[int(np.argmax(fitness[:P]))].copy(), g, self.obs_norm())
-        return item
-
-    def _end_row(self, g: int, item: _Row, results: list, old_mean: np.ndarray, extra: dict,
-                 rollout_time: float, t0: float, cpu0: float) -> list[dict]:
-        """Count generation ``g``'s env steps and CPU, fill in its row (``extra``: the guide's columns);
-        returns the rows completed now (this one unless it waits for its test episodes)."""
-        master_cpu = time.process_time() - cpu0
-        steps = int(sum(r.lengths.sum() for r in results))
-        # work done before generation 0 (the label probe): in its row's totals; a run resumed from a later
-        # checkpoint has it in the counters already
-        pre_steps, pre_s = self.guide.startup if g == 0 else (0, 0.0)
-        self.guide.startup = (0, 0.0)
-        self.c.env_steps += int(pre_steps)
-        self.c.wall_time_s += float(pre_s)
-        worker_cpu = sum(r.cpu_time_s for r in results)
-        worker_cpu += float(extra.get("clone_cpu_time_s") or 0.0)  # shaped: cloning ran on the workers
-        self.c.generation, self.c.env_steps = g + 1, self.c.env_steps + steps
-        self.c.cpu_time_s += master_cpu + (0.0 if _in_process(self.executor) else worker_cpu)
-        done, row = [], item.row
-        if not self.cfg.eval_overlap:
-            self._waiting.append(item)
-            done += self._drain()
-        row.update(env_steps=self.c.env_steps, gen_env_steps=steps, cpu_time_s=self.c.cpu_time_s,
-                   gen_time_s=0.0, rollout_time_s=rollout_time,
-                   update_norm=float(np.linalg.norm(np.asarray(self.strategy.mean) - old_mean)))
-        row.update(extra)
-        self.c.wall_time_s += time.perf_counter() - t0
-        row.update(wall_time_s=self.c.wall_time_s, gen_time_s=time.perf_counter() - t0)
-        if self.cfg.eval_overlap:
-            self._waiting.append(item)
-            if not item.tasks:  # nothing to wait for: written now, after the rows before it
-                done += self._drain()
-        return done
-
     def finish(self) -> list[dict]:
         return self._drain()
 
@@ -457,40 +260,6 @@ def _limit_torch_threads() -> None:
 
     if "torch" in sys.modules:  # only the shaped method and TensorBoard load torch in the master
         sys.modules["torch"].set_num_threads(1)
-
-
-def _jsonable(row: dict) -> dict:
-    """A metrics row with plain Python numbers (numpy scalars are not JSON)."""
-    return {k: (v.item() if isinstance(v, np.generic) else v) for k, v in row.items()}
-
-
-def _non_finite(arrays: dict[str, np.ndarray]) -> list[str]:
-    """The float arrays holding inf/NaN, the search's, the policies' and the guide's (M_phi, its
-    normaliser, the learner): a checkpoint holds none."""
-    return [k for k, v in arrays.items() if np.asarray(v).dtype.kind in "fc" and not np.isfinite(v).all()]
-
-
-def _shaped(arrays: dict[str, np.ndarray], key: str, shape: tuple) -> np.ndarray:
-    """``arrays[key]`` checked to have ``shape`` (``KeyError`` if missing, ``ValueError`` if not)."""
-    v = np.asarray(arrays[key])
-    if v.shape != shape:
-        raise ValueError(f"{key} has shape {v.shape}, expected {shape}")
-    return v
-
-
-def _sub(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
-    return {k[len(prefix):]: v for k, v in arrays.items() if k.startswith(prefix)}
-
-
-def _in_process(executor: Executor) -> bool:
-    return bool(getattr(executor, "in_process", False))
-
-
-def _executor_options(cfg: RunConfig) -> dict:
-    opts: dict = {"max_retries": cfg.max_retries, "task_timeout_s": cfg.task_timeout_s}
-    if cfg.executor == "ray":
-        opts["address"] = cfg.address
-    return {k: v for k, v in opts.items() if v is not None or k == "task_timeout_s"}
 
 
 __all__ = ["Trainer", "dump_config"]

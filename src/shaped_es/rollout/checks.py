@@ -1,0 +1,33 @@
+"""What an env returned during a rollout, checked: one :class:`~shaped_es.env_probe.EnvError` naming the
+env, the generation, the episode seed and the step when an observation, a reward or the waypoint pair is
+not what its spaces and the contract say.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shaped_es.env_probe import BadOutput, EnvError, waypoint_pair
+from shaped_es.rollout.task import RolloutTask
+
+
+def _bad_output(task: RolloutTask, what: str, seed, step: int) -> EnvError:
+    return EnvError(f"env {task.env_id!r} returned {what} (generation {task.generation}, episode seed "
+                    f"{int(seed)}, step {step}); check the env's step/reset")
+
+
+def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> np.ndarray:
+    if obs.shape != shape:
+        raise _bad_output(task, f"an observation of shape {obs.shape}, its observation space says {shape}",
+                          seed, step)
+    if not np.isfinite(obs).all():
+        raise _bad_output(task, "a non-finite observation (inf/NaN)", seed, step)
+    return obs
+
+
+def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndarray, np.ndarray]:
+    """``info``'s position and waypoint (``env_probe.waypoint_pair``), or the error naming the env."""
+    try:
+        return waypoint_pair(info, d)
+    except BadOutput as exc:
+        raise _bad_output(task, str(exc), seed, step) from None

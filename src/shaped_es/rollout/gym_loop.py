@@ -1,0 +1,144 @@
+"""The loops of an env without a batched core: one Gymnasium env per episode, stepped in lock-step with one
+batched policy forward a step (``_run_gym``), or, for an env whose instances in a process share one
+simulator (``envs.core.runs_serially``), its episodes one after another (``_run_serial``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import gymnasium as gym
+import numpy as np
+
+from shaped_es.data import pack
+from shaped_es.env_probe import OLD_STEP, BadOutput, env_time_limit, observation, old_api, reset_output, reward, \
+    step_output
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
+from shaped_es.policies import forward
+from shaped_es.rollout.actions import _to_env_action
+from shaped_es.rollout.checks import _bad_output, _check_obs, _contract
+from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
+from shaped_es.rollout.record import _controller, _from_env_action, _join_episodes, _Recorder
+from shaped_es.rollout.task import RolloutResult, RolloutTask, _finish, _policy_input
+from shaped_es.rollout.worker_envs import _envs
+
+
+def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
+    try:
+        return reset_output(env.reset(seed=seed))
+    except BadOutput as exc:
+        raise _bad_output(task, str(exc), seed, 0) from None
+
+
+def _step(env: gym.Env, action) -> tuple:
+    """``env.step``: ``(obs, reward, terminated, truncated, info)`` checked (``env_probe.step_output``)."""
+    try:
+        out = env.step(action)
+    except ValueError as exc:
+        if old_api(exc):  # Gymnasium's TimeLimit unpacking the env's 4-tuple
+            raise BadOutput(OLD_STEP) from None
+        raise
+    return step_output(out)
+
+
+def _run_serial(task: RolloutTask, default_cap: int) -> RolloutResult:
+    """The episodes of ``task`` one after another on one env (an env whose instances in a process share
+    one simulator, ``envs.core.runs_serially``), giving what the lock-step run gives: returns and
+    lengths ``(m, E)``, and per member one :class:`Transitions` of its E episodes in episode order
+    (``default_cap``: as :func:`_run_gym`'s)."""
+    m, E = task.seeds.shape
+    rec = task.recorded()  # (m,)
+    parts = [[_run_gym(replace(task, params=task.params[i:i + 1], members=task.members[i:i + 1],
+                               seeds=task.seeds[i:i + 1, e:e + 1], record=bool(rec[i])), default_cap)
+              for e in range(E)] for i in range(m)]
+    transitions = []
+    for i, row in enumerate(parts):
+        eps = [(e, p.transitions[0]) for e, p in enumerate(row) if p.transitions]
+        if eps:
+            transitions.append(_join_episodes(task.generation, int(task.members[i]), eps))
+    stats = None
+    if task.obs_stats:  # each member's episodes summed in episode order, as _ObsSums.per_member sums them
+        stats = tuple(np.stack([_sum_in_order([p.obs_stats[k][0] for p in row]) for row in parts])
+                      for k in range(3))  # (m,), (m, obs), (m, obs)
+    return RolloutResult(members=np.asarray(task.members), cpu_time_s=0.0, obs_stats=stats,
+                         packed=pack(transitions) if transitions else None,
+                         returns=np.array([[p.returns[0, 0] for p in row] for row in parts]),  # (m, E)
+                         lengths=np.array([[p.lengths[0, 0] for p in row] for row in parts]))
+
+
+def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
+    """The episodes of ``task``, one env each, in lock-step; ``default_cap``: where the episodes of an env
+    without a time limit end when ``task.max_steps`` is unset (``rollout.DEFAULT_MAX_STEPS``)."""
+    m, E = task.seeds.shape
+    B = m * E
+    envs = _envs(task.env_id, task.env_kwargs, B)
+    seeds = task.seeds.reshape(B)  # (m, E) -> (B,)
+    first = [_reset(task, env, int(s)) for env, s in zip(envs, seeds)]
+    infos = [i for _, i in first]  # the latest info of each env (the waypoint controller reads it)
+    shape = tuple(envs[0].observation_space.shape)
+    obs = np.zeros((B, *shape), np.float32)  # (B, obs)
+    for b, (o, _) in enumerate(first):
+        try:
+            obs[b] = _check_obs(task, observation(o, shape), shape, seeds[b], 0)
+        except BadOutput as exc:
+            raise _bad_output(task, str(exc), seeds[b], 0) from None
+    rec = _Recorder(task) if task.recorded().any() else None
+    # the waypoint contract, checked where it is used: recorded steps (the shaped method's data) of an env
+    # whose reset info has it (without it: no columns, d = 0; the shaped method's preflight refuses that)
+    pos, wp = np.zeros((B, 0), np.float32), np.zeros((B, 0), np.float32)  # (B, d)
+    contract = rec is not None and (POSITION_KEY in infos[0] or WAYPOINT_KEY in infos[0])
+    if contract:
+        d = _contract(task, infos[0], None, seeds[0], 0)[0].size  # every episode's pair of this size
+        pairs = [_contract(task, i, d, seeds[b], 0) for b, i in enumerate(infos)]
+        pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])
+    returns = np.zeros(B, dtype=np.float64)
+    lengths = np.zeros(B, dtype=np.int64)
+    alive = np.ones(B, dtype=bool)
+    sums = _ObsSums(B) if task.obs_stats else None
+    hooks = [_controller(task, env.unwrapped) for env in envs] if rec is not None and task.expert else None
+    cap = task.max_steps
+    if cap is None and env_time_limit(envs[0]) is None:
+        cap = default_cap  # an env that never terminates cannot hang the run (warn_if_endless)
+    t = 0
+    while alive.any() and (cap is None or t < cap):
+        if sums is not None:
+            sums.add(obs, alive)
+        act = forward(task.spec, task.params, _policy_input(task, obs).reshape(m, E, -1),
+                      task.rowwise).reshape(B, -1)  # (m,E,a) -> (B,a)
+        ex = None
+        if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
+            ex = np.zeros_like(act)
+            for b in np.flatnonzero(alive):
+                ex[b] = _from_env_action(envs[b].action_space, hooks[b](obs[b], infos[b]))
+        rew = np.zeros(B, dtype=np.float64)
+        nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
+        stepped = alive.copy()
+        for b in np.flatnonzero(stepped):
+            try:
+                o, r, term, trunc, info = _step(envs[b], _to_env_action(envs[b].action_space, act[b]))
+                o, r = observation(o, shape), reward(r)
+            except BadOutput as exc:
+                raise _bad_output(task, str(exc), seeds[b], t + 1) from None
+            if o.shape != shape:
+                _check_obs(task, o, shape, seeds[b], t + 1)
+            nobs[b], rew[b], infos[b] = o, r, info
+            if contract:
+                npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1)
+            alive[b] = not (term or trunc)
+        if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
+            b = int(np.flatnonzero(~(np.isfinite(rew) & np.isfinite(nobs).all(axis=1)))[0])
+            if not np.isfinite(rew[b]):
+                raise _bad_output(task, f"a non-finite reward ({rew[b]})", seeds[b], t + 1)
+            _check_obs(task, nobs[b], shape, seeds[b], t + 1)
+        if rec is not None:
+            rec.add(obs, pos, wp, act, rew, stepped, ex)
+        with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
+            returns += rew
+        lengths += stepped
+        obs, pos, wp = nobs, npos, nwp
+        t += 1
+    if not np.isfinite(returns).all():  # finite rewards (checked each step) whose sum overflowed
+        b = int(np.flatnonzero(~np.isfinite(returns))[0])
+        raise _bad_output(task, f"rewards whose sum overflows (the episode return reached {returns[b]}; "
+                          f"rewards must stay far below 1e308)", seeds[b], int(lengths[b]))
+    return _finish(task, returns, lengths, rec, sums)
