@@ -104,6 +104,9 @@ def test_rows_summary():
            for i, p in enumerate(pops)]
     assert rows_summary(seq)["accepted_then_fell"] == 2  # 2.0 -> 1.5 and 3.0 -> 2.5 (row 5 has no successor)
     assert rows_summary([{"train_reward_mean": "1"}]) is None
+    # with a rival frame: the accepted candidates that were the rival's clone (judged and lost: not counted)
+    riv = [{**r, "candidate_rival": x} for r, x in zip(seq, ["0", "1", "1", "0", "0", "1"])]
+    assert rows_summary(riv)["accepted_rival"] == 2 and "accepted_rival" not in rows_summary(seq)
 
 
 def test_the_final_summary_counts_the_jumps_the_budget_saw_fall(tmp_path, monkeypatch):

@@ -138,7 +138,7 @@ def rows_summary(rows: list[dict]) -> dict | None:
     """What shaping did over a run's metrics rows (None: no candidate columns, not a candidate run):
     candidates judged and accepted, their mean return gain, acceptances after which the population's mean
     return (``train_reward_mean``) fell (the jumps :meth:`LabelBudget.judge` counts as lost with
-    ``judge_jumps``), generations backed off."""
+    ``judge_jumps``), generations backed off; with a rival frame, how many accepted were its clone."""
     if not rows or "candidate_accepted" not in rows[0]:
         return None
     acc = [a for a in (_num(r.get("candidate_accepted")) for r in rows) if a is not None]
@@ -153,6 +153,10 @@ def rows_summary(rows: list[dict]) -> dict | None:
             continue
         fell += int(prev_accepted and pop is not None and pop < prev_pop)
         prev_accepted, prev_pop = bool(a) and pop is not None, pop if pop is not None else 0.0
-    return {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
-            "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
-            "generations_backed_off": asleep}
+    out = {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
+           "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
+           "generations_backed_off": asleep}
+    if "candidate_rival" in rows[0]:  # with a rival frame (guides/rival.py): the accepted that were its clone
+        out["accepted_rival"] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
+                                    and _num(r.get("candidate_rival")) == 1)
+    return out
