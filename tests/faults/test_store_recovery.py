@@ -68,10 +68,15 @@ def test_a_damaged_newest_checkpoint_is_an_error_not_a_silent_fallback(tmp_path)
     store = _store(tmp_path)
     (store.ckpt_dir / "gen_000003.npz").write_bytes(b"")
     before = store.metrics_path.read_bytes()
-    with store.lock(), pytest.raises(StoreError, match="gen_000003.*delete gen_000003.npz and "
-                                                       "gen_000003.json to resume from gen_000002"):
+    with store.lock(), pytest.raises(StoreError, match="gen_000003.*delete gen_000003.npz, gen_000003.json "
+                                                       "and latest.json to resume from gen_000002"):
         store.recover()
     assert store.metrics_path.read_bytes() == before  # nothing changed
+    for name in ("gen_000003.npz", "gen_000003.json", "latest.json"):  # the line's advice, followed
+        (store.ckpt_dir / name).unlink()
+    with store.lock():
+        store.recover()
+    assert store.load_checkpoint()[1]["generation"] == 2
 
 
 def test_repeated_rows_of_two_writers_keep_the_last_of_each_generation(tmp_path):

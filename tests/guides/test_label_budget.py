@@ -98,7 +98,7 @@ def test_rows_summary():
             {"candidate_accepted": "0", "candidate_gain": "-4.0", "shaping_awake": "1"},
             {"candidate_accepted": "", "candidate_gain": "", "shaping_awake": "0"}]
     assert rows_summary(rows) == {"candidates_judged": 2, "candidates_accepted": 1, "mean_gain": -1.0,
-                                  "accepted_then_fell": 0, "generations_backed_off": 1}
+                                  "accepted_then_fell": 0, "generations_backed_off": 1, "accepted_rival": None}
     pops = ["1.0", "2.0", "1.5", "3.0", "2.5", "2.0"]  # train_reward_mean; accepted at rows 1, 3 and 5
     seq = [{"candidate_accepted": str(i % 2), "candidate_gain": "0", "shaping_awake": "1", "train_reward_mean": p}
            for i, p in enumerate(pops)]
@@ -106,7 +106,7 @@ def test_rows_summary():
     assert rows_summary([{"train_reward_mean": "1"}]) is None
     # with a rival frame: the accepted candidates that were the rival's clone (judged and lost: not counted)
     riv = [{**r, "candidate_rival": x} for r, x in zip(seq, ["0", "1", "1", "0", "0", "1"])]
-    assert rows_summary(riv)["accepted_rival"] == 2 and "accepted_rival" not in rows_summary(seq)
+    assert rows_summary(riv)["accepted_rival"] == 2 and rows_summary(seq)["accepted_rival"] is None
 
 
 def test_the_final_summary_counts_the_jumps_the_budget_saw_fall(tmp_path, monkeypatch):

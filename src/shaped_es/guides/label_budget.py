@@ -156,7 +156,7 @@ def rows_summary(rows: list[dict]) -> dict | None:
     out = {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
            "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
            "generations_backed_off": asleep}
-    if "candidate_rival" in rows[0]:  # with a rival frame (guides/rival.py): the accepted that were its clone
-        out["accepted_rival"] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
-                                    and _num(r.get("candidate_rival")) == 1)
+    # with a rival frame (guides/rival.py): the accepted that were its clone (None: the run has no rival)
+    out["accepted_rival"] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
+                                and _num(r.get("candidate_rival")) == 1) if "candidate_rival" in rows[0] else None
     return out

@@ -111,14 +111,14 @@ class ShapedGuide(NoGuide, GenerationData):
         # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
         # (~10-30 s), not on the clock: before the label probe, which uses them and whose seconds count
         self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
+        probe_line = None  # printed once the rival is known
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
             self.query_clip = res.query_clip
             # counted in generation 0's row, also by a run that restarts it with the probe on file
             self.startup = (res.env_steps, res.seconds)
-            if fresh:
-                print(f"shaped-es: {res.line()}", file=sys.stderr)
+            probe_line = res.line() if fresh else None
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
         # M_phi exists (and trains) only when it is the label source
@@ -130,6 +130,9 @@ class ShapedGuide(NoGuide, GenerationData):
         rf = rival_frame(cfg, self.mphi_cfg.frame, pos_dim) if self.mphi is not None else None
         self.rival = None if rf is None else RivalLabels(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg, rf,
                                                           Path(store.root), cfg.seed)
+        if probe_line:  # the probe's choice, and the rival beside it
+            rival = f"; a rival {rf} frame's candidate runs beside it" if rf else ""
+            print(f"shaped-es: {probe_line}{rival}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
