@@ -189,3 +189,21 @@ def test_the_readmes_quickstart_ranges_are_the_committed_studys():
     with open(root / "docs" / "benchmarks" / "labels_babble_walltime" / "runs" / "shaped_s0" / "metrics.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert f"is {float(rows[1]['test_reward_mean']):.5f} on the reference machine" in readme
+
+
+@pytest.mark.parametrize("argv,line", [
+    (["train", "--env", "CarNav-v0", "--genrations", "3", "--out", "r"],
+     "unrecognized arguments: --genrations 3 (--genrations: did you mean --generations?) (usage: shaped-es train --help)"),
+    (["suite", "run", "--out", "r", "--tsks", "a"],
+     "unrecognized arguments: --tsks a (--tsks: did you mean --tasks?) (usage: shaped-es suite run --help)"),
+    (["train", "--env", "CarNav-v0", "--zzz", "--out", "r"], "unrecognized arguments: --zzz (usage: shaped-es train --help)"),
+])
+def test_a_misspelt_flag_is_one_line_naming_the_commands_help_and_the_closest_flag(argv, line, tmp_path, capsys,
+                                                                                  monkeypatch):
+    """A new user's finding: argparse named the top-level --help and suggested nothing."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    assert capsys.readouterr().err.strip() == f"shaped-es: error: {line}"
+    assert not (tmp_path / "r").exists()

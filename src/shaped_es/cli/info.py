@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import difflib
 import json
 import sys
 import textwrap
@@ -47,6 +48,28 @@ class Parser(argparse.ArgumentParser):
     def error(self, message: str):
         print(f"shaped-es: error: {' '.join(message.split())} (usage: {self.prog} --help)", file=sys.stderr)
         sys.exit(2)
+
+    def parse_args(self, args=None, namespace=None):
+        """As argparse's, but an unknown option is reported by the sub-command it was given to (naming
+        that command's ``--help``), with the closest option it has (``--genrations``: did you mean
+        ``--generations``?)."""
+        ns, extra = self.parse_known_args(args, namespace)
+        if extra:
+            sub = self._chosen(ns)
+            opts = [o for a in sub._actions for o in a.option_strings if o.startswith("--")]
+            hints = [f"{x}: did you mean {m[0]}?" for x in extra if x.startswith("--")
+                     for m in [difflib.get_close_matches(x.split("=")[0], opts, n=1)] if m]
+            sub.error(f"unrecognized arguments: {' '.join(extra)}" + (f" ({'; '.join(hints)})" if hints else ""))
+        return ns
+
+    def _chosen(self, ns: argparse.Namespace) -> argparse.ArgumentParser:
+        """The deepest sub-parser the parsed command line chose (this parser without sub-commands)."""
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                sp = action.choices.get(getattr(ns, action.dest, None) or "")
+                if sp is not None:
+                    return sp._chosen(ns) if isinstance(sp, Parser) else sp
+        return self
 
 
 def use_formatter(parser: argparse.ArgumentParser) -> None:
