@@ -20,11 +20,8 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-import numpy as np
-
 from shaped_es import seeding
-from shaped_es.data import Transitions
-from shaped_es.guides.mphi_parts import DataParts
+from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 
@@ -42,44 +39,10 @@ def rival_frame(cfg, frame: str, pos_dim: int) -> str | None:
     return want
 
 
-class RivalLabels:
-    """The second model, its labels and its saved data parts."""
-
-    def __init__(self, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, frame: str, root: Path, seed: int):
-        cfg = dataclasses.replace(mphi_cfg, frame=frame, seed=seeding.derive_seed(seed, seeding.SHAPING, RIVAL_KEY))
-        self.frame = frame
-        self.mphi = InverseDynamics(obs_dim, pos_dim, act_dim, cfg)
-        self.labels = MphiLabels(self.mphi, frame, cfg.query_scale, cfg.query_mix)
-        self.parts = DataParts(Path(root) / DIR)
-
-    @property
-    def ready(self) -> bool:
-        return self.labels.ready
-
-    def add(self, generation: int, data: list[Transitions], writer) -> list:
-        """Take in generation ``generation - 1``'s steps ``data`` (one Transitions); returns the futures of
-        its part write (submitted to ``writer``)."""
-        rows = int(self.mphi.add(data)["added"])
-        if not rows:
-            return []
-        x, y = self.mphi.newest(rows)  # (rows, obs + d'), (rows, act)
-        self.parts.add(generation, rows)
-        return [writer.submit(self.parts.write, generation, x, y)]
-
-    def train(self) -> None:
-        self.mphi.train()
-
-    def state_dict(self) -> dict[str, np.ndarray]:
-        self.parts.trim(self.mphi.dataset_size)
-        st = dict(self.mphi.state_dict(with_training=True, with_data=False))
-        st["parts"] = np.array(self.parts.kept, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
-        return st
-
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        if "meta/dims" not in state:  # a checkpoint from a run without the rival: it starts afresh
-            return
-        self.mphi.load_state_dict({k: v for k, v in state.items() if k != "parts"})
-        if "data/size" in state:
-            parts = np.asarray(state["parts"], np.int64).reshape(-1, 2)
-            self.mphi.set_data(*self.parts.read(parts, int(state["data/size"][0]), self.mphi.in_dim,
-                                                self.mphi.act_dim))
+def rival_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, frame: str, root: Path,
+                seed: int) -> MphiTrack:
+    """The rival model in ``frame`` (M_phi's other settings as the run's, its own seed), its labels (no
+    query clip) and its data parts under ``root / DIR``."""
+    cfg = dataclasses.replace(mphi_cfg, frame=frame, seed=seeding.derive_seed(seed, seeding.SHAPING, RIVAL_KEY))
+    mphi = InverseDynamics(obs_dim, pos_dim, act_dim, cfg)
+    return MphiTrack(mphi, MphiLabels(mphi, frame, cfg.query_scale, cfg.query_mix), Path(root) / DIR)

@@ -79,10 +79,10 @@ from shaped_es.shaping.trajectories import delete_generations, list_generations,
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
-from shaped_es.guides.mphi_parts import DataParts
+from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.rival import RivalLabels, rival_frame
+from shaped_es.guides.rival import rival_frame, rival_track
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
                                           waypoint_dim)
@@ -128,7 +128,7 @@ class ShapedGuide(NoGuide, GenerationData):
         self.labels = label_source(cfg, spec, self.mphi, self.mphi_cfg, self.reference, probe)
         # a second M_phi in another frame whose labels make a second candidate (guides/rival.py)
         rf = rival_frame(cfg, self.mphi_cfg.frame, pos_dim) if self.mphi is not None else None
-        self.rival = None if rf is None else RivalLabels(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg, rf,
+        self.rival = None if rf is None else rival_track(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg, rf,
                                                           Path(store.root), cfg.seed)
         if probe_line:  # the probe's choice, and the rival beside it
             rival = f"; a rival {rf} frame's candidate runs beside it" if rf else ""
@@ -144,11 +144,13 @@ class ShapedGuide(NoGuide, GenerationData):
         self._writes: list[Future] = []
         self._write_time = 0.0  # background write time not yet reported
         # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data, mphi_parts.py),
-        # not in every checkpoint; a checkpoint names the parts that rebuild it
-        self.parts = DataParts(Path(store.root) / "mphi_data")
+        # not in every checkpoint; a checkpoint names the parts that rebuild it (the rival's: its own)
+        self.track = None if self.mphi is None else MphiTrack(self.mphi, self.labels, Path(store.root) / "mphi_data")
+        self._tracks = [t for t in (self.track, self.rival) if t is not None]
         # generations of slack for the older checkpoints kept on disk (a fallback if the newest is lost)
         self._ckpt_margin = (cfg.keep_checkpoints - 1) * cfg.checkpoint_every
-        self._saved: tuple[int, int, int] | None = None  # (generation, oldest data part, the rival's) of the last state_dict
+        # (generation, the oldest data part of each of _tracks) of the last state_dict
+        self._saved: tuple[int, list[int]] | None = None
         # master placement on local processes: labels here, the gradient steps in the idle workers
         self.fit_on_workers = self.placement == "master" and cfg.executor == "process"
         self.shared_rows = SharedRows() if self.fit_on_workers else None  # the rows the workers' fits read
@@ -232,15 +234,14 @@ class ShapedGuide(NoGuide, GenerationData):
         checkpoint is durable would lose what the previous one needs if the run dies in between."""
         if self._saved is None:
             return
-        g, oldest_part, rival_oldest = self._saved
+        g, oldest_parts = self._saved
         self._saved = None
         old = [x for x in list_generations(self.traj_root)
                if x <= g + 1 - max(self.sh.history, 2) - self._ckpt_margin]
         if old:
             delete_generations(self.traj_root, old)
-        self.parts.delete_before(oldest_part - self._ckpt_margin)
-        if self.rival is not None:
-            self.rival.parts.delete_before(rival_oldest - self._ckpt_margin)
+        for track, oldest in zip(self._tracks, oldest_parts):
+            track.parts.delete_before(oldest - self._ckpt_margin)
 
     def _join_writes(self) -> float:
         """Wait for the background shard writes; returns their total time (raises their errors)."""
@@ -279,10 +280,10 @@ class ShapedGuide(NoGuide, GenerationData):
         """M_phi's training pairs from generation ``generation - 1``'s recorded steps ``data`` (one
         Transitions); True: train it."""
         trained = self.mphi.iterations > 0
-        stats = self.mphi.add(data)
-        rows = int(stats["added"])
-        if rows:
-            x, y = self.mphi.newest(rows)  # (rows, obs + d), (rows, act): g-1's kept training pairs
+        stats, x, y, write = self.track.add(generation, data, self._writer)  # g-1's kept training pairs
+        if x is not None:
+            rows = x.shape[0]
+            self._writes.append(write)
             if trained:  # M_phi's held-out fit on them, before it trains on them
                 sub = slice(None, None, max(1, rows // FIT_TEST_ROWS))  # every k-th row: a fixed sample
                 obs = self.spec.obs_dim
@@ -292,8 +293,6 @@ class ShapedGuide(NoGuide, GenerationData):
             self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
                                                                   self.step_norm[1]) / cnt])
             self.labels.max_displacement = self.labels_max_displacement()
-            self._writes.append(self._writer.submit(self.parts.write, generation, x, y))
-            self.parts.add(generation, rows)
         self._pending.update(mphi_dataset_size=stats["dataset_size"],
                              mphi_kept_fraction=stats["kept_fraction"])
         return True
@@ -312,8 +311,9 @@ class ShapedGuide(NoGuide, GenerationData):
                 self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
                 self._pending["mphi_iterations"] = self.mphi.iterations
                 if self.rival is not None:  # the rival model on the same steps (its own frame's pairs)
-                    self._writes.extend(self.rival.add(generation, data, self._writer))
-                    self.rival.train()
+                    write = self.rival.add(generation, data, self._writer)[3]
+                    self._writes.extend([write] if write is not None else [])
+                    self.rival.mphi.train()
                 self._pending["time_mphi_s"] = time.perf_counter() - t0
             if job is not None:
                 job()
@@ -434,18 +434,13 @@ class ShapedGuide(NoGuide, GenerationData):
         st = {f"mechanism/{k}": v for k, v in self.mechanism.state_dict().items()}
         st |= {f"budget/{k}": v for k, v in self.budget.state_dict().items()}
         st["silent"] = np.array(sorted(self._silent), np.int64)
-        if self.mphi is None:
-            self._saved = (self._last_generation, self._last_generation + 1, self._last_generation + 1)
-            return st
-        self.parts.trim(self.mphi.dataset_size)
-        rival_oldest = self._last_generation + 1
+        if self.track is not None:
+            self.track.save(st, "mphi/", "mphi_parts")
+            st["step_norm"] = self.step_norm
         if self.rival is not None:
-            st |= {f"rival/{k}": v for k, v in self.rival.state_dict().items()}
-            rival_oldest = self.rival.parts.oldest(default=rival_oldest)
-        self._saved = (self._last_generation, self.parts.oldest(default=self._last_generation + 1), rival_oldest)
-        st |= {f"mphi/{k}": v for k, v in self.mphi.state_dict(with_training=True, with_data=False).items()}
-        st["step_norm"] = self.step_norm
-        st["mphi_parts"] = np.array(self.parts.kept, np.int64).reshape(-1, 2)  # (k, 2) generation, rows
+            self.rival.save(st, "rival/", "rival/parts")
+        nxt = self._last_generation + 1
+        self._saved = (self._last_generation, [t.parts.oldest(default=nxt) for t in self._tracks])
         return st
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -453,17 +448,12 @@ class ShapedGuide(NoGuide, GenerationData):
         self.budget.load_state_dict({k[7:]: v for k, v in state.items() if k.startswith("budget/")})
         self._silent = {int(g) for g in np.asarray(state.get("silent", np.zeros(0)), np.int64).reshape(-1)}
         self._cache.clear()
-        if self.mphi is None:
+        if self.track is None:
             return
-        mphi = {k[5:]: v for k, v in state.items() if k.startswith("mphi/")}
-        self.mphi.load_state_dict(mphi)
-        if "data/x" not in mphi and "data/size" in mphi:  # the data set lives in RUN/mphi_data
-            parts = np.asarray(state["mphi_parts"], np.int64).reshape(-1, 2)
-            self.mphi.set_data(*self.parts.read(parts, int(mphi["data/size"][0]), self.mphi.in_dim,
-                                                 self.mphi.act_dim))
+        self.track.restore(state, "mphi/", "mphi_parts")  # the data set lives in RUN/mphi_data
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
-        if self.rival is not None:
-            self.rival.load_state_dict({k[6:]: v for k, v in state.items() if k.startswith("rival/")})
+        if self.rival is not None:  # a checkpoint from before the rival: it starts afresh
+            self.rival.restore(state, "rival/", "rival/parts", optional=True)
         self.labels.max_displacement = self.labels_max_displacement()
 
     def close(self) -> None:
