@@ -11,7 +11,7 @@ state these methods use: ``_cache`` (generation -> ``_Block``), ``_silent`` (gen
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,6 +30,14 @@ class _Block:
     members: np.ndarray  # (k,) member index of each trs entry
     offsets: np.ndarray  # (k + 1,) rows of trs[j] are offsets[j]:offsets[j+1]
     packed: PackedTransitions | None = None  # the same rows as one block (the shard's source)
+    # another label source's inputs for these rows (the rival frame's, guides/rival.py), computed once
+    other_queries: dict = field(default_factory=dict)
+
+    def queries_for(self, labels) -> np.ndarray:
+        """``(N, k)`` what ``labels`` reads besides the state, for this block's rows."""
+        if labels not in self.other_queries:
+            self.other_queries[labels] = labels.inputs(self.big)
+        return self.other_queries[labels]
 
 
 class GenerationData:
@@ -109,7 +117,7 @@ class GenerationData:
             return MemberRows.from_lists([np.zeros((0, self.spec.obs_dim), np.float32)],
                                          [np.zeros((0, 0), np.float32)])
         spans = np.array([[[0, blk.offsets[-1]] for blk in blocks]], np.int64)  # (1, nb, 2): whole blocks
-        queries = [blk.queries if labels is self.labels else labels.inputs(blk.big) for blk in blocks]
+        queries = [blk.queries if labels is self.labels else blk.queries_for(labels) for blk in blocks]
         return MemberRows([blk.big.state for blk in blocks], queries, spans)
 
     def _trim_cache(self, generation: int) -> None:
