@@ -114,6 +114,15 @@ class InverseDynamicsSettings(_Strict):
         "steps, and the mean's clone toward its labels is a second candidate each generation, judged like the "
         "first (selection picks whichever frame pays on this body; guides/rival.py); none: off; skipped where "
         "it is the run's frame or the waypoint space is 1-D")
+    rival_servo: bool = Field(
+        True, description="mechanism candidate, labels mphi: a forward model f(s, a) -> p_{t+1} - p_t trains on "
+        "the same steps, and the mean's clone toward its damped servo labels (a_hat = k G^T ((w - p) - c f(s, 0)) "
+        "/ q, G = df/da; shaping/forward_servo.py) is one more candidate each generation, judged like the others "
+        "(the labels of torque-driven arms, which no inverse of the dynamics gives)")
+    servo_gain: Float = Field(1.0, gt=0, description="the servo's gain k (its error in units of the median "
+                              "query distance q, its action direction of unit norm)")
+    servo_damping: Float = Field(3.0, ge=0, description="the servo's damping c: the predicted no-action step "
+                                 "f(s, 0) (the body's velocity) taken from the waypoint error")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
                                      "times the mean training displacement (None: raw, as the paper)")
     targets: Literal["one_step", "hindsight", "matched", "chunk"] = Field(

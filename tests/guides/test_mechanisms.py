@@ -298,3 +298,39 @@ def test_shaped_cmaes_resumes_exactly(tmp_path, monkeypatch):
     run_until_crash(monkeypatch, c, store, 3)
     Trainer(c, store, progress=False).run()
     assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_babblers_run_the_population_episodes_and_judged_extras_run_more(tmp_path, monkeypatch):
+    """extra_episodes is for the candidates and the mean, which are judged; the babblers (M_phi's data only)
+    run the population's E episodes (with them, a babbling generation cost 3x their steps)."""
+    import shaped_es.trainer as trainer_mod
+
+    seen: list[tuple[int, np.ndarray, int]] = []  # (generation, members, episodes) of every training task
+    real_task, real_tasks = trainer_mod.run_task, trainer_mod.run_tasks
+
+    def spy(t):
+        seen.append((t.generation, np.asarray(t.members), t.seeds.shape[1]))
+        return real_task(t)
+
+    def spy_all(ts):
+        for t in ts:
+            seen.append((t.generation, np.asarray(t.members), t.seeds.shape[1]))
+        return real_tasks(ts)
+
+    monkeypatch.setattr(trainer_mod, "run_task", spy)
+    monkeypatch.setattr(trainer_mod, "run_tasks", spy_all)
+    babble, x = 3, 4
+    sh = _shaping(inverse_dynamics={**TINY["shaping"]["inverse_dynamics"], "babble": babble, "babble_generations": 3},
+                  mean_clone={**TINY["shaping"]["mean_clone"], "extra_episodes": x})
+    train(tmp_path / "run", {**TINY, "generations": 3, "shaping": sh})
+    E, P = TINY["rollout"]["episodes"], 2 * TINY["es"]["pairs"]
+    both = 0  # generations where candidates and babblers ran (the candidates from generation 2 here)
+    for g in range(3):
+        tasks = [(m, e) for gen, m, e in seen if gen == g and m.min() >= P]
+        top = max(int(m.max()) for m, _ in tasks)
+        babblers = [e for m, e in tasks if m.min() > top - babble]
+        judged = [e for m, e in tasks if m.max() <= top - babble]
+        assert babblers and set(babblers) == {E}
+        assert set(judged) <= {E + x}
+        both += bool(judged)
+    assert both

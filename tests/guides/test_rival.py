@@ -1,6 +1,7 @@
-"""The rival label variant (guides/rival.py): when a run has one, that its clone is a second candidate
-judged like the first, that a run resumes exactly with it, that both placements agree, and that the
-jump goes to the rival's row when that row wins (a stub host)."""
+"""The rival label variants (guides/rival.py: another frame's M_phi, the forward model's servo): when a run
+has them, that their clones are more candidates judged like the first, that a run resumes exactly with
+them (and from a checkpoint of the single-rival format), that both placements agree, and that the jump goes
+to a rival's row when that row wins (a stub host)."""
 
 import numpy as np
 import pytest
@@ -8,7 +9,7 @@ import pytest
 from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import RunConfig
 from shaped_es.guides.mechanisms.candidate import MeanCandidate
-from shaped_es.guides.rival import rival_frame
+from shaped_es.guides.rival import FRAME, SERVO, rival_frame, servo_on
 from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.strategies import GuidedES
 from shaped_es.trainer import Trainer
@@ -16,8 +17,9 @@ from shaped_es.trainer import Trainer
 from test_mechanisms import TINY, _shaping  # noqa: E402 - the same tiny UR5Reach-v0 run
 
 
-def _rival(frame="waypoint", mp=None, **over):
-    mp = {**TINY["shaping"]["inverse_dynamics"], "frame": "both", "rival_frame": frame, **(mp or {})}
+def _rival(frame="waypoint", mp=None, servo=True, **over):
+    mp = {**TINY["shaping"]["inverse_dynamics"], "frame": "both", "rival_frame": frame, "rival_servo": servo,
+          **(mp or {})}
     return {**TINY, "generations": 6, "shaping": _shaping(inverse_dynamics=mp, **over)}  # the rival trains from g1
 
 
@@ -28,18 +30,21 @@ def _rival(frame="waypoint", mp=None, **over):
 def test_rival_only_with_mphi_candidates_another_frame_and_2d_waypoints(frame, over, dim, expected):
     cfg = RunConfig.model_validate(_rival(frame, **over))
     assert rival_frame(cfg, "both", dim) == expected
+    assert servo_on(cfg) == ("labels" not in over and "mechanism" not in over)  # in any dimension
+    assert not servo_on(RunConfig.model_validate(_rival(frame, servo=False, **over)))
 
 
 def test_rival_candidate_is_judged_and_the_run_resumes_exactly(tmp_path, monkeypatch):
     full_store = train(tmp_path / "full", _rival())
     full = full_store.read_metrics()
     judged = [r for r in full if r["candidate_accepted"] != ""]
-    assert judged and all(r["candidate_rival"] in ("0", "1") for r in judged)
-    assert all(r["rival_gain"] != "" for r in judged)
-    assert any((full_store.root / "mphi_data_rival").iterdir())  # its own data parts, for resume
-    plain = train(tmp_path / "plain", _rival("none")).read_metrics()
-    assert "candidate_rival" not in plain[0]
-    # the rival's candidate runs beside the first: more env steps once both are trained
+    assert judged and all(r["candidate_rival"] in ("0", "1", "2") for r in judged)
+    assert all(r["rival_gain"] != "" and r["servo_gain"] != "" for r in judged)
+    for d in ("mphi_data_rival", "mphi_data_servo"):  # each its own data parts, for resume
+        assert any((full_store.root / d).iterdir())
+    plain = train(tmp_path / "plain", _rival("none", servo=False)).read_metrics()
+    assert "candidate_rival" not in plain[0] and "servo_gain" not in plain[0]
+    # the rivals' candidates run beside the first: more env steps once they are trained
     assert int(judged[-1]["gen_env_steps"]) > int(plain[int(judged[-1]["generation"])]["gen_env_steps"])
     cfg, store = new_run(tmp_path / "crashed", _rival())
     run_until_crash(monkeypatch, cfg, store, 3)
@@ -61,7 +66,8 @@ class _Host:
     def __init__(self, n):
         self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False)
         self.labels = _Labels()
-        self.rival = type("R", (), {"ready": True, "labels": "rival labels"})()
+        self.rivals = [type("R", (), {"ready": True, "labels": f"rival labels {v}", "variant": v})()
+                       for v in (FRAME, SERVO)]
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
 
@@ -72,23 +78,47 @@ def test_the_rival_row_wins_and_becomes_the_mean(monkeypatch):
     n, P = 4, 4
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
     mech = MeanCandidate(_Host(n))
-    assert "candidate_rival" in mech.metric_keys
-    d_main, d_rival = np.ones(n), -2.0 * np.ones(n)
+    assert {"candidate_rival", "rival_gain", "servo_gain"} <= set(mech.metric_keys)
+    d_main, d_rival, d_servo = np.ones(n), -2.0 * np.ones(n), 3.0 * np.ones(n)
+    d = {None: d_main, "rival labels 1": d_rival, "rival labels 2": d_servo}
     monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0: (
-        mu + (d_rival if labels == "rival labels" else d_main), {"label_std": 0.1}))
+        mu + d[labels], {"label_std": 0.1}))
     es.ask()
     es.tell(np.arange(P, dtype=float))
     mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
     mu0 = np.array(es.mean)
-    rows = mech.extra_members(1)  # (3, n): the candidate, the rival's, the mean
-    np.testing.assert_allclose(rows, np.stack([mu0 + d_main, mu0 + d_rival, mu0]), rtol=1e-6)
+    rows = mech.extra_members(1)  # (4, n): the candidate, the rival frame's, the servo's, the mean
+    np.testing.assert_allclose(rows, np.stack([mu0 + d_main, mu0 + d_rival, mu0 + d_servo, mu0]), rtol=1e-6)
     es.ask()
     es.tell(np.arange(P, dtype=float))
-    out = mech.after_tell(1, None, np.arange(P, dtype=float), np.array([[2.0], [5.0], [1.0]]), [], mu0, es, None)
-    assert out["candidate_accepted"] == 1 and out["candidate_rival"] == 1 and out["rival_gain"] == 4.0
+    out = mech.after_tell(1, None, np.arange(P, dtype=float), np.array([[2.0], [5.0], [3.0], [1.0]]), [], mu0,
+                          es, None)
+    assert out["candidate_accepted"] == 1 and out["candidate_rival"] == FRAME
+    assert out["rival_gain"] == 4.0 and out["servo_gain"] == 2.0
     np.testing.assert_allclose(es.mean, mu0 + d_rival, rtol=1e-6)
-    # the state round-trips with the rival's row and learner
+    # the state round-trips with the rivals' rows and learners
     fresh = MeanCandidate(_Host(n))
     fresh.load_state_dict(mech.state_dict())
     np.testing.assert_array_equal(fresh.extra_members(2), mech.extra_members(2))
-    np.testing.assert_array_equal(fresh.rival_learner, mech.rival_learner)
+    assert fresh.rival_learners.keys() == mech.rival_learners.keys() == {FRAME, SERVO}
+    for v in (FRAME, SERVO):
+        np.testing.assert_array_equal(fresh.rival_learners[v], mech.rival_learners[v])
+    # the servo's row wins the next generation
+    es.ask()
+    es.tell(np.arange(P, dtype=float))
+    mu1 = np.array(es.mean)
+    out = mech.after_tell(2, None, np.arange(P, dtype=float), np.array([[2.0], [1.0], [9.0], [1.0]]), [],
+                          mu1, es, None)
+    assert out["candidate_accepted"] == 1 and out["candidate_rival"] == SERVO and out["servo_gain"] == 8.0
+
+
+def test_a_checkpoint_of_the_single_rival_format_loads():
+    """Before the servo, the state held a count of rival rows (0/1) and one ``rival_learner``."""
+    n = 4
+    mech = MeanCandidate(_Host(n))
+    rows = np.arange(3 * n, dtype=np.float32).reshape(3, n)  # the candidate, the rival frame's, the mean
+    mech.load_state_dict({"extras": rows, "pending": np.array(0), "learner": np.zeros(0), "jumped": np.array(0),
+                          "rivals": np.array(1), "rival_learner": np.ones(n)})
+    assert mech.rivals == [FRAME] and set(mech.rival_learners) == {FRAME}
+    with pytest.raises(ValueError, match="rival"):  # a row of a variant this run does not have
+        mech.load_state_dict({"extras": rows, "pending": np.array(0), "rival_rows": np.array([7])})

@@ -43,7 +43,13 @@ class NoGuide:
         return None
 
     def extra_episodes(self) -> int:
-        """Episodes the extra members run beyond the population's (their first ones are the population's)."""
+        """Episodes the judged extra members run beyond the population's (their first ones are the
+        population's)."""
+        return 0
+
+    def unjudged_extras(self) -> int:
+        """How many of the last extra members are never judged (data only: they run the population's
+        episodes, not ``extra_episodes`` more)."""
         return 0
 
     def rollout_fn(self):

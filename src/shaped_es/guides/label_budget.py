@@ -138,7 +138,7 @@ def rows_summary(rows: list[dict]) -> dict | None:
     """What shaping did over a run's metrics rows (None: no candidate columns, not a candidate run):
     candidates judged and accepted, their mean return gain, acceptances after which the population's mean
     return (``train_reward_mean``) fell (the jumps :meth:`LabelBudget.judge` counts as lost with
-    ``judge_jumps``), generations backed off; with a rival frame, how many accepted were its clone."""
+    ``judge_jumps``), generations backed off; with rivals, how many accepted were each one's clone."""
     if not rows or "candidate_accepted" not in rows[0]:
         return None
     acc = [a for a in (_num(r.get("candidate_accepted")) for r in rows) if a is not None]
@@ -156,7 +156,9 @@ def rows_summary(rows: list[dict]) -> dict | None:
     out = {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
            "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
            "generations_backed_off": asleep}
-    # with a rival frame (guides/rival.py): the accepted that were its clone (None: the run has no rival)
-    out["accepted_rival"] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
-                                and _num(r.get("candidate_rival")) == 1) if "candidate_rival" in rows[0] else None
+    # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's
+    # (variant 2); None: the run has no such rival
+    for key, v, col in (("accepted_rival", 1, "rival_gain"), ("accepted_servo", 2, "servo_gain")):
+        out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
+                       and _num(r.get("candidate_rival")) == v) if col in rows[0] else None
     return out

@@ -1,5 +1,9 @@
-"""A rival label variant (``shaping.inverse_dynamics.rival_frame``): a second ``M_phi`` in another frame,
-trained on the same recorded steps, whose labels make a second candidate each generation.
+"""Rival label variants: models trained on the same recorded steps as the run's ``M_phi``, whose labels
+make more candidates each generation; selection keeps whichever pays on this body.
+
+- ``shaping.inverse_dynamics.rival_frame`` (variant 1): a second ``M_phi`` in another frame;
+- ``shaping.inverse_dynamics.rival_servo`` (variant 2): a learned forward model's damped servo
+  (``shaping/forward_servo.py``), the labels a torque-driven arm's inverse dynamics cannot give.
 
 Which displacement frame makes M_phi's labels pay depends on the body, and the label probe before
 generation 0 (``label_probe.py``) cannot always tell: forced by hand, the waypoint frame solves
@@ -11,22 +15,49 @@ clones beside the population; selection (the same acceptance rule) takes whichev
 generation. Cost: a second M_phi's training steps (in the shaping thread, beside the rollouts), a second
 clone of the mean, and one more candidate's episodes.
 
-The rival model has no query clip (the probe's clip is the primary's) and its own data parts
-(``RUN/mphi_data_rival``), so a resumed run rebuilds it exactly as the primary's.
+The rival frame's model has no query clip (the probe's clip is the primary's). Each rival has its own
+data parts (``RUN/mphi_data_rival``, ``RUN/mphi_data_servo``) and checkpoint keys, so a resumed run
+rebuilds it exactly as the primary's. The servo costs like the frame rival (a model's training steps in
+the shaping thread, a clone, a candidate's episodes); it is on wherever M_phi's labels and the candidate
+mechanism are, in any waypoint dimension.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import dataclass
 from pathlib import Path
 
 from shaped_es import seeding
 from shaped_es.guides.mphi_track import MphiTrack
+from shaped_es.shaping.forward_servo import ServoLabels, servo_model
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 
-RIVAL_KEY = 1_000_021  # seed key of the rival model (its init and minibatches)
+RIVAL_KEY = 1_000_021  # seed key of the rival frame's model (its init and minibatches)
+SERVO_KEY = 1_000_022  # seed key of the servo's forward model
 DIR = "mphi_data_rival"
+SERVO_DIR = "mphi_data_servo"
+FRAME, SERVO = 1, 2  # variant ids: the candidate_rival column's values (0: the run's own labels)
+
+
+@dataclass
+class Rival:
+    """One rival label variant: its id, name, model track and checkpoint keys."""
+
+    variant: int  # FRAME or SERVO
+    name: str  # for the run's lines: "waypoint frame", "servo"
+    track: MphiTrack
+    prefix: str  # checkpoint keys of its model
+    parts_key: str  # checkpoint key of its data parts
+
+    @property
+    def ready(self) -> bool:
+        return self.track.ready
+
+    @property
+    def labels(self):
+        return self.track.labels
 
 
 def rival_frame(cfg, frame: str, pos_dim: int) -> str | None:
@@ -46,3 +77,30 @@ def rival_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, frame: str, 
     cfg = dataclasses.replace(mphi_cfg, frame=frame, seed=seeding.derive_seed(seed, seeding.SHAPING, RIVAL_KEY))
     mphi = InverseDynamics(obs_dim, pos_dim, act_dim, cfg)
     return MphiTrack(mphi, MphiLabels(mphi, frame, cfg.query_scale, cfg.query_mix), Path(root) / DIR)
+
+
+def servo_on(cfg) -> bool:
+    """Whether this run keeps the servo rival: M_phi's labels with the candidate mechanism."""
+    sh = cfg.shaping
+    return bool(sh.inverse_dynamics.rival_servo) and sh.labels == "mphi" and sh.mechanism == "candidate"
+
+
+def servo_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path, seed: int) -> MphiTrack:
+    """The servo's forward model (M_phi's training settings, its own seed), labels and data parts."""
+    model = servo_model(obs_dim, pos_dim, act_dim, mphi_cfg, seeding.derive_seed(seed, seeding.SHAPING, SERVO_KEY))
+    return MphiTrack(model, ServoLabels(model), Path(root) / SERVO_DIR)
+
+
+def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path) -> list[Rival]:
+    """This run's rival label variants, in the order their candidates' rows take."""
+    out = []
+    rf = rival_frame(cfg, frame, pos_dim)
+    if rf is not None:
+        out.append(Rival(FRAME, f"{rf} frame", rival_track(obs_dim, pos_dim, act_dim, mphi_cfg, rf, root, cfg.seed),
+                         "rival/", "rival/parts"))
+    if servo_on(cfg):
+        mp = cfg.shaping.inverse_dynamics
+        track = servo_track(obs_dim, pos_dim, act_dim, mphi_cfg, root, cfg.seed)
+        track.labels.gain, track.labels.damping = float(mp.servo_gain), float(mp.servo_damping)
+        out.append(Rival(SERVO, "servo", track, "servo/", "servo/parts"))
+    return out

@@ -82,7 +82,7 @@ from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.rival import rival_frame, rival_track
+from shaped_es.guides.rival import rivals
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
                                           waypoint_dim)
@@ -126,12 +126,12 @@ class ShapedGuide(NoGuide, GenerationData):
                      if self.sh.labels == "mphi" else None)
         self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
         self.labels = label_source(cfg, spec, self.mphi, self.mphi_cfg, self.reference, probe)
-        # a second M_phi in another frame whose labels make a second candidate (guides/rival.py)
-        rf = rival_frame(cfg, self.mphi_cfg.frame, pos_dim) if self.mphi is not None else None
-        self.rival = None if rf is None else rival_track(spec.obs_dim, pos_dim, spec.act_dim, self.mphi_cfg, rf,
-                                                          Path(store.root), cfg.seed)
-        if probe_line:  # the probe's choice, and the rival beside it
-            rival = f"; a rival {rf} frame's candidate runs beside it" if rf else ""
+        # rival label variants whose labels make more candidates (guides/rival.py): another frame, the servo
+        self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
+                                                          spec.act_dim, self.mphi_cfg, Path(store.root))
+        if probe_line:  # the probe's choice, and the rivals beside it
+            names = " and ".join(r.name for r in self.rivals)
+            rival = f"; rival candidates ({names}) run beside it" if names else ""
             print(f"shaped-es: {probe_line}{rival}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
@@ -146,7 +146,7 @@ class ShapedGuide(NoGuide, GenerationData):
         # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data, mphi_parts.py),
         # not in every checkpoint; a checkpoint names the parts that rebuild it (the rival's: its own)
         self.track = None if self.mphi is None else MphiTrack(self.mphi, self.labels, Path(store.root) / "mphi_data")
-        self._tracks = [t for t in (self.track, self.rival) if t is not None]
+        self._tracks = [t for t in (self.track, *(r.track for r in self.rivals)) if t is not None]
         # generations of slack for the older checkpoints kept on disk (a fallback if the newest is lost)
         self._ckpt_margin = (cfg.keep_checkpoints - 1) * cfg.checkpoint_every
         # (generation, the oldest data part of each of _tracks) of the last state_dict
@@ -208,6 +208,10 @@ class ShapedGuide(NoGuide, GenerationData):
     def extra_episodes(self) -> int:
         """Episodes the mechanism's extra members run beyond the population's."""
         return self.mechanism.extra_episodes if self.awake else 0
+
+    def unjudged_extras(self) -> int:
+        """The babblers (the last extras): M_phi's data only, never judged, so the population's episodes."""
+        return self._babblers
 
     def rollout_fn(self):
         if self.placement == "workers":  # each worker writes its chunk's shard before it returns
@@ -310,10 +314,10 @@ class ShapedGuide(NoGuide, GenerationData):
                 losses = self.mphi.train()
                 self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
                 self._pending["mphi_iterations"] = self.mphi.iterations
-                if self.rival is not None:  # the rival model on the same steps (its own frame's pairs)
-                    write = self.rival.add(generation, data, self._writer)[3]
+                for r in self.rivals:  # the rival models on the same steps (each its own pairs)
+                    write = r.track.add(generation, data, self._writer)[3]
                     self._writes.extend([write] if write is not None else [])
-                    self.rival.mphi.train()
+                    r.track.mphi.train()
                 self._pending["time_mphi_s"] = time.perf_counter() - t0
             if job is not None:
                 job()
@@ -363,10 +367,10 @@ class ShapedGuide(NoGuide, GenerationData):
         out["shaping_active"] = 1
         P = params.shape[0]
         fitness = mean_returns([r for r in results if r.members[0] < P])  # (P,) the population's
-        extra = [np.asarray(r.returns) for r in results if r.members[0] >= P]  # the extras' (k_i, E + x)
+        # the mechanism's extras (k_i, E + x); the babblers come last, in tasks of their own, and are not judged
+        k = sum(len(r.members) for r in results if r.members[0] >= P)
+        extra = [np.asarray(r.returns) for r in results if P <= r.members[0] < P + k - self._babblers]
         extra_returns = np.concatenate(extra) if extra else np.zeros((0, self.cfg.rollout.episodes))
-        if self._babblers:  # the babblers come last; the mechanism judges only its own extras
-            extra_returns = extra_returns[: extra_returns.shape[0] - self._babblers]
         verdict: list[bool] = []  # the label budget's, once judged: True = asleep from the next generation
         ready_s = [0.0]  # time spent starting the next rollouts (not cloning)
 
@@ -437,8 +441,8 @@ class ShapedGuide(NoGuide, GenerationData):
         if self.track is not None:
             self.track.save(st, "mphi/", "mphi_parts")
             st["step_norm"] = self.step_norm
-        if self.rival is not None:
-            self.rival.save(st, "rival/", "rival/parts")
+        for r in self.rivals:
+            r.track.save(st, r.prefix, r.parts_key)
         nxt = self._last_generation + 1
         self._saved = (self._last_generation, [t.parts.oldest(default=nxt) for t in self._tracks])
         return st
@@ -452,8 +456,8 @@ class ShapedGuide(NoGuide, GenerationData):
             return
         self.track.restore(state, "mphi/", "mphi_parts")  # the data set lives in RUN/mphi_data
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
-        if self.rival is not None:  # a checkpoint from before the rival: it starts afresh
-            self.rival.restore(state, "rival/", "rival/parts", optional=True)
+        for r in self.rivals:  # a checkpoint from before a rival: it starts afresh
+            r.track.restore(state, r.prefix, r.parts_key, optional=True)
         self.labels.max_displacement = self.labels_max_displacement()
 
     def close(self) -> None:

@@ -212,11 +212,17 @@ class Trainer(CheckpointState, Rows, RunLoop):
         extra = []
         if k:  # the extras, with their extra episodes, in tasks of their own
             x = self.guide.extra_episodes()
+            b = min(self.guide.unjudged_extras(), k) if x else 0  # the last b: never judged, E episodes
             xs = seeding.episode_seeds(cfg.seed, seeding.TRAIN, g, np.arange(P, P + k), E + x,
                                        cfg.rollout.common_seeds)  # (k, E + x)
-            extra = self._tasks(X[P:], xs, g, record[P:])
+            extra = self._tasks(X[P : P + k - b], xs[: k - b], g, record[P : P + k - b]) if k > b else []
             for t in extra:
-                t.members = t.members + P  # population indices P .. P + k - 1
+                t.members = t.members + P  # population indices P .. P + k - b - 1
+            if b:  # the unjudged (babblers): the first E of their seeds, the population's common episodes
+                data_only = self._tasks(X[P + k - b :], xs[k - b :, :E], g, record[P + k - b :])
+                for t in data_only:
+                    t.members = t.members + P + k - b
+                extra += data_only
         if pre is not None:
             self.overlapped += 1
             # the population has been rolling out since the guide's clone began; the extras (the clone's
@@ -225,12 +231,16 @@ class Trainer(CheckpointState, Rows, RunLoop):
             # UR5Reach-v0 idle, 2.53x a vanilla generation against 2.18x without the overlap)
             done = self.executor.map(run_task, extra) if extra else []
             results = self.executor.collect(run_task, tasks, pre.futures) + done
-        elif fn is None and 0 < len(extra) <= len(tasks):
-            # population chunk i and extras chunk i in one call, one lock-step loop (rollout.run_tasks: the
-            # same results as apart), not a second wave of small tasks on the workers
-            bundles = [[a] + extra[i : i + 1] for i, a in enumerate(tasks)]
+        elif fn is None and extra:
+            # population chunk i with extras tasks i, i + c, ... in one call, one lock-step loop
+            # (rollout.run_tasks: the same results as apart), not a second wave of small tasks on the workers
+            c = len(tasks)
+            bundles = [[a] + extra[i::c] for i, a in enumerate(tasks)]
             done = self.executor.map(run_tasks, bundles)
-            results = [d[0] for d in done] + [d[1] for d in done if len(d) > 1]  # population, then extras
+            ex = [None] * len(extra)  # the extras back in member order
+            for i, d in enumerate(done):
+                ex[i::c] = d[1:]
+            results = [d[0] for d in done] + ex  # population, then extras
         else:
             results = self.executor.map(fn or run_task, tasks + extra)
         return results, time.perf_counter() - t_roll

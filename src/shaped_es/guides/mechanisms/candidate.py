@@ -36,8 +36,17 @@ from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.shaping.surrogate import cosine
 
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
-RIVAL_METRICS = ("candidate_rival", "rival_gain")  # with a rival label variant (guides/rival.py)
-RIVAL_CLONE_KEY = CLONE_KEY + 1  # the seed key of the rival's clone
+RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
+GAIN_METRIC = {1: "rival_gain", 2: "servo_gain"}  # per variant: its candidate's gain over the mean
+
+
+def rival_clone_key(variant: int) -> int:
+    """The seed key of a rival variant's clone (variant 1's is the one it always had)."""
+    return CLONE_KEY + variant
+
+
+def _learner_key(variant: int) -> str:
+    return "rival_learner" if variant == 1 else f"rival_learner_{variant}"
 
 
 def paired_win(cand: np.ndarray, mean: np.ndarray) -> bool:
@@ -63,10 +72,11 @@ class MeanCandidate(Mechanism):
         self.pending = 0  # 1: the row before the mean is held from the last generation (confirm: its winner)
         self.learner: np.ndarray | None = None  # warm_start: the last clone, where the next one starts
         self.jumped = False  # the last generation's new mean was an accepted candidate (keep_step_repeat)
-        self.rivals = 0  # 1: the row after the scaled candidates is the rival's clone (guides/rival.py)
-        self.rival_learner: np.ndarray | None = None  # warm_start: the rival's last clone
-        if getattr(host, "rival", None) is not None:
-            self.metric_keys = self.metric_keys + RIVAL_METRICS
+        self.rivals: list[int] = []  # the variants of the rows after the scaled candidates (guides/rival.py)
+        self.rival_learners: dict[int, np.ndarray] = {}  # warm_start: each rival's last clone
+        known = [r.variant for r in getattr(host, "rivals", [])]
+        if known:
+            self.metric_keys = self.metric_keys + RIVAL_METRICS + tuple(GAIN_METRIC[v] for v in known)
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
@@ -84,7 +94,7 @@ class MeanCandidate(Mechanism):
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
             # with extra_episodes: the candidates must also beat the mean on episodes nobody was chosen on
             more = extra_returns[:, E:].mean(axis=1) if extra_returns.shape[1] > E else None  # (k,)
-            k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates (scales, rival)
+            k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates (scales, rivals)
             f_cand, f_mean = common[:k], float(common[-1])  # (k,), the mean's
             j = int(np.argmax(f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept in ("best", "best_paired") else f_mean
@@ -101,13 +111,14 @@ class MeanCandidate(Mechanism):
             accept = confirmed or (won and not self.cfg.confirm)
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             gain = float(np.mean(extra_returns[j] - extra_returns[-1]))  # over every episode both ran
-            ns = len(self.cfg.scales)  # the rival's row, if any, follows the scaled candidates
+            ns = len(self.cfg.scales)  # the rivals' rows, if any, follow the scaled candidates
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean, candidate_gain=gain, candidate_accepted=int(accept),
                        candidate_scale=float(self.cfg.scales[j]) if j < ns else 1.0,
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
             if self.rivals:
-                out.update(candidate_rival=int(j >= ns),
-                           rival_gain=float(np.mean(extra_returns[ns] - extra_returns[-1])))
+                out["candidate_rival"] = self.rivals[j - ns] if j >= ns else 0
+                for i, v in enumerate(self.rivals):
+                    out[GAIN_METRIC[v]] = float(np.mean(extra_returns[ns + i] - extra_returns[-1]))
             if accept:  # selection prefers the label-made policy to anything ES sampled: jump there
                 jump = np.asarray(self.extras[k] if confirmed else self.extras[j], np.float64)  # (n,)
                 # keep_step: the ES update too, unless it was estimated around a mean that was itself a
@@ -119,7 +130,7 @@ class MeanCandidate(Mechanism):
                 self.jumped = True
             elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
-        self.extras, self.pending, self.rivals = None, 0, 0
+        self.extras, self.pending, self.rivals = None, 0, []
         if judged is not None:  # the strategy is final: the next population may roll out during the clone
             judged(out)
         mean = mu = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
@@ -129,32 +140,37 @@ class MeanCandidate(Mechanism):
         if info and self.cfg.warm_start:
             self.learner = theta_star.copy()
         out.update(info)
-        rival = self._rival_clone(generation, mu) if info else None
+        clones = self._rival_clones(generation, mu) if info else []
         if info:
             d = theta_star - mu  # (n,) the label direction
-            rows = [mu + s * d for s in self.cfg.scales] + ([rival] if rival is not None else []) \
+            rows = [mu + s * d for s in self.cfg.scales] + [c for _, c in clones] \
                 + ([held] if held is not None else []) + [mean]
             self.extras, self.pending = np.stack(rows).astype(np.float32), int(held is not None)
-            self.rivals = int(rival is not None)
+            self.rivals = [v for v, _ in clones]
         return out
 
-    def _rival_clone(self, generation: int, mu: np.ndarray) -> np.ndarray | None:
-        """The mean cloned toward the rival model's labels (``guides/rival.py``), or None: no rival, or
-        not trained yet."""
-        rival = getattr(self.host, "rival", None)
-        if rival is None or not rival.ready:
-            return None
-        start = mu if not self.cfg.warm_start or self.rival_learner is None else self.rival_learner
-        theta, info = clone_mean(self.host, generation, start, self.cfg, labels=rival.labels, key=RIVAL_CLONE_KEY)
-        if not info:
-            return None
-        if self.cfg.warm_start:
-            self.rival_learner = theta.copy()
-        return theta
+    def _rival_clones(self, generation: int, mu: np.ndarray) -> list[tuple[int, np.ndarray]]:
+        """``(variant, the mean cloned toward its labels)`` for each rival that has trained
+        (``guides/rival.py``)."""
+        out = []
+        for rival in getattr(self.host, "rivals", []):
+            if not rival.ready:
+                continue
+            v = rival.variant
+            learner = self.rival_learners.get(v)
+            start = mu if not self.cfg.warm_start or learner is None else learner
+            theta, info = clone_mean(self.host, generation, start, self.cfg, labels=rival.labels,
+                                     key=rival_clone_key(v))
+            if not info:
+                continue
+            if self.cfg.warm_start:
+                self.rival_learners[v] = theta.copy()
+            out.append((v, theta))
+        return out
 
     def sleep(self) -> None:
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
-        self.rivals, self.rival_learner = 0, None
+        self.rivals, self.rival_learners = [], {}
         self.jumped = False
 
     def state_dict(self) -> dict[str, np.ndarray]:
@@ -162,25 +178,31 @@ class MeanCandidate(Mechanism):
         return {"extras": np.zeros((0, n), np.float32) if self.extras is None else self.extras.copy(),
                 "pending": np.array(self.pending, np.int64),
                 "learner": np.zeros(0) if self.learner is None else self.learner.copy(),
-                "jumped": np.array(self.jumped, np.int64), "rivals": np.array(self.rivals, np.int64),
-                "rival_learner": np.zeros(0) if self.rival_learner is None else self.rival_learner.copy()}
+                "jumped": np.array(self.jumped, np.int64),
+                # the rows' variants (a checkpoint from before several rivals held a count: 0 or 1)
+                "rival_rows": np.array(self.rivals, np.int64),
+                **{_learner_key(v): x.copy() for v, x in self.rival_learners.items()}}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         x = np.asarray(state.get("extras", np.zeros((0, 0))), np.float32)
         pending = int(np.asarray(state.get("pending", 0)))
-        rivals = int(np.asarray(state.get("rivals", 0)))
-        if rivals and getattr(self.host, "rival", None) is None:
-            raise ValueError("the checkpoint holds a rival candidate but this run has no rival label variant")
-        k, n = len(self.cfg.scales) + 1 + pending + rivals, self.host.spec.num_params
-        if pending not in (0, 1) or rivals not in (0, 1) or \
-                x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
+        if "rival_rows" in state:
+            rivals = [int(v) for v in np.asarray(state["rival_rows"], np.int64).reshape(-1)]
+        else:  # a checkpoint of a single rival frame: a count
+            rivals = [1] * int(np.asarray(state.get("rivals", 0)))
+        known = {r.variant for r in getattr(self.host, "rivals", [])}
+        if not set(rivals) <= known or len(set(rivals)) != len(rivals):
+            raise ValueError(f"the checkpoint holds rival candidates {rivals} but this run has rival label "
+                             f"variants {sorted(known)}")
+        k, n = len(self.cfg.scales) + 1 + pending + len(rivals), self.host.spec.num_params
+        if pending not in (0, 1) or x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
         self.learner = self._vector(state, "learner", n)
-        self.rival_learner = self._vector(state, "rival_learner", n)
+        self.rival_learners = {v: x_ for v in known if (x_ := self._vector(state, _learner_key(v), n)) is not None}
         self.jumped = bool(np.asarray(state.get("jumped", 0)))  # a checkpoint from before: no jump pending
         self.extras = x if x.size else None
         self.pending = pending if x.size else 0
-        self.rivals = rivals if x.size else 0
+        self.rivals = rivals if x.size else []
 
     @staticmethod
     def _vector(state: dict[str, np.ndarray], key: str, n: int) -> np.ndarray | None:
