@@ -129,7 +129,7 @@ def test_mixed_query_turns_the_last_step_toward_the_waypoint():
 def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, capsys, monkeypatch):
     full = train(tmp_path / "full", {**POINT, "generations": 3}).read_metrics()
     err = capsys.readouterr().err
-    assert err.count("labels: frame=") == 1 and "a rival waypoint frame's candidate runs beside it" in err
+    assert err.count("labels: frame=") == 1 and "rival candidates (waypoint frame and servo) run beside it" in err
     res = ProbeResult(**json.loads((tmp_path / "full" / FILE).read_text()))
     assert res.frame in ("both", "world") and res.env_steps > 0
     assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
