@@ -158,7 +158,10 @@ def rows_summary(rows: list[dict]) -> dict | None:
            "generations_backed_off": asleep}
     # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's
     # (variant 2); None: the run has no such rival
-    for key, v, col in (("accepted_rival", 1, "rival_gain"), ("accepted_servo", 2, "servo_gain")):
+    head = rows[0]
+    has = {1: "candidate_rival" in head and ("rival_gain" in head or "servo_gain" not in head),  # older runs:
+           2: "servo_gain" in head}  # candidate_rival and no gain columns
+    for key, v in (("accepted_rival", 1), ("accepted_servo", 2)):
         out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
-                       and _num(r.get("candidate_rival")) == v) if col in rows[0] else None
+                       and _num(r.get("candidate_rival")) == v) if has[v] else None
     return out

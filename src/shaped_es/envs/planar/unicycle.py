@@ -24,8 +24,9 @@ the goal reached with a path's step cost well above the controller's, or nearly 
 
 Labels: M_phi's ``waypoint`` frame (the query "straight to the waypoint", the heading read from the
 state) pays on this body and erases the gain on the holonomic points and CarNav-v0. The default runs it
-beside the probe's frame as a rival (``shaping.inverse_dynamics.rival_frame``, ``guides/rival.py``): 9.7
-generations to the threshold (10 seeds; before the rival 14.9, Vanilla-ES 24.5). Forcing
+beside the probe's frame as a rival (``shaping.inverse_dynamics.rival_frame``, ``guides/rival.py``): 11.0
+generations to the threshold (seeds 0-9 of the sixth session's default; 0.44x of Vanilla-ES over seeds
+0-19; before the rival 14.9, Vanilla-ES 24.5). Forcing
 ``--set shaping.inverse_dynamics.frame=waypoint`` gives 6.8 (``docs/shaped-results.md``, "The waypoint
 frame" and "A rival frame inside the run").
 """
