@@ -12,6 +12,7 @@ import math
 from pathlib import Path
 
 from shaped_es.benchmark.grouping import method_settings, plain, report_env
+from shaped_es.benchmark.shaping_summary import shaping_lines
 from shaped_es.benchmark.summary import load_runs, summarize
 from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
@@ -125,6 +126,7 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
              _reward(s), _num(s["best_test_reward_mean"]), _num(s["generations"], 0), _num(s["env_steps"], 0),
              _num(s["cpu_time_s"], 1), _num(s["wall_time_s"], 1)] for k, s in methods.items()]
     out += [*_table(header, rows), ""]
+    out += shaping_lines(methods, {k: s["wall_time_s"] for k, s in methods.items()})
     if len(methods) > 1:
         out += ["## Probability of improvement", "",
                 "Row X, column Y: P(X > Y), the chance that a random seed of X ends with a higher final test "

@@ -13,6 +13,8 @@ Per method, over its seeds:
   the ``mean`` and ``median`` over all seeds are censored statistics (the median is exact while fewer
   than half the seeds are censored); ``per_seed`` and ``reached`` list each seed;
 - ``wall_time_s``, ``cpu_time_s``, ``env_steps``, ``generations``: cost of a whole run, mean over seeds;
+- ``shaping`` (methods with candidates): candidates judged / accepted (by label variant), mean gain,
+  generations backed off per run, runs without an acceptance (``shaping_summary.py``);
 - ``time_split_s``: per-phase seconds (``gen_time_s``, ``rollout_time_s`` and every ``time_*_s``
   column) summed over a run's generations, mean over seeds.
 
@@ -43,6 +45,7 @@ from shaped_es.benchmark.grouping import (  # noqa: F401
     run_settings,
     uses,
 )
+from shaped_es.benchmark.shaping_summary import shaping_summary
 from shaped_es.config import RunConfig
 from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement
 from shaped_es.report.plots import load_metrics
@@ -153,6 +156,9 @@ def summarize_method(runs: list[Metrics], threshold: float, level: float, resamp
         "env_steps": _mean(last_finite(m["env_steps"]) for m in runs),
         "time_split_s": {k: _mean(float(np.nansum(m[k])) for m in runs if k in m) for k in phases},
     }
+    shaping = shaping_summary(runs)  # candidates judged / accepted by variant, back-off (shaped methods)
+    if shaping is not None:
+        out["shaping"] = shaping
     for col in ("mphi_train_loss", "mphi_fig5_test_loss", "mphi_fit_test_loss", "mphi_test_loss"):
         if any(col in m for m in runs):
             out[f"final_{col}"] = _mean(last_finite(m[col]) for m in runs if col in m)

@@ -1,0 +1,75 @@
+"""What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
+judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
+own labels, 1 the rival frame's, 2 the servo's; ``guides/rival.py``), their mean gain over the mean, the
+generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
+(those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""
+
+from __future__ import annotations
+
+import numpy as np
+
+VARIANTS = {0: "own", 1: "rival_frame", 2: "servo"}
+
+
+def _finite(m: dict, col: str) -> np.ndarray:
+    v = m.get(col)
+    return np.zeros(0) if v is None else np.asarray(v, np.float64)
+
+
+def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
+    """Pooled over ``runs`` (each a metrics column dict); None when no run has ``candidate_accepted``."""
+    if not any("candidate_accepted" in m for m in runs):
+        return None
+    judged = accepted = runs_without = 0
+    by_variant = dict.fromkeys(VARIANTS.values(), 0)
+    gains, asleep = [], []
+    for m in runs:
+        acc = _finite(m, "candidate_accepted")
+        ok = np.isfinite(acc)  # (G,) generations with a judged candidate
+        won = ok & (acc == 1)
+        judged, accepted = judged + int(ok.sum()), accepted + int(won.sum())
+        runs_without += int(not won.any())
+        rival = _finite(m, "candidate_rival")
+        for g in np.flatnonzero(won):
+            v = int(rival[g]) if rival.size and np.isfinite(rival[g]) else 0
+            key = VARIANTS.get(v, f"variant_{v}")
+            by_variant[key] = by_variant.get(key, 0) + 1
+        gain = _finite(m, "candidate_gain")
+        gains.append(gain[np.isfinite(gain)])
+        awake = _finite(m, "shaping_awake")
+        asleep.append(float((awake == 0).sum()) if awake.size else 0.0)
+    g = np.concatenate(gains) if gains else np.zeros(0)
+    return {"candidates_judged": judged, "candidates_accepted": accepted, "accepted_by_variant": by_variant,
+            "mean_gain": float(g.mean()) if g.size else None,
+            "generations_backed_off_mean": float(np.mean(asleep)) if asleep else 0.0,
+            "runs_without_acceptance": runs_without, "runs": len(runs)}
+
+
+def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None) -> list[str]:
+    """The report's "What shaping did" section (empty without a method that judged candidates)."""
+    rows = {k: s["shaping"] for k, s in methods.items() if s.get("shaping")}
+    if not rows:
+        return []
+    out = ["## What shaping did", "",
+           "Candidates judged and accepted, pooled over seeds (accepted by the run's own labels / the rival "
+           "frame's / the servo's), the mean gain of the judged candidate over the mean (return, on every "
+           "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
+           "was ever accepted: those runs are the ES strategy's alone, at shaping's price.", "",
+           "| method | judged | accepted (own / frame / servo) | mean gain | backed off per run | runs with none accepted |",
+           "|---|---|---|---|---|---|"]
+    for k, s in rows.items():
+        v = s["accepted_by_variant"]
+        gain = "n/a" if s["mean_gain"] is None else f"{s['mean_gain']:.3g}"
+        out.append(f"| {k} | {s['candidates_judged']} | {s['candidates_accepted']} ({v.get('own', 0)} / "
+                   f"{v.get('rival_frame', 0)} / {v.get('servo', 0)}) | {gain} | "
+                   f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
+    out.append("")
+    for k, s in rows.items():
+        if s["candidates_accepted"] == 0 and s["candidates_judged"]:
+            base = next((b for b in ("vanilla", "cmaes") if wall and b in wall), None)
+            price = (f", at {wall[k] / wall[base]:.2f}x {base}'s wall time per run" if base and wall.get(k)
+                     and wall.get(base) else "")
+            out += [f"**{k}: no candidate was accepted in any run**: its labels did not pay on this env, and "
+                    f"its runs are the ES strategy's{price}. `shaped-es check-env ID --labels` shows whether "
+                    "the labels drive the body at all.", ""]
+    return out

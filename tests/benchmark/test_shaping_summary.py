@@ -1,0 +1,35 @@
+"""What shaping did, per method, in a benchmark's summary and report (benchmark/shaping_summary.py): counts
+by label variant, runs where nothing was accepted (and the line saying so), none for methods without
+candidates."""
+
+import numpy as np
+
+from shaped_es.benchmark.shaping_summary import shaping_lines, shaping_summary
+
+nan = np.nan
+
+
+def _run(acc, rival, gain, awake):
+    return {"candidate_accepted": np.array(acc, float), "candidate_rival": np.array(rival, float),
+            "candidate_gain": np.array(gain, float), "shaping_awake": np.array(awake, float)}
+
+
+def test_counts_by_variant_backoff_and_runs_without_acceptance():
+    runs = [_run([nan, 1, 0, 1, 1], [nan, 2, 0, 0, 1], [nan, 2.0, -1.0, 1.0, 3.0], [1, 1, 1, 1, 1]),
+            _run([nan, 0, 0, nan, nan], [nan, 1, 2, nan, nan], [nan, -4.0, -2.0, nan, nan], [1, 1, 1, 0, 0])]
+    s = shaping_summary(runs)
+    assert (s["candidates_judged"], s["candidates_accepted"]) == (6, 3)
+    assert s["accepted_by_variant"] == {"own": 1, "rival_frame": 1, "servo": 1}
+    assert s["mean_gain"] == np.mean([2.0, -1.0, 1.0, 3.0, -4.0, -2.0])
+    assert s["generations_backed_off_mean"] == 1.0 and s["runs_without_acceptance"] == 1
+    assert shaping_summary([{"test_reward_mean": np.zeros(3)}]) is None  # vanilla: no candidates
+
+
+def test_the_report_says_when_no_candidate_was_ever_accepted():
+    lost = _run([nan, 0, 0, 0], [nan, 0, 2, 1], [nan, -1.0, -2.0, -3.0], [1, 1, 1, 0])
+    methods = {"shaped": {"shaping": shaping_summary([lost, lost]), "wall_time_s": 15.0},
+               "vanilla": {"wall_time_s": 10.0}}
+    text = "\n".join(shaping_lines(methods, {k: v["wall_time_s"] for k, v in methods.items()}))
+    assert "| shaped | 6 | 0 (0 / 0 / 0) |" in text and "2/2 |" in text
+    assert "no candidate was accepted in any run" in text and "1.50x vanilla's wall time" in text
+    assert shaping_lines({"vanilla": {"wall_time_s": 1.0}}) == []
