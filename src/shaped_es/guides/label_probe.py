@@ -354,7 +354,9 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     best = variant_name(res.frame, res.query_clip)
     gain, se = paired(res.returns[best], res.zero_action)
     if gain > 2 * se:
-        verdict = f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return"
+        verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
+                   f"enough: a run accepts a candidate only where it beats the ES mean, which soon beats zero "
+                   f"action too; the run's rival frame and servo candidates are not probed here)")
     elif -gain > 2 * se:
         verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
                    f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
