@@ -192,6 +192,8 @@ def test_settings_show_what_each_method_uses_as_plain_values(runs, tmp_path):
     assert shaped["alpha"] == 0.9 and shaped["eta"] == 0.01 and shaped["sigma"] == 0.1
     assert not {"sigma", "lr", "alpha", "eta", "workers"} & set(ppo) and ppo["executor"] == "none (one process)"
     assert ppo["other non-defaults"] == "ppo.n_steps=256" and van["other non-defaults"] == "none"
+    inline = settings("vanilla", executor="inline")  # the rollouts in the trainer's process: no workers to name
+    assert inline["executor"] == "inline" and "workers" not in inline
     # an es field a method never reads is no "non-default" of it
     assert settings("ppo", es={"optimizer": "sgd"})["other non-defaults"] == "none"
     assert settings("vanilla", es={"optimizer": "sgd"})["other non-defaults"] == "es.optimizer=sgd"

@@ -164,7 +164,8 @@ def method_settings(cfg: RunConfig) -> dict:
     out["episodes"], out["test episodes"] = cfg.rollout.episodes, cfg.rollout.test_episodes
     if METHODS[cfg.method].strategy is not None:  # ES: rollouts on the executor's workers
         out["executor"] = cfg.executor
-        out["workers"] = cfg.workers if cfg.workers is not None else "all cores"
+        if cfg.executor != "inline":  # inline: the rollouts run in the trainer's process, no workers
+            out["workers"] = cfg.workers if cfg.workers is not None else "all cores"
     else:
         out["executor"] = "none (one process)"
     out["other non-defaults"] = non_defaults(cfg)
