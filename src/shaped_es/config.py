@@ -175,6 +175,9 @@ class MeanCloneSettings(_Strict):
         _MEAN.accept, description="candidate: it becomes the mean if its return beats every member's (best), "
         "the mean's own on the same episodes (mean), the mean's by more than one standard error of the "
         "paired differences over the common and extra episodes (paired), or best and paired together")
+    accept_margin: Float = Field(_MEAN.accept_margin, ge=0, le=100, description="candidate, accept paired or "
+                                 "best_paired: the candidate's mean paired difference to the mean must exceed this "
+                                 "many standard errors of it")
     warm_start: Bool = Field(_MEAN.warm_start, description="the clone starts from the previous generation's "
                              "clone (a DAgger learner kept across generations) instead of the mean")
     extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "

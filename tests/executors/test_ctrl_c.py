@@ -28,6 +28,14 @@ def test_workers_ignore_sigint():
     assert signal.pthread_sigmask(signal.SIG_BLOCK, []) == mask  # and its signal mask
 
 
+def _default_sigint() -> None:
+    """preexec_fn: the child starts with SIGINT at its default and unblocked, as a terminal's job does,
+    whatever this pytest process inherited (a shell's background job is started with SIGINT ignored, and
+    an ignored SIGINT survives exec: Python would then never raise KeyboardInterrupt)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+
+
 def _rows(run) -> int:
     m = run / "metrics.csv"
     return len(m.read_text().splitlines()) - 1 if m.is_file() else 0
@@ -40,7 +48,7 @@ def test_ctrl_c_prints_only_the_resume_line(tmp_path):
             "--pairs", "4", "--set", "tensorboard=false", "--quiet"]
     p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", "train", *args, "--generations", "1000",
                           "--out", str(run)], env=env, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, start_new_session=True)  # its own process group, as a terminal's job
+                         text=True, start_new_session=True, preexec_fn=_default_sigint)  # its own process group, as a terminal's job
     deadline = time.monotonic() + 240
     while _rows(run) < 2 and p.poll() is None and time.monotonic() < deadline:
         time.sleep(0.05)
@@ -75,7 +83,7 @@ def test_ctrl_c_while_the_workers_start_prints_nothing_from_them(tmp_path, start
             f"with ProcessExecutor(workers=2, start_method={start_method!r}) as ex:\n"
             "    print(ex.map(abs, [-1, -2, -3]))\n")
     res = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
-                         timeout=120)
+                         timeout=120, preexec_fn=_default_sigint)
     assert (res.returncode, res.stdout, res.stderr) == (0, "[1, 2, 3]\n", "")
 
 
@@ -102,5 +110,5 @@ def test_ctrl_c_while_the_workers_start_waits_until_the_pool_knows_them(tmp_path
             "finally:\n"
             "    ex.shutdown()\n")
     res = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
-                         timeout=120)
+                         timeout=120, preexec_fn=_default_sigint)
     assert (res.returncode, res.stdout, res.stderr) == (0, "interrupted; 2 workers started\n", "")

@@ -83,6 +83,8 @@ class MeanCloneConfig:
     accept: str = "paired"  # candidate: the best one becomes the mean if it beats every member ("best"),
     #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
     #   the paired differences over every episode both ran ("paired"), or both of best and paired
+    accept_margin: float = 1.0  # paired / best_paired: the candidate's mean paired difference must exceed this
+    #                             many standard errors of it
     warm_start: bool = True  # the clone starts from the previous generation's clone (a DAgger learner
     #                           kept across generations) instead of the mean
     extra_episodes: int = 4  # candidate: the candidates and the mean also run this many more episodes,
@@ -97,9 +99,10 @@ class MeanCloneConfig:
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
-                or self.extra_episodes < 0:
+                or self.extra_episodes < 0 or not self.accept_margin >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
-                             f"batch_size={self.batch_size} record_every={self.record_every}")
+                             f"batch_size={self.batch_size} record_every={self.record_every} "
+                             f"accept_margin={self.accept_margin}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:
             raise ValueError(f"mean-clone scales must be positive and accept one of {ACCEPT_RULES}, got "
                              f"{self.scales!r}, {self.accept!r}")

@@ -49,14 +49,14 @@ def _learner_key(variant: int) -> str:
     return "rival_learner" if variant == 1 else f"rival_learner_{variant}"
 
 
-def paired_win(cand: np.ndarray, mean: np.ndarray) -> bool:
-    """The candidate beats the mean on the same episodes (common random numbers) by more than one
-    standard error of the paired differences ``cand_e - mean_e`` (a one-sided test at about 84%; on
+def paired_win(cand: np.ndarray, mean: np.ndarray, margin: float = 1.0) -> bool:
+    """The candidate beats the mean on the same episodes (common random numbers) by more than ``margin``
+    standard errors of the paired differences ``cand_e - mean_e`` (one: a one-sided test at about 84%; on
     two episodes a win is often luck where episodes differ)."""
     d = np.asarray(cand, np.float64) - np.asarray(mean, np.float64)  # (E + x,)
     if d.size < 2:
         return bool(d.size and d[0] > 0)
-    return bool(d.mean() > d.std(ddof=1) / np.sqrt(d.size))
+    return bool(d.mean() > margin * d.std(ddof=1) / np.sqrt(d.size))
 
 
 class MeanCandidate(Mechanism):
@@ -100,9 +100,10 @@ class MeanCandidate(Mechanism):
             bar = float(np.max(fitness)) if self.cfg.accept in ("best", "best_paired") else f_mean
 
             def passes(i: int, over: float) -> bool:
+                z = self.cfg.accept_margin
                 if self.cfg.accept == "paired":
-                    return paired_win(extra_returns[i], extra_returns[-1])
-                if self.cfg.accept == "best_paired" and not paired_win(extra_returns[i], extra_returns[-1]):
+                    return paired_win(extra_returns[i], extra_returns[-1], z)
+                if self.cfg.accept == "best_paired" and not paired_win(extra_returns[i], extra_returns[-1], z):
                     return False
                 return bool(common[i] > over and (more is None or more[i] > more[-1]))
             won = passes(j, bar)
