@@ -192,6 +192,11 @@ class MeanCloneSettings(_Strict):
     keep_step_repeat: Bool = Field(_MEAN.keep_step_repeat, description="candidate: keep_step also on a jump "
                                    "right after a jump (false: the second jump in a row lands on the candidate "
                                    "itself, so the search restarts around it instead of cycling)")
+    revert_margin: Float = Field(_MEAN.revert_margin, ge=0, le=100, description="candidate: > 0: an accepted "
+                                 "jump is undone (the mean goes back to where the ES step alone took it) when the "
+                                 "next population, sampled around the jump, has a mean return below the one "
+                                 "before the jump by more than this many standard errors of the difference; the "
+                                 "undone jump counts as a lost judgement for the back-off (0: never undone)")
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it beats the mean's "
                           "return there")

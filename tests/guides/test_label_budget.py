@@ -132,9 +132,9 @@ def test_the_final_summary_counts_the_jumps_the_budget_saw_fall(tmp_path, monkey
             seen.append(None)
         return awake
 
-    def spy_judge(self, accepted, gain, population=None):
+    def spy_judge(self, accepted, gain, population=None, reverted=False):
         seen.append((accepted, population))
-        return judge(self, accepted, gain, population)
+        return judge(self, accepted, gain, population, reverted)
 
     monkeypatch.setattr(LabelBudget, "begin", spy_begin)
     monkeypatch.setattr(LabelBudget, "judge", spy_judge)

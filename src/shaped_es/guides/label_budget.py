@@ -66,15 +66,17 @@ class LabelBudget:
             return False
         return True
 
-    def judge(self, accepted: bool, gain: float | None, population: float | None = None) -> bool:
+    def judge(self, accepted: bool, gain: float | None, population: float | None = None,
+              reverted: bool = False) -> bool:
         """Record one judgement; True when it puts the guide to sleep (from the next generation).
-        ``population``: this generation's population mean return (``judge_jumps``)."""
+        ``population``: this generation's population mean return (``judge_jumps``); ``reverted``: this
+        generation undid the last one's jump (the candidate's ``revert_margin``), which then counts as lost."""
         self.judged += 1
         self.accepted += int(accepted)
         if gain is not None and np.isfinite(gain):
             self.gain_sum += float(gain)
-        if (self.judge_jumps and population is not None and self.prev_accepted
-                and population < self.prev_population):  # the population fell after the last jump
+        if reverted or (self.judge_jumps and population is not None and self.prev_accepted
+                        and population < self.prev_population):  # the population fell after the last jump
             self.losses = self.streak_before + 1
         self.prev_population = 0.0 if population is None else float(population)
         self.prev_accepted = int(accepted and population is not None)
@@ -156,6 +158,8 @@ def rows_summary(rows: list[dict]) -> dict | None:
     out = {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
            "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
            "generations_backed_off": asleep}
+    if "jump_reverted" in rows[0]:  # revert_margin: jumps the next population undid
+        out["jumps_reverted"] = sum(1 for r in rows if _num(r.get("jump_reverted")) == 1)
     # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's
     # (variant 2); None: the run has no such rival
     head = rows[0]

@@ -406,7 +406,8 @@ class ShapedGuide(NoGuide, GenerationData):
         the guide sleeps from the next generation (:meth:`_sleep`, once the mechanism's work is done)."""
         if out.get("candidate_accepted") is None:
             return False
-        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), population)
+        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), population,
+                                 reverted=bool(out.get("jump_reverted")))
 
     def _sleep(self) -> None:
         """Asleep from the next generation: the mechanism drops what it prepared, with one warning line the

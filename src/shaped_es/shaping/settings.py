@@ -94,15 +94,18 @@ class MeanCloneConfig:
     reset_momentum: bool = False  # candidate: an accepted jump also resets the ES optimizer's momentum
     keep_step_repeat: bool = False  # keep_step also when the previous generation's mean was a jump too
     #                                 (False, the suite's choice: a second jump in a row lands on the candidate)
+    revert_margin: float = 0.0  # candidate: > 0: a jump is undone when the next population (sampled around it)
+    #                             has a mean return below the population's before the jump by more than this
+    #                             many standard errors of the difference (0: jumps are never undone)
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
-                or self.extra_episodes < 0 or not self.accept_margin >= 0:
+                or self.extra_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every} "
-                             f"accept_margin={self.accept_margin}")
+                             f"accept_margin={self.accept_margin} revert_margin={self.revert_margin}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:
             raise ValueError(f"mean-clone scales must be positive and accept one of {ACCEPT_RULES}, got "
                              f"{self.scales!r}, {self.accept!r}")

@@ -38,6 +38,18 @@ from shaped_es.shaping.surrogate import cosine
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
 GAIN_METRIC = {1: "rival_gain", 2: "servo_gain"}  # per variant: its candidate's gain over the mean
+REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
+
+
+def population_fell(now: np.ndarray, before: tuple[float, float, int], margin: float) -> bool:
+    """The population's mean return ``now`` ``(P,)`` is below ``before`` (the earlier population's mean,
+    variance and size) by more than ``margin`` standard errors of the difference of two means."""
+    f = np.asarray(now, np.float64)  # (P,)
+    m0, v0, n0 = before
+    if f.size < 2 or n0 < 2:
+        return False
+    se = np.sqrt(f.var(ddof=1) / f.size + v0 / n0)
+    return bool(f.mean() < m0 - margin * se)
 
 
 def rival_clone_key(variant: int) -> int:
@@ -74,9 +86,15 @@ class MeanCandidate(Mechanism):
         self.jumped = False  # the last generation's new mean was an accepted candidate (keep_step_repeat)
         self.rivals: list[int] = []  # the variants of the rows after the scaled candidates (guides/rival.py)
         self.rival_learners: dict[int, np.ndarray] = {}  # warm_start: each rival's last clone
+        # revert_margin: the mean the ES step alone gave when the last generation jumped (None: no jump to
+        # judge), and the last judged population's return mean, variance and size (the jump's yardstick)
+        self.undo: np.ndarray | None = None
+        self.prev_pop: tuple[float, float, int] = (0.0, 0.0, 0)
         known = [r.variant for r in getattr(host, "rivals", [])]
         if known:
             self.metric_keys = self.metric_keys + RIVAL_METRICS + tuple(GAIN_METRIC[v] for v in known)
+        if self.cfg.revert_margin > 0:
+            self.metric_keys = self.metric_keys + (REVERT_METRIC,)
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         return every_kth(population, extra, self.cfg.record_every)
@@ -89,6 +107,21 @@ class MeanCandidate(Mechanism):
         out: dict = {}
         held = None  # a row for the next generation: the winner to confirm
         jumped, self.jumped = self.jumped, False  # the last generation's, and this one's (set on a jump)
+        # revert_margin: the population just rolled out was sampled around the last generation's jump; if it
+        # does clearly worse than the one before the jump, the jump's neighbourhood is worse than the old
+        # mean's (a clone can beat the mean as one policy on a few episodes and still sit where the search,
+        # which climbs the Gaussian-smoothed return, does worse): back to the ES step's mean, which this
+        # generation's candidates (cloned around the jump) do not replace
+        undo, self.undo = self.undo, None
+        reverted = undo is not None and population_fell(fitness, self.prev_pop, self.cfg.revert_margin)
+        if reverted:
+            strategy.set_mean(undo)
+            jumped = False
+        elif self.cfg.revert_margin > 0:
+            f = np.asarray(fitness, np.float64)  # (P,)
+            self.prev_pop = (float(f.mean()), float(f.var(ddof=1)) if f.size > 1 else 0.0, int(f.size))
+        if self.cfg.revert_margin > 0:
+            out[REVERT_METRIC] = int(reverted)
         if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
             E = self.host.cfg.rollout.episodes
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
@@ -108,8 +141,8 @@ class MeanCandidate(Mechanism):
                 return bool(common[i] > over and (more is None or more[i] > more[-1]))
             won = passes(j, bar)
             # the held row (last generation's winner, confirm): it must beat the new mean's return on new episodes
-            confirmed = bool(self.pending) and self.cfg.confirm and passes(k, f_mean)
-            accept = confirmed or (won and not self.cfg.confirm)
+            confirmed = bool(self.pending) and self.cfg.confirm and passes(k, f_mean) and not reverted
+            accept = not reverted and (confirmed or (won and not self.cfg.confirm))
             es_update = np.asarray(strategy.mean, np.float64) - np.asarray(old_mean, np.float64)  # (n,)
             gain = float(np.mean(extra_returns[j] - extra_returns[-1]))  # over every episode both ran
             ns = len(self.cfg.scales)  # the rivals' rows, if any, follow the scaled candidates
@@ -125,11 +158,13 @@ class MeanCandidate(Mechanism):
                 # keep_step: the ES update too, unless it was estimated around a mean that was itself a
                 # jump (keep_step_repeat off): taken jump after jump, such updates can undo every jump
                 step = self.cfg.keep_step and (self.cfg.keep_step_repeat or not jumped)
+                if self.cfg.revert_margin > 0:
+                    self.undo = np.array(strategy.mean, np.float64)  # (n,) mu_{g+1} without the jump
                 strategy.set_mean(jump + es_update if step else jump)
                 if self.cfg.reset_momentum:
                     strategy.reset_momentum()
                 self.jumped = True
-            elif won and self.cfg.confirm:  # evaluated again, on the next generation's episodes
+            elif won and self.cfg.confirm and not reverted:  # evaluated again, on the next generation's episodes
                 held = self.extras[j].copy()
         self.extras, self.pending, self.rivals = None, 0, []
         if judged is not None:  # the strategy is final: the next population may roll out during the clone
@@ -172,7 +207,7 @@ class MeanCandidate(Mechanism):
     def sleep(self) -> None:
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
         self.rivals, self.rival_learners = [], {}
-        self.jumped = False
+        self.jumped, self.undo = False, None
 
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params
@@ -182,6 +217,8 @@ class MeanCandidate(Mechanism):
                 "jumped": np.array(self.jumped, np.int64),
                 # the rows' variants (a checkpoint from before several rivals held a count: 0 or 1)
                 "rival_rows": np.array(self.rivals, np.int64),
+                "undo": np.zeros(0) if self.undo is None else self.undo.copy(),
+                "prev_pop": np.array(self.prev_pop, np.float64),
                 **{_learner_key(v): x.copy() for v, x in self.rival_learners.items()}}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -201,6 +238,11 @@ class MeanCandidate(Mechanism):
         self.learner = self._vector(state, "learner", n)
         self.rival_learners = {v: x_ for v in known if (x_ := self._vector(state, _learner_key(v), n)) is not None}
         self.jumped = bool(np.asarray(state.get("jumped", 0)))  # a checkpoint from before: no jump pending
+        self.undo = self._vector(state, "undo", n)
+        pop = np.asarray(state.get("prev_pop", np.zeros(3)), np.float64).reshape(-1)
+        if pop.shape != (3,) or not np.isfinite(pop).all() or pop[1] < 0 or pop[2] < 0:
+            raise ValueError(f"candidate prev_pop is {pop.tolist()}, expected (mean, variance >= 0, size >= 0)")
+        self.prev_pop = (float(pop[0]), float(pop[1]), int(pop[2]))
         self.extras = x if x.size else None
         self.pending = pending if x.size else 0
         self.rivals = rivals if x.size else []

@@ -1,0 +1,78 @@
+"""The candidate mechanism's ``revert_margin``: a jump the next population (sampled around it) disproves is
+undone, on a stub host; the check itself; the state round-trip; the back-off counts an undone jump as lost."""
+
+import numpy as np
+import pytest
+
+from shaped_es.guides.label_budget import LabelBudget
+from shaped_es.guides.mechanisms import candidate as cand_mod
+from shaped_es.guides.mechanisms.candidate import MeanCandidate, population_fell
+from shaped_es.shaping.settings import MeanCloneConfig
+from shaped_es.strategies import GuidedES
+
+
+class _Labels:
+    ready = True
+
+
+class _Host:
+    def __init__(self, n, margin=1.0):
+        self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False,
+                                              revert_margin=margin)
+        self.labels = _Labels()
+        self.rivals = []
+        self.spec = type("S", (), {"num_params": n})()
+        self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
+
+
+def test_population_fell_needs_the_margin():
+    before = (10.0, 4.0, 16)  # mean, variance, size: a standard error of 0.5 alone
+    assert population_fell(np.full(16, 8.0), before, 1.0)  # variance 0: se 0.5, 2 below
+    assert not population_fell(np.full(16, 9.8), before, 1.0)
+    assert population_fell(np.full(16, 9.4), before, 1.0) and not population_fell(np.full(16, 9.4), before, 2.0)
+    assert not population_fell(np.full(16, 0.0), (10.0, 0.0, 0), 1.0)  # nothing to compare with
+
+
+def _generation(es, mech, g, fitness, extra_returns):
+    es.ask()
+    old = np.array(es.mean)
+    es.tell(np.asarray(fitness, float))
+    return mech.after_tell(g, None, np.asarray(fitness, float), np.asarray(extra_returns, float), [], old, es,
+                           None)
+
+
+@pytest.mark.parametrize("next_population,reverted", [(-100.0, True), (0.0, False)])
+def test_a_jump_the_next_population_disproves_is_undone(monkeypatch, next_population, reverted):
+    n, P = 4, 8
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+    mech = MeanCandidate(_Host(n))
+    assert "jump_reverted" in mech.metric_keys and "jump_reverted" not in MeanCandidate(_Host(n, 0.0)).metric_keys
+    d = np.ones(n)
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0: (mu + d, {"x": 1}))
+    spread = np.linspace(-1, 1, P)  # (P,) the populations' returns around their means
+    _generation(es, mech, 0, spread, np.zeros((0, 1)))
+    out = _generation(es, mech, 1, spread, [[5.0], [1.0]])  # the candidate beats the mean: a jump
+    assert out["candidate_accepted"] == 1 and out["jump_reverted"] == 0
+    undo = mech.undo.copy()  # where the ES step alone took the mean
+    assert not np.allclose(undo, es.mean)
+    fresh = MeanCandidate(_Host(n))  # the state round-trips with the pending undo
+    fresh.load_state_dict(mech.state_dict())
+    np.testing.assert_array_equal(fresh.undo, undo)
+    assert fresh.prev_pop == mech.prev_pop
+    out = _generation(es, mech, 2, next_population + spread, [[5.0], [1.0]])  # its candidate wins again
+    assert out["jump_reverted"] == int(reverted)
+    assert out["candidate_accepted"] == int(not reverted)  # a winner cloned around a disproved jump is not taken
+    if reverted:
+        np.testing.assert_allclose(es.mean, undo)
+        assert mech.undo is None
+    else:
+        assert mech.undo is not None  # this generation's jump is the next one's to judge
+
+
+def test_an_undone_jump_counts_as_lost_for_the_back_off():
+    b = LabelBudget(patience=3, max_sleep=8)
+    b.judge(False, -1.0)
+    b.judge(True, 2.0)  # resets the streak of 1
+    assert b.losses == 0
+    assert b.judge(False, -1.0, reverted=True)  # the jump undone (the streak of 1 is back, + 1) and this one lost
+    assert not b.awake
