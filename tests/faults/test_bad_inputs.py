@@ -144,6 +144,12 @@ CASES = [
     ("json-huge-counter", edit_json(f"{CKPT}.json", lambda d: {**d, "env_steps": 10**30}), resume(),
      "malformed counter 'env_steps'"),
     ("config-yaml-is-a-folder", config_folder, resume(), "config.yaml is a folder, not a regular file"),
+    # a run made by an older shaped-es: its config.yaml lacks a setting added since, its digest differs
+    ("config-older-version", lambda run, tmp: (
+        edit_text("config.yaml", lambda t: "".join(l for l in t.splitlines(keepends=True)
+                                                    if "revert_margin" not in l))(run, tmp),
+        edit_json(f"{CKPT}.json", lambda d: {**d, "config_digest": "0" * 16})(run, tmp)), resume(),
+     "older shaped-es, without the settings shaping.mean_clone.revert_margin"),
 ]
 ENV_EXCEPTIONS = {"env-raises-in-step", "env-raises-in-reset"}  # at run time: traceback in RUN/error.log
 

@@ -63,6 +63,8 @@ def main() -> dict:
         for v, label in VARIANTS.items():
             if (r := arm(HERE / v / task, "shaped", task, rng)) is not None:
                 res[f"{v} ({label})"] = r
+            elif (HERE / v / task).is_dir():  # a study of this task whose runs are missing
+                sys.exit(f"compare.py: {HERE / v / task} holds no runs/*/metrics.csv")
         out[task] = res
     return out
 

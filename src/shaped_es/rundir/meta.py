@@ -11,7 +11,7 @@ import hashlib
 import math
 from dataclasses import dataclass
 
-from shaped_es.config import RunConfig
+from shaped_es.config import RunConfig, read_yaml
 
 # Fields that say where or how long a run executes, not what it computes: they may change on resume.
 RUNTIME_FIELDS = ("generations", "executor", "workers", "address", "task_timeout_s", "max_retries",
@@ -25,6 +25,36 @@ def config_digest(cfg: RunConfig) -> str:
     for k in RUNTIME_FIELDS:
         d.pop(k, None)
     return hashlib.sha256(repr(sorted(d.items())).encode()).hexdigest()[:16]
+
+
+def settings_not_in(cfg: RunConfig, raw: dict) -> list[str]:
+    """The dotted names of ``cfg``'s settings that a run's raw config.yaml ``raw`` does not have: settings
+    a later shaped-es added (the run was made by an older version, whose digest had no such field)."""
+    out: list[str] = []
+
+    def walk(d: dict, r: dict, prefix: str) -> None:
+        for k, v in d.items():
+            if k not in r:
+                out.append(prefix + k)
+            elif isinstance(v, dict) and isinstance(r[k], dict):
+                walk(v, r[k], f"{prefix}{k}.")
+
+    walk(cfg.model_dump(mode="json"), raw if isinstance(raw, dict) else {}, "")
+    return out
+
+
+def older_version_hint(cfg: RunConfig, config_path) -> str:
+    """Why a checkpoint's digest can differ although ``config_path`` (the run's config.yaml) built ``cfg``:
+    settings this shaped-es has and that file lacks, i.e. a run made by an older version ("" if none)."""
+    try:
+        new = settings_not_in(cfg, read_yaml(config_path))
+    except Exception:  # noqa: BLE001 - only the message's detail: the error itself stands
+        return ""
+    if not new:
+        return ""
+    more = f" (+{len(new) - 3} more)" if len(new) > 3 else ""
+    return (f": the run was made by an older shaped-es, without the settings {', '.join(new[:3])}{more}; "
+            f"finish it with that version, or start a new run")
 
 
 @dataclass
