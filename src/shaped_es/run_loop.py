@@ -38,7 +38,7 @@ from shaped_es.config import RunConfig
 from shaped_es.monitor.callbacks import as_callbacks
 from shaped_es.monitor.progress import ProgressDisplay
 from shaped_es.rundir.atomic import atomic_write_text
-from shaped_es.rundir.meta import Counters, config_digest, older_version_hint
+from shaped_es.rundir.meta import Counters, checkpoint_mismatch, config_digest
 from shaped_es.rundir.store import RunStore, StoreError
 
 # the columns every method's metrics row holds, in metrics.csv's order
@@ -209,9 +209,8 @@ class RunLoop:
             return False
         arrays, meta = loaded
         where = f"checkpoint gen_{meta['generation']:06d} in {self.store.ckpt_dir}"
-        if meta.get("method", self.method) != self.method or \
-                meta.get("config_digest") != config_digest(self.cfg):
-            raise StoreError(f"{where} was made with a different config{older_version_hint(self.cfg, self.store.config_path)}")
+        if (why := checkpoint_mismatch(meta, self.cfg, self.method, self.store.config_path)) is not None:
+            raise StoreError(f"{where} was made with a different config{why}")
         try:
             counters = read_counters(meta)
             self.load_state(arrays, meta)

@@ -48,7 +48,8 @@ def test_ctrl_c_prints_only_the_resume_line(tmp_path):
             "--pairs", "4", "--set", "tensorboard=false", "--quiet"]
     p = subprocess.Popen([sys.executable, "-m", "shaped_es.cli.commands", "train", *args, "--generations", "1000",
                           "--out", str(run)], env=env, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, start_new_session=True, preexec_fn=_default_sigint)  # its own process group, as a terminal's job
+                         text=True, start_new_session=True,  # its own process group, as a terminal's job
+                         preexec_fn=_default_sigint)
     deadline = time.monotonic() + 240
     while _rows(run) < 2 and p.poll() is None and time.monotonic() < deadline:
         time.sleep(0.05)

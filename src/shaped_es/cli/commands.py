@@ -119,14 +119,14 @@ def _nothing_to_run(cfg, meta, a) -> str | None:
 def _fitting_checkpoint(cfg, store):
     """The run's newest checkpoint, checked to come from this run's config (``StoreError`` if not)."""
     from shaped_es.rundir.store import StoreError
-    from shaped_es.rundir.meta import config_digest, older_version_hint
+    from shaped_es.rundir.meta import checkpoint_mismatch
 
     loaded = store.load_checkpoint()
     if loaded is not None:
         meta = loaded[1]
-        if meta.get("method", cfg.method) != cfg.method or meta.get("config_digest") != config_digest(cfg):
+        if (why := checkpoint_mismatch(meta, cfg, cfg.method, store.config_path)) is not None:
             raise StoreError(f"checkpoint gen_{meta['generation']:06d} in {store.ckpt_dir} was made with a "
-                             f"different config than {store.config_path}{older_version_hint(cfg, store.config_path)}")
+                             f"different config than {store.config_path}{why}")
     return loaded
 
 

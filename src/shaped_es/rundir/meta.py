@@ -57,6 +57,14 @@ def older_version_hint(cfg: RunConfig, config_path) -> str:
             f"finish it with that version, or start a new run")
 
 
+def checkpoint_mismatch(meta: dict, cfg: RunConfig, method: str, config_path) -> str | None:
+    """None when a checkpoint's ``meta`` was made by ``cfg`` (its digest) and ``method``; else the detail
+    for the refusal's message (:func:`older_version_hint`, possibly "")."""
+    if meta.get("method", method) == method and meta.get("config_digest") == config_digest(cfg):
+        return None
+    return older_version_hint(cfg, config_path)
+
+
 @dataclass
 class Counters:
     generation: int = 0  # generations completed
