@@ -48,7 +48,9 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
   few hundred MB), ``workers`` on ``ray`` / ``mpi`` or beyond that size.
 
 The generations' recorded steps as the guide reads them (in memory, or from the store) and the rows the
-cloning draws from them live in ``guides/shaped_data.py`` (``GenerationData``, a base class of the guide).
+cloning draws from them live in ``guides/shaped_data.py`` (``GenerationData``, a base class of the guide);
+the shaping thread's work, the writer thread's writes and their pruning after a checkpoint in
+``guides/shaped_background.py`` (``BackgroundWork``, another base class).
 """
 
 from __future__ import annotations
@@ -64,7 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from shaped_es.config import RunConfig
-from shaped_es.data import PackedTransitions, Transitions, concat_members, join_packed
+from shaped_es.data import PackedTransitions, join_packed
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
@@ -75,7 +77,7 @@ from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.shared_rows import SharedRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.settings import MeanCloneConfig
-from shaped_es.shaping.trajectories import delete_generations, list_generations, run_root, write_shard
+from shaped_es.shaping.trajectories import delete_generations, run_root, write_shard
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
@@ -83,6 +85,7 @@ from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
 from shaped_es.guides.rival import rivals
+from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # noqa: F401 (FIT_TEST_ROWS)
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
                                           waypoint_dim)
@@ -91,11 +94,10 @@ MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_d
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
 COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active", "shaping_awake")
 DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
-FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
 WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
 
-class ShapedGuide(NoGuide, GenerationData):
+class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
     record = True
 
     def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None):
@@ -220,39 +222,11 @@ class ShapedGuide(NoGuide, GenerationData):
         # writer thread while it clones (worker-side writes put ~10 ms on the rollouts' critical path)
         return None
 
-    def labels_max_displacement(self) -> float | None:
-        """M_phi's query clip (``inverse_dynamics.query_clip``, or the label probe's, times the mean
-        training displacement)."""
-        qc = self.query_clip
-        return None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
-
     def _write(self, packed: PackedTransitions) -> float:
+        """The writer thread's job for one generation's block (master placement): its shard."""
         t0 = time.perf_counter()
         write_shard(self.traj_root, packed)
         return time.perf_counter() - t0
-
-    def _after_checkpoint(self) -> None:
-        """Once the checkpoint taken after generation ``g`` is on disk (the next generation starts only
-        then), drop the shards and data parts that neither it nor the older kept checkpoints read: a
-        re-run of ``g+1`` reads ``g`` (M_phi) and ``g-history+2 .. g`` (D_i). Deleting before the
-        checkpoint is durable would lose what the previous one needs if the run dies in between."""
-        if self._saved is None:
-            return
-        g, oldest_parts = self._saved
-        self._saved = None
-        old = [x for x in list_generations(self.traj_root)
-               if x <= g + 1 - max(self.sh.history, 2) - self._ckpt_margin]
-        if old:
-            delete_generations(self.traj_root, old)
-        for track, oldest in zip(self._tracks, oldest_parts):
-            track.parts.delete_before(oldest - self._ckpt_margin)
-
-    def _join_writes(self) -> float:
-        """Wait for the background shard writes; returns their total time (raises their errors)."""
-        done, self._writes = self._writes, []
-        t = float(sum(f.result() for f in done))
-        self._write_time += t
-        return t
 
     # -- M_phi, concurrently with the rollouts -----------------------------------------------------
     def begin_generation(self, generation: int) -> None:
@@ -279,58 +253,6 @@ class ShapedGuide(NoGuide, GenerationData):
             self._thread = threading.Thread(target=self._background, args=(generation, data, train, job),
                                             name="shaping", daemon=True)
             self._thread.start()
-
-    def _add_mphi_data(self, generation: int, data: list[Transitions]) -> bool:
-        """M_phi's training pairs from generation ``generation - 1``'s recorded steps ``data`` (one
-        Transitions); True: train it."""
-        trained = self.mphi.iterations > 0
-        stats, x, y, write = self.track.add(generation, data, self._writer)  # g-1's kept training pairs
-        if x is not None:
-            rows = x.shape[0]
-            self._writes.append(write)
-            if trained:  # M_phi's held-out fit on them, before it trains on them
-                sub = slice(None, None, max(1, rows // FIT_TEST_ROWS))  # every k-th row: a fixed sample
-                obs = self.spec.obs_dim
-                self._pending["mphi_fit_test_loss"] = self.mphi.test_loss(x[sub, :obs], x[sub, obs:], y[sub])
-            norms = np.linalg.norm(x[:, self.spec.obs_dim :], axis=1)  # (rows,) training displacement norms
-            cnt = self.step_norm[0] + norms.size
-            self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
-                                                                  self.step_norm[1]) / cnt])
-            self.labels.max_displacement = self.labels_max_displacement()
-        self._pending.update(mphi_dataset_size=stats["dataset_size"],
-                             mphi_kept_fraction=stats["kept_fraction"])
-        return True
-
-    def _background(self, generation: int, data: list[Transitions], train: bool, job) -> None:
-        """The shaping thread: M_phi's new data and training steps, then the mechanism's job (which may
-        label with it). An error is raised again where the thread is joined."""
-        try:
-            if train:
-                blk = self._cache.get(generation - 1)
-                if data:  # one Transitions for the generation: per-step work once, not per member
-                    data = [blk.big if blk is not None else concat_members(data)[0]]
-                self._add_mphi_data(generation, data)
-                t0 = time.perf_counter()
-                losses = self.mphi.train()
-                self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
-                self._pending["mphi_iterations"] = self.mphi.iterations
-                for r in self.rivals:  # the rival models on the same steps (each its own pairs)
-                    write = r.track.add(generation, data, self._writer)[3]
-                    self._writes.extend([write] if write is not None else [])
-                    r.track.mphi.train()
-                self._pending["time_mphi_s"] = time.perf_counter() - t0
-            if job is not None:
-                job()
-        except BaseException as exc:  # noqa: BLE001 - handed to the joining thread
-            self._thread_error = exc
-
-    def _join_thread(self) -> None:
-        if self._thread is not None:
-            self._thread.join()
-            self._thread = None
-        err, self._thread_error = self._thread_error, None
-        if err is not None:
-            raise err
 
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:
