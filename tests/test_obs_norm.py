@@ -227,6 +227,23 @@ def test_shaped_refuses_obs_norm_but_with_candidate_in_one_line(tmp_path, mechan
             check_run(ok, warn=True)
 
 
+@pytest.mark.parametrize("mechanism,setting", [("paper", {"mean_clone": {"revert_margin": 1.0}}),
+                                               ("pair", {"mean_clone": {"accept_margin": 2.0}}),
+                                               ("paper", {"backoff_after": 3})])
+def test_candidate_only_settings_with_another_mechanism_are_one_error_line(mechanism, setting):
+    from shaped_es.preflight import check_run
+
+    key = next(iter(setting))
+    name = f"shaping.{key}" + (f".{next(iter(setting[key]))}" if isinstance(setting[key], dict) else "")
+    cfg = build_config({"env": "CarNav-v0", "method": "shaped", "shaping": {"mechanism": mechanism, **setting}})
+    with pytest.raises(ConfigError, match=f"{name} only apply with shaping.mechanism=candidate") as exc:
+        check_run(cfg, warn=False)
+    assert "\n" not in str(exc.value) and repr(mechanism) in str(exc.value)
+    check_run(build_config({"env": "CarNav-v0", "method": "shaped", "shaping": setting}), warn=False)  # candidate
+    check_run(build_config({"env": "CarNav-v0", "method": "shaped",  # the clone's own settings: pair reads them
+                            "shaping": {"mechanism": mechanism, "mean_clone": {"steps": 50}}}), warn=False)
+
+
 # --- the shaped method (mechanism candidate) --------------------------------------------------------
 
 SHAPED_TINY = {"env": "UR5Reach-v0", "executor": "inline", "method": "shaped", "generations": 4, "seed": 1,

@@ -67,6 +67,7 @@ def check_shaped(cfg: RunConfig, probe: EnvProbe) -> None:
     from shaped_es.rollout import policy_spec
 
     check_obs_norm(cfg)
+    check_candidate_settings(cfg)
     spec = policy_spec(cfg, probe)
     waypoint_dim(cfg, probe)
     check_labels(cfg, spec, probe)
@@ -81,6 +82,28 @@ def check_obs_norm(cfg: RunConfig) -> None:
         raise ConfigError(f"es.obs_norm is not supported with shaping.mechanism={cfg.shaping.mechanism} yet "
                           f"(only 'candidate' fits its clone through the policy's normalizer); set "
                           f"es.obs_norm=false or shaping.mechanism=candidate")
+
+
+# settings only the candidate mechanism reads (the pair mechanism's clone reads steps, lr, batch_size,
+# max_samples and record_every; paper's none of shaping.mean_clone)
+CANDIDATE_ONLY = ("scales", "accept", "accept_margin", "warm_start", "extra_episodes", "keep_step",
+                  "reset_momentum", "keep_step_repeat", "revert_margin", "confirm")
+
+
+def check_candidate_settings(cfg: RunConfig) -> None:
+    """One ``ConfigError`` line when a setting only mechanism ``candidate`` reads was changed from its
+    default while another mechanism runs (it would be ignored in silence)."""
+    sh = cfg.shaping
+    if sh.mechanism == "candidate":
+        return
+    default = type(sh.mean_clone)()
+    changed = [f"shaping.mean_clone.{k}" for k in CANDIDATE_ONLY
+               if getattr(sh.mean_clone, k) != getattr(default, k)]
+    changed += [f"shaping.{k}" for k in ("backoff_after", "backoff_max", "backoff_judges_jumps")
+                if getattr(sh, k) != type(sh).model_fields[k].default]
+    if changed:
+        raise ConfigError(f"{', '.join(changed)} only apply with shaping.mechanism=candidate (this run's is "
+                          f"{sh.mechanism!r}, which ignores them); drop them or set shaping.mechanism=candidate")
 
 
 def check_candidate_only(cfg: RunConfig, probe: EnvProbe) -> None:
