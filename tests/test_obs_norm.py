@@ -236,7 +236,7 @@ def test_candidate_only_settings_with_another_mechanism_are_one_error_line(mecha
     key = next(iter(setting))
     name = f"shaping.{key}" + (f".{next(iter(setting[key]))}" if isinstance(setting[key], dict) else "")
     cfg = build_config({"env": "CarNav-v0", "method": "shaped", "shaping": {"mechanism": mechanism, **setting}})
-    with pytest.raises(ConfigError, match=f"{name} only apply with shaping.mechanism=candidate") as exc:
+    with pytest.raises(ConfigError, match=f"{name} only applies with shaping.mechanism=candidate") as exc:
         check_run(cfg, warn=False)
     assert "\n" not in str(exc.value) and repr(mechanism) in str(exc.value)
     check_run(build_config({"env": "CarNav-v0", "method": "shaped", "shaping": setting}), warn=False)  # candidate

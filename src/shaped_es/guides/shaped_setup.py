@@ -102,8 +102,10 @@ def check_candidate_settings(cfg: RunConfig) -> None:
     changed += [f"shaping.{k}" for k in ("backoff_after", "backoff_max", "backoff_judges_jumps")
                 if getattr(sh, k) != type(sh).model_fields[k].default]
     if changed:
-        raise ConfigError(f"{', '.join(changed)} only apply with shaping.mechanism=candidate (this run's is "
-                          f"{sh.mechanism!r}, which ignores them); drop them or set shaping.mechanism=candidate")
+        one = len(changed) == 1
+        raise ConfigError(f"{', '.join(changed)} only appl{'ies' if one else 'y'} with shaping.mechanism=candidate "
+                          f"(this run's is {sh.mechanism!r}, which ignores {'it' if one else 'them'}); drop "
+                          f"{'it' if one else 'them'} or set shaping.mechanism=candidate")
 
 
 def check_candidate_only(cfg: RunConfig, probe: EnvProbe) -> None:
