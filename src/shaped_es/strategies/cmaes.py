@@ -55,6 +55,7 @@ class CMAES(Strategy):
         self.sigma0 = float(sigma)  # initial step size
         self.mu = max(1, min(int(mu), self.popsize // 2))  # M_best parents
         self.diagonal = self.num_params > diagonal_above  # separable CMA-ES for large n
+        self.jump_resets_paths = True  # set_mean zeroes the evolution paths (False: a checkpoint from before)
         self._build()
 
     # -- pycma plumbing -----------------------------------------------------------------------
@@ -116,16 +117,26 @@ class CMAES(Strategy):
 
     def set_mean(self, x) -> None:
         """Move the mean to ``x`` (n,) before the next ``ask`` (an accepted candidate of the shaped
-        method): pycma's mean is set as it is, with step size, paths and covariance kept -- a jump CMA's
-        own update did not make, so its evolution paths do not learn from it (Hansen 2011's injection
-        would; an injected solution moves the mean by one member's weight, too little for a jump). The
-        jump is recorded, and the replay of ``load_state_dict`` repeats it."""
+        method): pycma's mean is set as it is, with step size and covariance kept -- a jump CMA's own
+        update did not make, so its evolution paths do not learn from it (Hansen 2011's injection would; an
+        injected solution moves the mean by one member's weight, too little for a jump). The paths
+        (``ps``, cumulative step-size adaptation's, and ``pc``, the rank-one update's) are zeroed: they sum
+        the old mean's recent moves, and after a jump those are another region's. Kept, they let the
+        steps that follow a jump (the ES pulling back toward where it was) read as a long consistent path,
+        and the step size grew jump after jump: on ReacherWay-v0 sigma went 0.12 -> 0.26 over 40 generations
+        of jumps, the population's mean return -22 -> -55, while the jumped mean itself held at -8 to -15
+        (``docs/benchmarks/shaped_cmaes_suite``). The jump is recorded, and the replay of
+        ``load_state_dict`` repeats it (a checkpoint from before the reset replays without it)."""
         if self._pending is not None:
             raise RuntimeError("set_mean() between ask() and tell()")
         x = np.array(x, dtype=np.float64).reshape(-1)
         if x.shape != (self.num_params,) or not np.isfinite(x).all():
             raise ValueError(f"mean must be {self.num_params} finite values, got shape {x.shape}")
         self._es.mean[:] = x
+        if self.jump_resets_paths:
+            for path in (getattr(self._es.adapt_sigma, "ps", None), getattr(self._es, "pc", None)):
+                if isinstance(path, np.ndarray):
+                    path[:] = 0
         self._jumps[self.generation] = x.copy()
 
     # -- state --------------------------------------------------------------------------------
@@ -134,7 +145,8 @@ class CMAES(Strategy):
         gens = sorted(self._jumps)
         jumps = np.array([[g, *self._jumps[g]] for g in gens], np.float64).reshape(len(gens), self.num_params + 1)
         return self._base_state() | {"fitness_history": hist, "mean": self.mean,  # hist (G, 2P)
-                                     "jumps": jumps}  # (J, 1 + n): generation, the mean moved to
+                                     "jumps": jumps,  # (J, 1 + n): generation, the mean moved to
+                                     "jump_resets_paths": np.array(int(self.jump_resets_paths), np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Rebuild pycma from x0 and replay the saved generations (bitwise-exact continuation)."""
@@ -148,6 +160,7 @@ class CMAES(Strategy):
             raise ValueError(f"jumps has shape {jumps.shape}, expected (J, {self.num_params + 1})")
         self._build()
         self.generation = 0
+        self.jump_resets_paths = bool(np.asarray(state.get("jump_resets_paths", 0)))  # absent: an older run's
         moves = {int(j[0]): j[1:] for j in jumps}
         if 0 in moves:
             self.set_mean(moves[0])
