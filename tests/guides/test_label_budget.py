@@ -187,6 +187,7 @@ def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
     rows = train(tmp_path / "shaped", CFG).read_metrics()
     err = capsys.readouterr().err
     assert err.count("shaping backs off") == 1
+    assert "--method shaped_cmaes" in err  # the shaped method's note names the other base
     awake = "".join(r["shaping_awake"] for r in rows)
     s = rows_summary(rows)
     assert s["candidates_accepted"] < s["candidates_judged"] and "0" * 8 in awake
