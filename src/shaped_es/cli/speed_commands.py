@@ -12,9 +12,12 @@ def add_speed_parser(sub) -> argparse.ArgumentParser:
     # "speed", so it is not confused with "benchmark" (the multi-seed study); "bench" still works
     b = sub.add_parser("speed", aliases=["bench"], help="speed benchmarks that print figures (JSON with --json)")
     bsub = b.add_subparsers(dest="what", required=True)
-    be = bsub.add_parser("env", help="env + policy steps per second on all cores")
-    be.add_argument("env_id", help="Gymnasium id, e.g. CarNav-v0")
-    be.add_argument("--num-envs", type=int, default=1024, help="episodes stepped together per worker")
+    be = bsub.add_parser("env", help="env + policy steps per second on all cores",
+                         description="Env + policy steps per second on all cores, stepped as training steps "
+                                     "the env: through its batched core (env.unwrapped.batch_core) when it "
+                                     "has one, else one Gymnasium env instance per copy (the JSON's loop).")
+    be.add_argument("env_id", help="Gymnasium id, e.g. CarNav-v0 or mymodule:MyEnv-v0")
+    be.add_argument("--num-envs", type=int, default=1024, help="env copies stepped together per worker")
     be.add_argument("--workers", type=int, help="worker processes (default: all cores)")
     be.add_argument("--seconds", type=float, default=6.0, help="how long to measure")
     be.add_argument("--json", action="store_true", help="one line of JSON")
