@@ -12,10 +12,10 @@ from shaped_es.config import build_config
 from shaped_es.rundir.store import RunStore, StoreError
 
 
-def make_run(root, method, seed, tests, wall=1.0, extra=None):
+def make_run(root, method, seed, tests, wall=1.0, extra=None, env="CartPole-v1"):
     """A run whose generation g has test reward tests[g] (None: not evaluated), wall time (g+1)*wall."""
     store = RunStore(root)
-    store.create(build_config({"env": "CartPole-v1", "method": method, "seed": seed}))
+    store.create(build_config({"env": env, "method": method, "seed": seed}))
     for g, t in enumerate(tests):
         row = {"generation": g, "env_steps": 100 * (g + 1), "wall_time_s": wall * (g + 1),
                "cpu_time_s": 2 * wall * (g + 1), "train_reward_mean": 0.0, "train_reward_max": 0.0,
@@ -63,7 +63,7 @@ def test_summary_values(runs):
     assert ours["final_test_reward_ci"] is None  # one seed: no interval
     assert van["final_test_reward_iqm"] == 5.0 and 4.0 <= van["final_test_reward_iqm_ci"][0] <= 5.0
     assert cma["final_test_reward_iqm_ci"] == [2.0, 2.0] and ours["final_test_reward_iqm_ci"] is None
-    # CartPole has no default threshold: the best baseline's (not 'shaped') final mean = vanilla's 5.0
+    # no config (no env): the best baseline's (not 'shaped') final mean = vanilla's 5.0
     assert s["threshold"] == {"value": 5.0, "method": "vanilla", "reference": "shaped",
                               "source": "best baseline's final mean test reward"}
     assert s["budget_generations"] == 3  # the longest run
@@ -119,6 +119,28 @@ def test_env_default_thresholds(runs, env, kwargs, value):
     assert ("default" in s["threshold"]["source"]) == (value != 5.0)
 
 
+@pytest.mark.parametrize("env, value, source", [
+    ("thr_user_env:Hover-v0", 8.5, "thr_user_env:Hover-v0 reward_threshold (registered with its Gymnasium spec)"),
+    ("CartPole-v1", 475.0, "CartPole-v1 reward_threshold (registered with its Gymnasium spec)"),
+    ("thr_user_env:Bare-v0", 5.0, "best baseline's final mean test reward"),  # registered without one
+    ("Pendulum-v1", 5.0, "best baseline's final mean test reward"),
+    ("not_a_module_here:Hover-v0", 5.0, "best baseline's final mean test reward"),  # cannot be looked up
+])
+def test_any_env_registered_with_a_reward_threshold_uses_it(runs, tmp_path, monkeypatch, env, value, source):
+    # a user's env registered with reward_threshold=8.5 got the best baseline's final mean instead
+    from shaped_es.benchmark.summary import load_runs
+
+    (tmp_path / "thr_user_env.py").write_text(
+        "import gymnasium as gym\n"
+        "gym.register('Hover-v0', entry_point='gymnasium.envs.classic_control:PendulumEnv', reward_threshold=8.5)\n"
+        "gym.register('Bare-v0', entry_point='gymnasium.envs.classic_control:PendulumEnv')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    groups, _ = group_runs(runs)
+    cfg = build_config({"env": env, "method": "vanilla", "env_kwargs": {"g": 9.0}})
+    s = summarize({k: load_runs(v) for k, v in groups.items()}, config=cfg)
+    assert s["threshold"]["value"] == value and s["threshold"]["source"] == source
+
+
 def test_summary_cut_to_generations(runs):
     from shaped_es.benchmark.summary import load_runs
 
@@ -163,9 +185,10 @@ def test_report_without_mphi_columns_notes_it(runs, tmp_path):
 def test_report_says_which_method_beats_which(tmp_path):
     """6 seeds a side, every vanilla seed above every cmaes seed: P = 1 [1, 1], exact Mann-Whitney
     p = 2 / C(12, 6) = 0.0022 -> 'vanilla > cmaes'; the reverse and identical methods are not verdicts."""
-    dirs = [make_run(tmp_path / f"v{s}", "vanilla", s, [0.0, 10.0 + s]) for s in range(6)]
-    dirs += [make_run(tmp_path / f"c{s}", "cmaes", s, [0.0, float(s)]) for s in range(6)]
-    dirs += [make_run(tmp_path / f"g{s}", "guided", s, [0.0, float(s)]) for s in range(6)]
+    env = "Pendulum-v1"  # no registered reward_threshold: the best baseline's final mean is the threshold
+    dirs = [make_run(tmp_path / f"v{s}", "vanilla", s, [0.0, 10.0 + s], env=env) for s in range(6)]
+    dirs += [make_run(tmp_path / f"c{s}", "cmaes", s, [0.0, float(s)], env=env) for s in range(6)]
+    dirs += [make_run(tmp_path / f"g{s}", "guided", s, [0.0, float(s)], env=env) for s in range(6)]
     groups, configs = group_runs(dirs)
     write_report(tmp_path / "rep" / "report.md", groups, configs)
     md = (tmp_path / "rep" / "report.md").read_text()

@@ -144,9 +144,9 @@ def cmd_suite_list(a: argparse.Namespace) -> int:
 
 def add_threshold(p: argparse.ArgumentParser) -> None:
     p.add_argument("--threshold", type=float,
-                   help="success threshold on the test reward (default: a built-in env's registered "
-                        "reward_threshold, e.g. CarNav-v0 200, UR5Reach-v0 40, PointVel-v0 8.5; other envs the "
-                        "best baseline's final mean)")
+                   help="success threshold on the test reward (default: the reward_threshold registered on "
+                        "the env's Gymnasium spec, an own env's too, e.g. CarNav-v0 200, UR5Reach-v0 40, "
+                        "PointVel-v0 8.5; an env without one: the best baseline's final mean)")
 
 
 def check_threshold(threshold: float | None) -> None:

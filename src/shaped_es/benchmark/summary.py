@@ -19,7 +19,8 @@ Per method, over its seeds:
   column) summed over a run's generations, mean over seeds.
 
 Across methods: ``threshold`` (value and where it comes from: ``--threshold``, the env's default in
-``DEFAULT_THRESHOLDS``, else the best baseline's final mean), ``budget_generations``, and
+``DEFAULT_THRESHOLDS``, else the ``reward_threshold`` of the env's Gymnasium spec, a user's env's included,
+else the best baseline's final mean), ``budget_generations``, and
 ``probability_of_improvement[X][Y]``: P(final reward of a seed of X > one of Y) with a bootstrap
 interval and the Mann-Whitney p-value.
 
@@ -177,13 +178,38 @@ def pick_target(finals: dict[str, float], reference: str = REFERENCE) -> dict:
 
 
 def env_threshold(cfg: RunConfig | None) -> tuple[float, str] | None:
-    """The env's default success threshold, if it has one at this config's reward scale."""
+    """The env's default success threshold, if it has one at this config's reward scale: a built-in env's
+    (:func:`builtin_threshold`), else the ``reward_threshold`` of any other env's Gymnasium spec."""
     if cfg is None:
         return None
     env = cfg.env.rsplit(":", 1)[-1]
-    kwargs = cfg.env_kwargs or {}
-    rescaled = [k for k in REWARD_SCALE_KEYS if k in kwargs and not (k == "preset" and kwargs[k] == "default")]
-    return None if rescaled else builtin_threshold(env)
+    from shaped_es.envs import BUILTIN
+
+    if env in BUILTIN:
+        kwargs = cfg.env_kwargs or {}
+        rescaled = [k for k in REWARD_SCALE_KEYS if k in kwargs and not (k == "preset" and kwargs[k] == "default")]
+        return None if rescaled else builtin_threshold(env)
+    return spec_threshold(cfg.env)
+
+
+def spec_threshold(env_id: str) -> tuple[float, str] | None:
+    """The ``reward_threshold`` registered with the Gymnasium spec of ``env_id`` (``module:Id``: the module
+    imported first, as making the env does) and where it comes from; None when the spec has none or the
+    id cannot be looked up here."""
+    import importlib
+
+    import gymnasium as gym
+
+    module, _, name = env_id.rpartition(":")
+    try:
+        if module:
+            importlib.import_module(module)
+        thr = gym.spec(name).reward_threshold
+    except (Exception, SystemExit):  # noqa: BLE001 - not importable or registered here: none of its own
+        return None
+    if thr is None or not math.isfinite(float(thr)):
+        return None
+    return float(thr), f"{env_id} reward_threshold (registered with its Gymnasium spec)"
 
 
 def builtin_threshold(env: str) -> tuple[float, str] | None:
