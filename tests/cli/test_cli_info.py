@@ -120,12 +120,14 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert lines[-4].startswith("labels: label-driven return over 10 episodes: both ")
     assert "zero action -1.00" in lines[-4]
     assert lines[-3].startswith("labels: the simulated candidate's return (the initial mean cloned toward ")
-    assert lines[-2].startswith("labels: a shaped run picks frame=")
+    # the probe of seed 0, not every run's pick: each run probes with its own seed (9 of 10 may pick another)
+    assert lines[-2].startswith("labels: with seed 0 a shaped run picks frame=")
+    assert lines[-2].endswith("; each run probes with its own seed")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
     assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
-    assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0
+    assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0 and out["labels"]["seed"] == 0
     text = _out(capsys, ["check-env", "CartPole-v1", "--labels"]).out
     assert text.strip().splitlines()[-1].startswith("labels: no waypoint contract")
     out = json.loads(_out(capsys, ["check-env", "CartPole-v1", "--labels", "--json"]).out)

@@ -155,7 +155,7 @@ def test_the_readme_says_how_to_bring_an_own_env_and_its_example_passes_check_en
     # --labels on the user's own env (no batched core: driven episode by episode through Gymnasium)
     assert main(["check-env", "readme_point:ReadmePoint-v0", "--labels"]) == 0
     out = capsys.readouterr().out.strip().splitlines()
-    assert out[-2].startswith("labels: a shaped run picks frame=") and out[-1].startswith("labels: ")
+    assert out[-2].startswith("labels: with seed 0 a shaped run picks frame=") and out[-1].startswith("labels: ")
     # the module that forgets to register: one line naming gymnasium.register
     assert main(["train", "--env", "readme_noreg:ReadmeNoreg-v0", *TINY, "--out", "r"]) == 2
     assert _err_lines(capsys) == ["shaped-es: error: cannot make env 'readme_noreg:ReadmeNoreg-v0': its module "

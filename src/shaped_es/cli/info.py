@@ -295,8 +295,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                     print(f"labels: the simulated candidate's return (the initial mean cloned toward each "
                           f"variant's labels): {means}")
                 c = labels["chosen"]
-                print(f"labels: a shaped run picks frame={c['frame']}, query_clip={clip_text(c['query_clip'])}: "
-                      f"{c['reason']}")
+                print(f"labels: with seed {labels['seed']} a shaped run picks frame={c['frame']}, query_clip="
+                      f"{clip_text(c['query_clip'])}: {c['reason']}; each run probes with its own seed")
             print(f"labels: {labels['verdict']}")
     sys.stdout.flush()
     return 1 if failed else 0

@@ -350,7 +350,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         return {"env": env_id, "zero_action": [],
                 "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
     res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
-    out = {"env": env_id, "zero_action": res.zero_action}
+    out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip)
     gain, se = paired(res.returns[best], res.zero_action)
     if gain > 2 * se:
