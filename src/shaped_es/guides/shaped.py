@@ -342,9 +342,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
                   f"then tries again (longer sleeps while it keeps losing; column shaping_awake), each sleeping "
                   f"generation at the ES strategy's own price. A run still improving has outpaced its labels; "
                   f"if they never win on this env, `shaped-es check-env {self.cfg.env} --labels` shows whether its labels "
-                  f"drive the body at all; compare shaping.labels=controller or --method vanilla / cmaes"
-                  + ("; where CMA-ES beats Vanilla-ES on this env, --method shaped_cmaes runs the same labels over "
-                     "CMA-ES (docs/benchmarks/shaped_cmaes_suite)" if self.cfg.method == "shaped" else ""),
+                  f"drive the body at all; compare shaping.labels=controller or --method vanilla / cmaes (the "
+                  f"same labels run over Vanilla-ES with --method shaped, over CMA-ES with --method shaped_cmaes: "
+                  f"pick the base whose baseline is faster on this env; docs/benchmarks/shaped_cmaes_suite)",
                   file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
