@@ -15,10 +15,14 @@ from __future__ import annotations
 import os
 import platform
 import time
+import traceback
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 
 import numpy as np
+
+from shaped_es.env_probe import EnvError, observation, reset_output, step_output
+from shaped_es.rollout.actions import _to_env_action
 
 BATCHED_LOOP = "batched core"
 GYM_LOOP = "gymnasium, one env per copy"
@@ -51,17 +55,12 @@ class _GymSteps:
     loop = GYM_LOOP
 
     def __init__(self, envs: list, seeds: np.ndarray):
-        from shaped_es.env_probe import observation, reset_output
-
         self.envs, self.seeds = envs, seeds
         self.shape = tuple(envs[0].observation_space.shape)
         self.obs = np.stack([observation(reset_output(e.reset(seed=int(s)))[0], self.shape)
                              for e, s in zip(envs, seeds)])  # (B, obs)
 
     def step(self, act: np.ndarray) -> int:
-        from shaped_es.env_probe import observation, reset_output, step_output
-        from shaped_es.rollout.actions import _to_env_action
-
         for b, env in enumerate(self.envs):
             o, _, term, trunc, _ = step_output(env.step(_to_env_action(env.action_space, act[b])))
             if term or trunc:
@@ -77,10 +76,6 @@ def _worker(args) -> dict:
     try:
         return _measure(*args)
     except SystemExit as exc:
-        import traceback
-
-        from shaped_es.env_probe import EnvError
-
         raise EnvError(f"env {args[0]!r} called sys.exit({exc.code!r}) while its speed was measured; an env "
                        f"reports a failure by raising an exception", traceback.format_exc()) from None
 
