@@ -1,4 +1,4 @@
-"""The planar suite bodies (PointVel-v0, PointForce-v0, Unicycle-v0): Gymnasium checks, the contract,
+"""The planar suite bodies (PointVel-v0, PointForce-v0, Unicycle-v0, Rover-v0): Gymnasium checks, the contract,
 seeded determinism, reward terms, the spatial waypoint rule, the controllers' exact values on fixed states
 and their return over the registered threshold."""
 
@@ -17,11 +17,14 @@ from shaped_es.envs.planar.pointforce import PointForceCore
 from shaped_es.envs.planar.pointforce import make_config as force_config
 from shaped_es.envs.planar.pointvel import PointVelCore
 from shaped_es.envs.planar.pointvel import make_config as vel_config
+from shaped_es.envs.planar.rover import RoverCore
+from shaped_es.envs.planar.rover import make_config as rover_config
 from shaped_es.envs.planar.task import advance_index, line_waypoint, num_waypoints, sample_episodes
 from shaped_es.envs.planar.unicycle import UnicycleCore
 from shaped_es.envs.planar.unicycle import make_config as uni_config
 
-IDS = {"PointVel-v0": 4, "PointForce-v0": 6, "Unicycle-v0": 6}
+IDS = {"PointVel-v0": 4, "PointForce-v0": 6, "Unicycle-v0": 6, "Rover-v0": 8}  # id -> observation size
+LIMITS = {"Rover-v0": (120, 8.0)}  # (time limit, threshold) where not (100, 8.5)
 TERMS = ("reward_progress", "reward_step")
 
 
@@ -40,7 +43,7 @@ def run_controller(core, seeds):
 def test_check_env_contract_and_spec(env_id):
     env = gym.make(f"shaped_es:{env_id}")
     check_env(env.unwrapped, skip_render_check=True)
-    assert env.spec.max_episode_steps == 100 and env.spec.reward_threshold == 8.5
+    assert (env.spec.max_episode_steps, env.spec.reward_threshold) == LIMITS.get(env_id, (100, 8.5))
     assert not [c for c in shaped_check_env(env_id) if c.status == FAIL]
     obs, info = env.reset(seed=3)
     assert obs.shape == (IDS[env_id],) and obs.dtype == np.float32
@@ -75,7 +78,7 @@ def test_seeded_determinism_and_env_equals_core_row(env_id):
 def test_the_same_seed_gives_the_same_start_and_goal_on_every_body():
     seeds = np.array([0, 1, 2])
     starts = [c(m()).reset(seeds)[0] for c, m in ((PointVelCore, vel_config), (PointForceCore, force_config),
-                                                   (UnicycleCore, uni_config))]
+                                                   (UnicycleCore, uni_config), (RoverCore, rover_config))]
     for s in starts[1:]:
         np.testing.assert_array_equal(s.start, starts[0].start)
         np.testing.assert_array_equal(s.goal, starts[0].goal)
@@ -142,12 +145,35 @@ def test_unicycle_controller_exact_values():
     np.testing.assert_allclose(st2.pos[0], [0.05, 0])
 
 
+def test_rover_dynamics_and_controller_exact_values():
+    core = RoverCore(rover_config())
+    st = fixed_state([[0, 0]] * 3, vel=[[0, 0], [0.5, 0], [0.5, 5.0]], heading=[0, 0, 0])
+    st2, *_ = core.step(st, np.array([[1, 1], [0, 0], [0, -1]], np.float32))
+    # v += dt * (accel * a0 - damping * v); w += dt * (yaw_accel * a1 - yaw_damping * w); heading += dt * w
+    np.testing.assert_allclose(st2.vel, [[0.05, 1.0], [0.45, 0], [0.45, 3.0]])
+    np.testing.assert_allclose(st2.heading, [0.1, 0, 0.3])
+    np.testing.assert_allclose(st2.pos[0], 0.005 * np.array([math.cos(0.1), math.sin(0.1)]))
+    np.testing.assert_allclose(core.observe(st2)[2, 4:6], [0.45, 3.0], rtol=1e-6)  # speed, yaw rate
+    info = {"position": st.pos, "waypoint": np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 0.0]]),
+            "goal": np.array([[2.0, 0.0]] * 3)}
+    a = core.waypoint_controller(st, None, info)
+    np.testing.assert_allclose(a[0], [1, 0], atol=1e-7)  # at rest, aligned: full thrust, no torque
+    np.testing.assert_allclose(a[1], [-1, 1])  # moving, the waypoint to the left: brake and turn left
+    np.testing.assert_allclose(a[2], [1, -1])  # spinning left, the waypoint ahead: thrust, torque against it
+    st = fixed_state([[0, 0]], vel=[[0.5, 0]])  # cruising, aligned: thrust holds the speed against damping
+    a = core.waypoint_controller(st, None, {"position": st.pos, "waypoint": np.array([[1.0, 0]]),
+                                            "goal": np.array([[2.0, 0]])})
+    np.testing.assert_allclose(a[0], [1, 0], atol=1e-7)
+
+
 @pytest.mark.parametrize("core_cls,make", [(PointVelCore, vel_config), (PointForceCore, force_config),
-                                           (UnicycleCore, uni_config)])
+                                           (UnicycleCore, uni_config), (RoverCore, rover_config)])
 def test_the_controller_clears_the_threshold_on_20_episodes(core_cls, make):
-    ret, state = run_controller(core_cls(make()), np.arange(20))
-    assert ret.mean() > 8.5 + 0.5 and ret.min() > 8.5  # the registered threshold, with its margin
-    assert (state.steps < 100).all()  # every episode ended at the goal
+    core = core_cls(make())
+    limit, threshold = LIMITS.get(f"{core_cls.__name__[:-4]}-v0", (100, 8.5))
+    ret, state = run_controller(core, np.arange(20))
+    assert ret.mean() > threshold + 0.5 and ret.min() > threshold  # the registered threshold, with its margin
+    assert (state.steps < limit).all()  # every episode ended at the goal
 
 
 def test_ended_episodes_stay_unchanged():

@@ -18,6 +18,8 @@ BUILTIN = {
     "PointVel-v0": ("shaped_es.envs.planar.pointvel", "PointVelVectorEnv", 8.5),
     "PointForce-v0": ("shaped_es.envs.planar.pointforce", "PointForceVectorEnv", 8.5),
     "Unicycle-v0": ("shaped_es.envs.planar.unicycle", "UnicycleVectorEnv", 8.5),
+    "Rover-v0": ("shaped_es.envs.planar.rover", "RoverVectorEnv", 8.0),
+    "Kart-v0": ("shaped_es.envs.planar.kart", "KartVectorEnv", 8.0),
     "ReacherWay-v0": ("shaped_es.envs.reacher", "ReacherWayVectorEnv", -6.5),
     "SwimmerWay-v0": ("shaped_es.envs.swimmer", "SwimmerWayVectorEnv", 30.0),
 }
