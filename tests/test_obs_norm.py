@@ -281,7 +281,8 @@ def test_shaped_candidate_clones_through_the_next_generations_normalizer(tmp_pat
     full = train(tmp_path / "full", cfg).read_metrics()
     assert full[-1]["shaping_active"] == "1" and any(r["candidate_return"] != "" for r in full)
     cloned = [g for g in range(4) if full[g]["clone_samples"] != ""]  # generations whose mean was cloned
-    per = 3 if labels == "mphi" else 1  # M_phi's labels: the rivals' clones too (guides/rival.py: frame, servo)
+    per = 4 if labels == "mphi" else 1  # M_phi's labels: the rivals' clones too (guides/rival.py: frame, servo,
+    # shooting)
     assert per * len(cloned) == len(clone_norms) >= 2
     for i, g in enumerate(np.repeat(cloned, per)):
         if g + 1 in roll_norms:

@@ -116,6 +116,14 @@ class InverseDynamicsSettings(_Strict):
         "the same steps, and the mean's clone toward its damped servo labels (a_hat = k G^T ((w - p) - c f(s, 0)) "
         "/ q, G = df/da; shaping/forward_servo.py) is one more candidate each generation, judged like the others "
         "(the labels of torque-driven arms, which no inverse of the dynamics gives)")
+    rival_shoot: bool = Field(
+        True, description="mechanism candidate, labels mphi: a forward model of the next shoot_horizon steps "
+        "with an action held, f(s, a) -> (p_{t+j} - p_t)_j, trains on the same steps, and the mean's clone toward "
+        "its shooting labels (the held candidate action whose predicted path passes nearest the waypoint; "
+        "shaping/forward_shoot.py) is one more candidate each generation, judged like the others (the labels "
+        "of bodies whose action shows in the position only after a few steps: inertia, a steered wheel); with "
+        "frame auto the label probe keeps it only where its simulated candidate beats zero action")
+    shoot_horizon: Int = Field(4, ge=1, le=64, description="the shooting labels' horizon: steps an action is held")
     servo_gain: Float = Field(1.0, gt=0, description="the servo's gain k (its error in units of the median "
                               "query distance q, its action direction of unit norm)")
     servo_damping: Float = Field(3.0, ge=0, description="the servo's damping c: the predicted no-action step "

@@ -15,12 +15,12 @@ def _run(acc, rival, gain, awake):
 
 
 def test_counts_by_variant_backoff_and_runs_without_acceptance():
-    runs = [_run([nan, 1, 0, 1, 1], [nan, 2, 0, 0, 1], [nan, 2.0, -1.0, 1.0, 3.0], [1, 1, 1, 1, 1]),
+    runs = [_run([nan, 1, 0, 1, 1, 1], [nan, 2, 0, 0, 1, 3], [nan, 2.0, -1.0, 1.0, 3.0, 0.0], [1, 1, 1, 1, 1, 1]),
             _run([nan, 0, 0, nan, nan], [nan, 1, 2, nan, nan], [nan, -4.0, -2.0, nan, nan], [1, 1, 1, 0, 0])]
     s = shaping_summary(runs)
-    assert (s["candidates_judged"], s["candidates_accepted"]) == (6, 3)
-    assert s["accepted_by_variant"] == {"own": 1, "rival_frame": 1, "servo": 1}
-    assert s["mean_gain"] == np.mean([2.0, -1.0, 1.0, 3.0, -4.0, -2.0])
+    assert (s["candidates_judged"], s["candidates_accepted"]) == (7, 4)
+    assert s["accepted_by_variant"] == {"own": 1, "rival_frame": 1, "servo": 1, "shoot": 1}
+    assert s["mean_gain"] == np.mean([2.0, -1.0, 1.0, 3.0, 0.0, -4.0, -2.0])
     assert s["generations_backed_off_mean"] == 1.0 and s["runs_without_acceptance"] == 1
     assert shaping_summary([{"test_reward_mean": np.zeros(3)}]) is None  # vanilla: no candidates
 
@@ -30,6 +30,6 @@ def test_the_report_says_when_no_candidate_was_ever_accepted():
     methods = {"shaped": {"shaping": shaping_summary([lost, lost]), "wall_time_s": 15.0},
                "vanilla": {"wall_time_s": 10.0}}
     text = "\n".join(shaping_lines(methods, {k: v["wall_time_s"] for k, v in methods.items()}))
-    assert "| shaped | 6 | 0 (0 / 0 / 0) |" in text and "2/2 |" in text
+    assert "| shaped | 6 | 0 (0 / 0 / 0 / 0) |" in text and "2/2 |" in text
     assert "no candidate was accepted in any run" in text and "1.50x vanilla's wall time" in text
     assert shaping_lines({"vanilla": {"wall_time_s": 1.0}}) == []

@@ -129,8 +129,12 @@ def test_mixed_query_turns_the_last_step_toward_the_waypoint():
 def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, capsys, monkeypatch):
     full = train(tmp_path / "full", {**POINT, "generations": 3}).read_metrics()
     err = capsys.readouterr().err
-    assert err.count("labels: frame=") == 1 and "rival candidates (waypoint frame and servo) run beside it" in err
     res = ProbeResult(**json.loads((tmp_path / "full" / FILE).read_text()))
+    # the shooting rival runs where the probe found its simulated candidate beating zero action
+    rivals = "waypoint frame, servo and shooting" if res.shoot_on else "waypoint frame and servo"
+    assert err.count("labels: frame=") == 1 and f"rival candidates ({rivals}) run beside it" in err
+    assert len(res.shoot) == len(res.zero_action) and "the shooting labels' clone" in err
+    assert ("shoot_gain" in full[0]) == res.shoot_on
     assert res.frame in ("both", "world") and res.env_steps > 0
     assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
     # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
@@ -161,6 +165,7 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "query_clip": "abc"}), json.dumps({**GOOD, "query_clip": -1}),
                                   json.dumps({**GOOD, "env_steps": "x"}), json.dumps({**GOOD, "extra": 1}),
                                   json.dumps({**GOOD, "clones": [1.0]}), json.dumps({**GOOD, "clones": {"both": 1}}),
+                                  json.dumps({**GOOD, "shoot": 1.0}), json.dumps({**GOOD, "shoot_on": "yes"}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
@@ -177,6 +182,8 @@ def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
 
 def test_a_saved_probe_parses():
     assert label_probe.parse(json.dumps(GOOD).encode()).frame == "both"
+    assert label_probe.parse(json.dumps(GOOD).encode()).shoot_on is None  # a probe from before the gate
+    assert label_probe.parse(json.dumps({**GOOD, "shoot": [1.0], "shoot_on": False}).encode()).shoot_on is False
 
 
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):

@@ -1,4 +1,5 @@
-"""The rival label variants (guides/rival.py: another frame's M_phi, the forward model's servo): when a run
+"""The rival label variants (guides/rival.py: another frame's M_phi, the forward model's servo, the shooting
+labels): when a run
 has them, that their clones are more candidates judged like the first, that a run resumes exactly with
 them (and from a checkpoint of the single-rival format), that both placements agree, and that the jump goes
 to a rival's row when that row wins (a stub host)."""
@@ -9,7 +10,8 @@ import pytest
 from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import RunConfig
 from shaped_es.guides.mechanisms.candidate import MeanCandidate
-from shaped_es.guides.rival import FRAME, SERVO, rival_frame, servo_on
+from shaped_es.guides.rival import FRAME, SERVO, SHOOT, rival_frame, rivals, servo_on, shoot_on
+from shaped_es.shaping.settings import InverseDynamicsConfig
 from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.strategies import GuidedES
 from shaped_es.trainer import Trainer
@@ -17,9 +19,9 @@ from shaped_es.trainer import Trainer
 from test_mechanisms import TINY, _shaping  # noqa: E402 - the same tiny UR5Reach-v0 run
 
 
-def _rival(frame="waypoint", mp=None, servo=True, **over):
+def _rival(frame="waypoint", mp=None, servo=True, shoot=True, **over):
     mp = {**TINY["shaping"]["inverse_dynamics"], "frame": "both", "rival_frame": frame, "rival_servo": servo,
-          **(mp or {})}
+          "rival_shoot": shoot, **(mp or {})}
     return {**TINY, "generations": 6, "shaping": _shaping(inverse_dynamics=mp, **over)}  # the rival trains from g1
 
 
@@ -32,18 +34,29 @@ def test_rival_only_with_mphi_candidates_another_frame_and_2d_waypoints(frame, o
     assert rival_frame(cfg, "both", dim) == expected
     assert servo_on(cfg) == ("labels" not in over and "mechanism" not in over)  # in any dimension
     assert not servo_on(RunConfig.model_validate(_rival(frame, servo=False, **over)))
+    assert shoot_on(cfg) == ("labels" not in over and "mechanism" not in over)
+    assert not shoot_on(RunConfig.model_validate(_rival(frame, shoot=False, **over)))
+
+
+def test_the_probe_can_drop_the_shooting_rival(tmp_path):
+    cfg = RunConfig.model_validate(_rival())
+    kept = [r.variant for r in rivals(cfg, "both", 5, 3, 5, InverseDynamicsConfig(), tmp_path)]
+    assert kept == [FRAME, SERVO, SHOOT]
+    assert kept == [r.variant for r in rivals(cfg, "both", 5, 3, 5, InverseDynamicsConfig(), tmp_path, True)]
+    assert [r.variant for r in rivals(cfg, "both", 5, 3, 5, InverseDynamicsConfig(), tmp_path, False)] == [
+        FRAME, SERVO]
 
 
 def test_rival_candidate_is_judged_and_the_run_resumes_exactly(tmp_path, monkeypatch):
     full_store = train(tmp_path / "full", _rival())
     full = full_store.read_metrics()
     judged = [r for r in full if r["candidate_accepted"] != ""]
-    assert judged and all(r["candidate_rival"] in ("0", "1", "2") for r in judged)
-    assert all(r["rival_gain"] != "" and r["servo_gain"] != "" for r in judged)
-    for d in ("mphi_data_rival", "mphi_data_servo"):  # each its own data parts, for resume
+    assert judged and all(r["candidate_rival"] in ("0", "1", "2", "3") for r in judged)
+    assert all(r["rival_gain"] != "" and r["servo_gain"] != "" and r["shoot_gain"] != "" for r in judged)
+    for d in ("mphi_data_rival", "mphi_data_servo", "mphi_data_shoot"):  # each its own data parts, for resume
         assert any((full_store.root / d).iterdir())
-    plain = train(tmp_path / "plain", _rival("none", servo=False)).read_metrics()
-    assert "candidate_rival" not in plain[0] and "servo_gain" not in plain[0]
+    plain = train(tmp_path / "plain", _rival("none", servo=False, shoot=False)).read_metrics()
+    assert "candidate_rival" not in plain[0] and "servo_gain" not in plain[0] and "shoot_gain" not in plain[0]
     # the rivals' candidates run beside the first: more env steps once they are trained
     assert int(judged[-1]["gen_env_steps"]) > int(plain[int(judged[-1]["generation"])]["gen_env_steps"])
     cfg, store = new_run(tmp_path / "crashed", _rival())

@@ -139,6 +139,29 @@ def test_clone_sampled_equals_cloning_fully_labelled_data():
     np.testing.assert_allclose(one.theta_star[0], fast.theta_star[2], rtol=1e-5, atol=1e-6)
 
 
+def test_a_costly_label_source_labels_each_drawn_row_once_with_the_same_result():
+    """``label_once``: the distinct drawn rows of each member are labelled, then scattered to every draw."""
+    theta, states, _ = _population()
+    queries = [np.random.default_rng(1).normal(size=(len(s), 2)).astype(np.float32) for s in states]
+    calls = []
+
+    class Costly:
+        label_once = True
+
+        def __call__(self, s, q):
+            calls.append(int(np.prod(s.shape[:-1])))
+            return np.tanh(s[..., :2] + q).astype(np.float32)
+
+    cheap = lambda s, q: np.tanh(s[..., :2] + q).astype(np.float32)  # noqa: E731 - the same labels
+    cfg = CloningConfig(steps=40, lr=1e-2, batch_size=16, max_samples=50)
+    seeds = np.array([11, 12, 13, 14])
+    rows = MemberRows.from_lists(states, queries)
+    a = clone_sampled(SPEC, theta, rows, Costly(), cfg, seeds)
+    b = clone_sampled(SPEC, theta, rows, cheap, cfg, seeds)
+    np.testing.assert_array_equal(a.theta_star, b.theta_star)
+    assert calls == [sum(min(len(s), 50) for s in states)]  # 40 x 16 draws per member cover every row once
+
+
 def test_clone_sampled_member_without_data_is_unchanged():
     theta, states, _ = _population()
     states[1] = states[1][:0]

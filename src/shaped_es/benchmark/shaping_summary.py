@@ -1,6 +1,6 @@
 """What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
 judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
-own labels, 1 the rival frame's, 2 the servo's; ``guides/rival.py``), their mean gain over the mean, the
+own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels'; ``guides/rival.py``), their mean gain over the mean, the
 generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
 (those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-VARIANTS = {0: "own", 1: "rival_frame", 2: "servo"}
+VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot"}
 
 
 def _finite(m: dict, col: str) -> np.ndarray:
@@ -52,16 +52,16 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
         return []
     out = ["## What shaping did", "",
            "Candidates judged and accepted, pooled over seeds (accepted by the run's own labels / the rival "
-           "frame's / the servo's), the mean gain of the judged candidate over the mean (return, on every "
+           "frame's / the servo's / the shooting labels'), the mean gain of the judged candidate over the mean (return, on every "
            "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price.", "",
-           "| method | judged | accepted (own / frame / servo) | mean gain | backed off per run | runs with none accepted |",
+           "| method | judged | accepted (own / frame / servo / shoot) | mean gain | backed off per run | runs with none accepted |",
            "|---|---|---|---|---|---|"]
     for k, s in rows.items():
         v = s["accepted_by_variant"]
         gain = "n/a" if s["mean_gain"] is None else f"{s['mean_gain']:.3g}"
         out.append(f"| {k} | {s['candidates_judged']} | {s['candidates_accepted']} ({v.get('own', 0)} / "
-                   f"{v.get('rival_frame', 0)} / {v.get('servo', 0)}) | {gain} | "
+                   f"{v.get('rival_frame', 0)} / {v.get('servo', 0)} / {v.get('shoot', 0)}) | {gain} | "
                    f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
     out.append("")
     for k, s in rows.items():

@@ -161,11 +161,11 @@ def rows_summary(rows: list[dict]) -> dict | None:
     if "jump_reverted" in rows[0]:  # revert_margin: jumps the next population undid
         out["jumps_reverted"] = sum(1 for r in rows if _num(r.get("jump_reverted")) == 1)
     # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's
-    # (variant 2); None: the run has no such rival
+    # (variant 2), the shooting labels' (variant 3); None: the run has no such rival
     head = rows[0]
     has = {1: "candidate_rival" in head and ("rival_gain" in head or "servo_gain" not in head),  # older runs:
-           2: "servo_gain" in head}  # candidate_rival and no gain columns
-    for key, v in (("accepted_rival", 1), ("accepted_servo", 2)):
+           2: "servo_gain" in head, 3: "shoot_gain" in head}  # candidate_rival and no gain columns
+    for key, v in (("accepted_rival", 1), ("accepted_servo", 2), ("accepted_shoot", 3)):
         out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
                        and _num(r.get("candidate_rival")) == v) if has[v] else None
     return out

@@ -31,6 +31,12 @@ label-driven return alone misleads: on UR5Reach-v0 ``world``'s labels drive the 
 ``docs/shaped-results.md``), so labels alone replace the default only where they fail outright, as
 ``both``'s do on the Reacher.
 
+With ``rival_shoot`` on, the probe also simulates the candidate of the shooting labels
+(``shaping/forward_shoot.py``: the held action whose predicted path passes nearest the waypoint) and keeps
+that rival for the run only where its candidate drives the body better than zero action, by two paired
+standard errors (``ProbeResult.shoot_on``; ``guides/rival.py``): on the Reacher and the swimmer it drives
+worse, and a rival that never wins still adds a lucky row to each generation's pick.
+
 The probe is seeded by the run's seed, takes 0.4-3 s on the built-in envs once the shaping kernels are
 compiled (the first run after an install compiles them: a few seconds more), and its env steps and wall time
 are counted in the run's totals (``env_steps``, ``wall_time_s``) from the first generation on. Its result
@@ -56,6 +62,7 @@ from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
+from shaped_es.shaping.forward_shoot import ForwardChunk, ShootLabels
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
@@ -87,14 +94,23 @@ class ProbeResult:
     zero_action: list[float] = field(default_factory=list)  # the middle action's returns, same episodes
     # variant name -> the simulated candidate's per-episode returns (guides/clone_probe.py), same episodes
     clones: dict[str, list[float]] = field(default_factory=dict)
+    # the shooting labels' simulated candidate (shaping/forward_shoot.py), same episodes ([]: not probed),
+    # and whether the run keeps the shooting rival (None: not probed, the config decides)
+    shoot: list[float] = field(default_factory=list)
+    shoot_on: bool | None = None
 
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
         means += f", zero action {np.mean(self.zero_action):.2f}" if self.zero_action else ""
         clones = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.clones.items())
         clones = f"; its clone's return: {clones}" if clones else ""
+        shoot = ""
+        if self.shoot and self.zero_action:
+            shoot = (f"; the shooting labels' clone {np.mean(self.shoot):.2f}: "
+                     f"{'kept' if self.shoot_on else 'dropped'} as a rival (beats zero action by 2 paired standard "
+                     f"errors: {'yes' if self.shoot_on else 'no'})")
         return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
-                f"{EPISODES} episodes: {means}{clones} ({self.env_steps} env steps, {self.seconds:.1f} s)")
+                f"{EPISODES} episodes: {means}{clones}{shoot} ({self.env_steps} env steps, {self.seconds:.1f} s)")
 
 
 def clip_text(query_clip: float | None) -> str:
@@ -289,11 +305,29 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         steps += n
     zero, n = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
     steps += n
+    shoot, shoot_on = [], None
+    if cfg.shaping.inverse_dynamics.rival_shoot:  # the shooting rival is kept only where its clone drives
+        r, n = shoot_clone(cfg, spec, x0, data, pos_dim, mphi_cfg, seeds, len(clones))
+        shoot, shoot_on, steps = [float(v) for v in r], beats(r, zero)[0], steps + n
     name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
                           {k: np.array(v) for k, v in clones.items()})
     frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
-                       clones)
+                       clones, shoot, shoot_on)
+
+
+def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: int, mphi_cfg, seeds: np.ndarray,
+                key: int) -> tuple[np.ndarray, int]:
+    """The shooting labels' simulated candidate (``clone_probe.clone_rounds``) on the probe's data: its
+    returns ``(E,)`` and env steps. On ReacherWay-v0 and SwimmerWay-v0 it drives worse than zero action
+    (their gaits and whipping arms are no held action's path), where its candidate only adds a lucky row
+    to each generation's pick; on the planar bodies far better (``docs/benchmarks/suite_bodies_v7``)."""
+    m = ForwardChunk(spec.obs_dim, pos_dim, spec.act_dim, replace(mphi_cfg, frame="world", targets="one_step"),
+                     horizon=cfg.shaping.inverse_dynamics.shoot_horizon)
+    for trs in data:
+        m.add(trs)
+        m.train()
+    return clone_rounds(cfg, spec, x0, [t for g in data for t in g], ShootLabels(m), seeds, key)
 
 
 def parse(raw: bytes) -> ProbeResult:
@@ -314,6 +348,8 @@ def parse(raw: bytes) -> ProbeResult:
         (isinstance(d.get("zero_action", []), list), "zero_action"),
         (isinstance(d.get("clones", {}), dict) and all(isinstance(v, list) for v in d.get("clones", {}).values()),
          "clones"),
+        (isinstance(d.get("shoot", []), list), "shoot"),
+        (d.get("shoot_on") in (None, True, False), "shoot_on"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:

@@ -3,7 +3,10 @@ make more candidates each generation; selection keeps whichever pays on this bod
 
 - ``shaping.inverse_dynamics.rival_frame`` (variant 1): a second ``M_phi`` in another frame;
 - ``shaping.inverse_dynamics.rival_servo`` (variant 2): a learned forward model's damped servo
-  (``shaping/forward_servo.py``), the labels a torque-driven arm's inverse dynamics cannot give.
+  (``shaping/forward_servo.py``), the labels a torque-driven arm's inverse dynamics cannot give;
+- ``shaping.inverse_dynamics.rival_shoot`` (variant 3): a learned model of a few steps with an action held,
+  and the held action whose path passes nearest the waypoint (``shaping/forward_shoot.py``), the labels of
+  bodies whose action shows in the position only after a few steps (a car steered by its wheel's rate).
 
 Which displacement frame makes M_phi's labels pay depends on the body, and the label probe before
 generation 0 (``label_probe.py``) cannot always tell: forced by hand, the waypoint frame solves
@@ -16,7 +19,7 @@ generation. Cost: a second M_phi's training steps (in the shaping thread, beside
 clone of the mean, and one more candidate's episodes.
 
 The rival frame's model has no query clip (the probe's clip is the primary's). Each rival has its own
-data parts (``RUN/mphi_data_rival``, ``RUN/mphi_data_servo``) and checkpoint keys, so a resumed run
+data parts (``RUN/mphi_data_rival``, ``RUN/mphi_data_servo``, ``RUN/mphi_data_shoot``) and checkpoint keys, so a resumed run
 rebuilds it exactly as the primary's. The servo costs like the frame rival (a model's training steps in
 the shaping thread, a clone, a candidate's episodes); it is on wherever M_phi's labels and the candidate
 mechanism are, in any waypoint dimension.
@@ -31,22 +34,25 @@ from pathlib import Path
 from shaped_es import seeding
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.shaping.forward_servo import ServoLabels, servo_model
+from shaped_es.shaping.forward_shoot import ForwardChunk, ShootLabels
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 
 RIVAL_KEY = 1_000_021  # seed key of the rival frame's model (its init and minibatches)
 SERVO_KEY = 1_000_022  # seed key of the servo's forward model
+SHOOT_KEY = 1_000_024  # seed key of the shooting labels' forward model
 DIR = "mphi_data_rival"
 SERVO_DIR = "mphi_data_servo"
-FRAME, SERVO = 1, 2  # variant ids: the candidate_rival column's values (0: the run's own labels)
+SHOOT_DIR = "mphi_data_shoot"
+FRAME, SERVO, SHOOT = 1, 2, 3  # variant ids: the candidate_rival column's values (0: the run's own labels)
 
 
 @dataclass
 class Rival:
     """One rival label variant: its id, name, model track and checkpoint keys."""
 
-    variant: int  # FRAME or SERVO
-    name: str  # for the run's lines: "waypoint frame", "servo"
+    variant: int  # FRAME, SERVO or SHOOT
+    name: str  # for the run's lines: "waypoint frame", "servo", "shooting"
     track: MphiTrack
     prefix: str  # checkpoint keys of its model
     parts_key: str  # checkpoint key of its data parts
@@ -91,8 +97,25 @@ def servo_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path, 
     return MphiTrack(model, ServoLabels(model), Path(root) / SERVO_DIR)
 
 
-def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path) -> list[Rival]:
-    """This run's rival label variants, in the order their candidates' rows take."""
+def shoot_on(cfg) -> bool:
+    """Whether this run keeps the shooting rival: M_phi's labels with the candidate mechanism."""
+    sh = cfg.shaping
+    return bool(sh.inverse_dynamics.rival_shoot) and sh.labels == "mphi" and sh.mechanism == "candidate"
+
+
+def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
+                seed: int) -> MphiTrack:
+    """The shooting labels' forward model (M_phi's training settings, its own seed), labels and data parts."""
+    cfg = dataclasses.replace(mphi_cfg, frame="world", targets="one_step",
+                              seed=seeding.derive_seed(seed, seeding.SHAPING, SHOOT_KEY))
+    model = ForwardChunk(obs_dim, pos_dim, act_dim, cfg, horizon=horizon)
+    return MphiTrack(model, ShootLabels(model), Path(root) / SHOOT_DIR)
+
+
+def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
+           shoot: bool | None = None) -> list[Rival]:
+    """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
+    probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -103,4 +126,8 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         track = servo_track(obs_dim, pos_dim, act_dim, mphi_cfg, root, cfg.seed)
         track.labels.gain, track.labels.damping = float(mp.servo_gain), float(mp.servo_damping)
         out.append(Rival(SERVO, "servo", track, "servo/", "servo/parts"))
+    if shoot_on(cfg) and shoot is not False:
+        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, cfg.shaping.inverse_dynamics.shoot_horizon, root,
+                            cfg.seed)
+        out.append(Rival(SHOOT, "shooting", track, "shoot/", "shoot/parts"))
     return out

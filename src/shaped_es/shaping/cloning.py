@@ -188,6 +188,18 @@ def warm_up_cloning() -> None:
 LabelFn = Callable[[np.ndarray, np.ndarray], np.ndarray]  # states (..., obs), queries (..., d) -> (..., act)
 
 
+def _label_unique(label_fn: LabelFn, S: np.ndarray, Q: np.ndarray, pos: np.ndarray, n_i: np.ndarray) -> np.ndarray:
+    """``label_fn`` on the distinct rows among the draws only (drawn with replacement, about a third of the
+    draws repeat a row), scattered back: the same labels, ``(draws, P, B, act)``, for a label source whose
+    cost is per row (``ShootLabels``: every candidate action through its model)."""
+    offset = np.concatenate([[0], np.cumsum(n_i)[:-1]])  # (P,) member i's rows after the others'
+    key = (pos + offset[None, :, None]).reshape(-1)  # (draws P B,) one id per (member, row)
+    _, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    flat_s, flat_q = S.reshape(-1, S.shape[-1]), Q.reshape(-1, Q.shape[-1])  # (draws P B, obs), (.., d)
+    a = np.asarray(label_fn(flat_s[first], flat_q[first]), np.float32)  # (U, act)
+    return a[inv.reshape(-1)].reshape(*pos.shape, a.shape[-1])  # (draws, P, B, act)
+
+
 def clone_sampled(
     spec: MLPSpec,
     theta: np.ndarray,
@@ -263,7 +275,10 @@ def clone_sampled(
         A = np.zeros((draws, P, B, spec.act_dim), np.float32)  # (draws, P, B, act)
     if has.any():
         Q = data.gather(pos, out_states=S)  # S (draws, P, B, obs) filled; queries (draws, P, B, d)
-        A[...] = label_fn(S, Q)  # (draws, P, B, act) labels a_hat
+        if getattr(label_fn, "label_once", False):  # a costly label source: each drawn row labelled once
+            A[...] = _label_unique(label_fn, S, Q, pos, n_i)
+        else:
+            A[...] = label_fn(S, Q)  # (draws, P, B, act) labels a_hat
         if not has.all():
             S[:, ~has], A[:, ~has] = 0.0, 0.0
     else:

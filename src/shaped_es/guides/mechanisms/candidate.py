@@ -37,7 +37,7 @@ from shaped_es.shaping.surrogate import cosine
 
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
-GAIN_METRIC = {1: "rival_gain", 2: "servo_gain"}  # per variant: its candidate's gain over the mean
+GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain"}  # per variant: its candidate's gain over the mean
 REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
 
 

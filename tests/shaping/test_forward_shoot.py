@@ -1,0 +1,96 @@
+"""The shooting labels (shaping/forward_shoot.py) on a body whose action shows in the position only a step
+later: ``p' = p + v``, ``v' = 0.9 v + 0.1 R a`` (R a rotation), so a one-step displacement does not depend on
+the action at all. The h-step model learns what a held action does, the label picks the candidate whose
+path passes nearest the waypoint (through the learned direction), the one-step servo cannot, the candidate
+set's shapes, and the state round-trips."""
+
+import numpy as np
+import pytest
+
+from shaped_es.data import Transitions
+from shaped_es.shaping.forward_servo import ServoLabels, servo_model
+from shaped_es.shaping.forward_shoot import MAX_CANDIDATES, ForwardChunk, ShootLabels, candidate_actions
+from shaped_es.shaping.settings import InverseDynamicsConfig
+
+ROT = np.array([[0.0, -1.0], [1.0, 0.0]])  # the action's x moves the body along world y
+H = 4
+
+
+def _step(p, v, a):
+    return p + v, 0.9 * v + 0.1 * a @ ROT.T
+
+
+def _episodes(n_eps=60, T=40, seed=0) -> Transitions:
+    """Actions held for 4-step stretches (as a policy's are, roughly), random between them."""
+    rng = np.random.default_rng(seed)
+    S, P, W, A, ep, st = [], [], [], [], [], []
+    for e in range(n_eps):
+        p, v, w = rng.normal(size=2), 0.05 * rng.normal(size=2), rng.normal(size=2)
+        for t in range(T):
+            if t % 4 == 0:
+                a = rng.uniform(-1, 1, size=2)
+            S.append(v.copy()), P.append(p.copy()), W.append(w.copy()), A.append(a), ep.append(e), st.append(t)
+            p, v = _step(p, v, a)
+    f32 = lambda x: np.asarray(x, np.float32)  # noqa: E731
+    return Transitions(0, 0, np.array(ep, np.int32), np.array(st, np.int32), f32(S), f32(P), f32(W), f32(A),
+                       np.zeros(len(st), np.float32))
+
+
+def _model(seed=0) -> ForwardChunk:
+    return ForwardChunk(2, 2, 2, InverseDynamicsConfig(hidden=(32, 32), lr=3e-3, seed=seed), horizon=H)
+
+
+@pytest.fixture(scope="module")
+def model():
+    m = _model()
+    m.add([_episodes()])
+    m.train(6000)
+    return m
+
+
+def test_the_model_learns_the_held_action_path(model):
+    rng = np.random.default_rng(1)
+    v, a = 0.05 * rng.normal(size=(100, 2)), rng.uniform(-1, 1, size=(100, 2))
+    want = np.zeros((100, H, 2))
+    p, vv = np.zeros((100, 2)), v.copy()
+    for j in range(H):
+        p, vv = _step(p, vv, a)
+        want[:, j] = p
+    got = model.predict(v.astype(np.float32), a.astype(np.float32))  # (100, H, 2)
+    assert got.shape == (100, H, 2)
+    assert np.abs(got - want).mean() < 0.15 * np.abs(want).mean()
+    assert model.step_scale > 0 and model.query_scale > 0 and model.dataset_size == 60 * (40 - H)
+
+
+def test_labels_head_for_the_waypoint_where_the_one_step_servo_cannot(model):
+    err = np.array([[0.0, 0.3], [0.3, 0.0], [-0.2, 0.2]], np.float32)  # w - p, at rest
+    s = np.zeros((3, 2), np.float32)
+    a = ShootLabels(model)(s, err)
+    moved = a @ ROT.T  # (3, 2) where the held action takes the body
+    cos = (moved * err).sum(1) / np.linalg.norm(moved, axis=1) / np.linalg.norm(err, axis=1)
+    assert (cos > 0.9).all()
+    assert {tuple(r) for r in a.tolist()} <= {tuple(r) for r in candidate_actions(2).tolist()}
+    servo = servo_model(2, 2, 2, InverseDynamicsConfig(hidden=(32, 32), lr=3e-3), seed=0)
+    servo.add([_episodes()])
+    servo.train(3000)
+    b = ServoLabels(servo, damping=0.0)(s, err) @ ROT.T
+    cos_servo = (b * err).sum(1) / np.maximum(np.linalg.norm(b, axis=1), 1e-9) / np.linalg.norm(err, axis=1)
+    assert cos_servo.mean() < 0.5  # one step shows no action: its direction is noise
+
+
+def test_candidate_actions():
+    assert candidate_actions(1).shape == (5, 1) and candidate_actions(2).shape == (25, 2)
+    for k in (3, 6, 17):
+        c = candidate_actions(k)
+        assert c.shape == (MAX_CANDIDATES, k) and np.abs(c).max() <= 1
+        assert not c[0].any() and (c[1:2 * k + 1] != 0).sum() >= 2 * k  # the zero action, then the axes
+    np.testing.assert_array_equal(candidate_actions(6), candidate_actions(6))  # fixed across runs
+
+
+def test_state_round_trips_and_untrained_is_not_ready(model):
+    fresh = _model(seed=5)
+    assert not ShootLabels(fresh).ready
+    fresh.load_state_dict(model.state_dict())
+    s, q = np.zeros((4, 2), np.float32), np.full((4, 2), 0.2, np.float32)
+    np.testing.assert_array_equal(ShootLabels(fresh)(s, q), ShootLabels(model)(s, q))
+    assert ShootLabels(fresh).ready
