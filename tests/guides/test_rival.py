@@ -11,6 +11,7 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import RunConfig
 from shaped_es.guides.mechanisms.candidate import MeanCandidate
 from shaped_es.guides.rival import FRAME, SERVO, SHOOT, rival_frame, rivals, servo_on, shoot_on
+from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.settings import InverseDynamicsConfig
 from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.strategies import GuidedES
@@ -48,7 +49,15 @@ def test_the_probe_can_drop_the_shooting_rival(tmp_path):
 
 
 def test_rival_candidate_is_judged_and_the_run_resumes_exactly(tmp_path, monkeypatch):
+    from shaped_es.shaping.forward_shoot import ShootLabels
+
+    monkeypatch.setattr(ShootLabels, "max_rows", 64)  # the shooting clone draws a subsample of the rows
+    cut = []
+    real = MemberRows.subsample
+    monkeypatch.setattr(MemberRows, "subsample", lambda self, k, rng: cut.append(int(self.lengths()[0])) or
+                        real(self, k, rng))
     full_store = train(tmp_path / "full", _rival())
+    assert cut and max(cut) > 64
     full = full_store.read_metrics()
     judged = [r for r in full if r["candidate_accepted"] != ""]
     assert judged and all(r["candidate_rival"] in ("0", "1", "2", "3") for r in judged)
@@ -61,6 +70,7 @@ def test_rival_candidate_is_judged_and_the_run_resumes_exactly(tmp_path, monkeyp
     assert int(judged[-1]["gen_env_steps"]) > int(plain[int(judged[-1]["generation"])]["gen_env_steps"])
     cfg, store = new_run(tmp_path / "crashed", _rival())
     run_until_crash(monkeypatch, cfg, store, 3)
+    monkeypatch.setattr(ShootLabels, "max_rows", 64)
     Trainer(cfg, store, progress=False).run()
     assert strip_time(store.read_metrics()) == strip_time(full)
 

@@ -246,3 +246,18 @@ def test_fitting_in_chunks_elsewhere_gives_the_same_theta_star(through_shared_me
     assert calls == [3]
     np.testing.assert_allclose(many.theta_star, one.theta_star, rtol=1e-6, atol=1e-7)
     np.testing.assert_allclose(many.loss_after, one.loss_after, rtol=1e-6)
+
+
+def test_subsample_draws_rows_without_replacement_in_order():
+    states = [np.arange(40, dtype=np.float32).reshape(20, 2), np.arange(40, 70, dtype=np.float32).reshape(15, 2)]
+    queries = [s[:, :1] * 10 for s in states]
+    one = MemberRows(states, queries, np.array([[[0, 20], [5, 15]]], np.int64))  # one member over two blocks
+    sub = one.subsample(12, np.random.default_rng(0))
+    S, Q = sub.states[0], sub.queries[0]
+    assert sub.lengths().tolist() == [12] and len(np.unique(S[:, 0])) == 12
+    every = np.concatenate([states[0], states[1][5:15]])  # the member's 30 rows, oldest first
+    rows = [int(np.flatnonzero((every == r).all(1))[0]) for r in S]
+    assert rows == sorted(rows) and np.array_equal(Q, S[:, :1] * 10)  # each row keeps its own query
+    assert one.subsample(30, np.random.default_rng(0)) is one  # no more rows than asked: itself
+    with pytest.raises(ValueError, match="one member"):
+        MemberRows.from_lists(states, queries).subsample(5, np.random.default_rng(0))

@@ -62,7 +62,7 @@ from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
-from shaped_es.shaping.forward_shoot import ForwardChunk, ShootLabels
+from shaped_es.shaping.forward_shoot import ShootLabels, shoot_model
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
@@ -322,8 +322,7 @@ def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: in
     returns ``(E,)`` and env steps. On ReacherWay-v0 and SwimmerWay-v0 it drives worse than zero action
     (their gaits and whipping arms are no held action's path), where its candidate only adds a lucky row
     to each generation's pick; on the planar bodies far better (``docs/benchmarks/suite_bodies_v7``)."""
-    m = ForwardChunk(spec.obs_dim, pos_dim, spec.act_dim, replace(mphi_cfg, frame="world", targets="one_step"),
-                     horizon=cfg.shaping.inverse_dynamics.shoot_horizon)
+    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, cfg.shaping.inverse_dynamics.shoot_horizon)
     for trs in data:
         m.add(trs)
         m.train()
@@ -401,7 +400,11 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
                    f"they keep losing)")
+    if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
+        verdict += (f"; the shooting labels' simulated candidate scores {np.mean(res.shoot):.2f} against zero "
+                    f"action's {np.mean(res.zero_action):.2f}: a run {'keeps' if res.shoot_on else 'drops'} that rival")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
-            "returns": res.returns, "clones": res.clones, "env_steps": res.env_steps, "seconds": res.seconds,
+            "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
+            "env_steps": res.env_steps, "seconds": res.seconds,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out

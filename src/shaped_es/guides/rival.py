@@ -34,7 +34,7 @@ from pathlib import Path
 from shaped_es import seeding
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.shaping.forward_servo import ServoLabels, servo_model
-from shaped_es.shaping.forward_shoot import ForwardChunk, ShootLabels
+from shaped_es.shaping.forward_shoot import ShootLabels, shoot_model
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 
@@ -106,9 +106,8 @@ def shoot_on(cfg) -> bool:
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
                 seed: int) -> MphiTrack:
     """The shooting labels' forward model (M_phi's training settings, its own seed), labels and data parts."""
-    cfg = dataclasses.replace(mphi_cfg, frame="world", targets="one_step",
-                              seed=seeding.derive_seed(seed, seeding.SHAPING, SHOOT_KEY))
-    model = ForwardChunk(obs_dim, pos_dim, act_dim, cfg, horizon=horizon)
+    model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
+                        seed=seeding.derive_seed(seed, seeding.SHAPING, SHOOT_KEY))
     return MphiTrack(model, ShootLabels(model), Path(root) / SHOOT_DIR)
 
 

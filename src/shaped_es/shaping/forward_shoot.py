@@ -120,7 +120,8 @@ class ShootLabels(LabelSource):
     input ``w_t - p_t``."""
 
     name = "shoot"
-    label_once = True  # costly per row: the clone labels each drawn row once (shaping/cloning.py)
+    label_once = True  # costly per row: the clone labels each drawn row once (shaping/cloning.py) ...
+    max_rows = 4096  # ... of this many rows drawn from the mean's DAgger set (guides/mechanisms/candidate.py)
     ROWS = 4096  # states per model pass (K x ROWS rows: a few MB, cache-sized)
 
     def __init__(self, model: ForwardChunk):
@@ -154,6 +155,9 @@ class ShootLabels(LabelSource):
         return out.reshape(*lead, m.ctrl_dim)
 
 
-def shoot_model(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, seed: int) -> ForwardChunk:
-    """The chunk forward model with M_phi's training settings (its own seed; world frame)."""
-    return ForwardChunk(obs_dim, pos_dim, act_dim, replace(mphi_cfg, frame="world", targets="one_step", seed=seed))
+def shoot_model(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int = HORIZON,
+                seed: int | None = None) -> ForwardChunk:
+    """The chunk forward model with M_phi's training settings (world frame; ``seed``: its own, else
+    M_phi's)."""
+    cfg = replace(mphi_cfg, frame="world", targets="one_step", **({} if seed is None else {"seed": seed}))
+    return ForwardChunk(obs_dim, pos_dim, act_dim, cfg, horizon=horizon)

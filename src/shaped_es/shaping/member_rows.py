@@ -51,6 +51,18 @@ class MemberRows:
         spans[..., 0] = spans[..., 1] - keep
         return MemberRows(self.states, self.queries, spans)
 
+    def subsample(self, rows: int, rng: np.random.Generator) -> "MemberRows":
+        """One member's data set (``P = 1``) cut to ``rows`` rows drawn without replacement (in their
+        order), as one block; itself when it has no more. For a label source that costs per row."""
+        if self.spans.shape[0] != 1:
+            raise ValueError(f"subsample takes one member's rows, got {self.spans.shape[0]} members")
+        n = int(self.lengths()[0])
+        if n <= rows:
+            return self
+        pos = np.sort(rng.choice(n, size=rows, replace=False))[None, None, :]  # (1, 1, rows)
+        S, Q = self.gather(pos)  # (1, 1, rows, obs), (1, 1, rows, d)
+        return MemberRows.from_lists([S[0, 0]], [Q[0, 0]])
+
     def gather(self, pos: np.ndarray, out_states: np.ndarray | None = None):
         """Rows at per-member positions ``pos`` ``(draws, P, B)`` (into ``D_i``, oldest first) ->
         states ``(draws, P, B, obs)``, queries ``(draws, P, B, d)``. With ``out_states`` (float32, that

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from shaped_es import seeding
 from shaped_es.guides.mechanisms import Mechanism, every_kth
 from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.shaping.surrogate import cosine
@@ -38,6 +39,7 @@ from shaped_es.shaping.surrogate import cosine
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
 GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain"}  # per variant: its candidate's gain over the mean
+SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
 REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
 
 
@@ -195,8 +197,13 @@ class MeanCandidate(Mechanism):
             v = rival.variant
             learner = self.rival_learners.get(v)
             start = mu if not self.cfg.warm_start or learner is None else learner
+            kw, cap = {}, getattr(rival.labels, "max_rows", 0)
+            if cap:  # a label source that costs per row (the shooting labels): a random share of the rows
+                rng = np.random.default_rng(seeding.derive_seed(self.host.cfg.seed, seeding.SHAPING, generation,
+                                                                rival_clone_key(v), SUBSAMPLE_KEY))
+                kw["rows"] = self.host.dagger_rows(generation, rival.labels).subsample(cap, rng)
             theta, info = clone_mean(self.host, generation, start, self.cfg, labels=rival.labels,
-                                     key=rival_clone_key(v))
+                                     key=rival_clone_key(v), **kw)
             if not info:
                 continue
             if self.cfg.warm_start:
