@@ -146,7 +146,8 @@ class InverseDynamicsSettings(_Strict):
                              "(1: w_t - p_t, the paper)")
     babble: Int = Field(16, ge=0, le=10_000, description="motor babbling (labels=mphi only: M_phi's data): this many random "
                         "policies (weights ~ N(0, babble_sigma^2)) roll out beside the population in the "
-                        "first babble_generations generations; their steps are M_phi's data (and the "
+                        "first babble_generations generations, until the label budget first sleeps "
+                        "(shaping.backoff_after); their steps are M_phi's data (and the "
                         "clone's states), their returns steer no ES step and they are never tested)")
     babble_generations: Int = Field(20, ge=0, description="generations with babbling policies")
     babble_sigma: Float = Field(1.0, gt=0, description="standard deviation of the babbling policies' weights")

@@ -209,3 +209,39 @@ def test_resume_is_exact_across_a_crash_while_asleep(tmp_path, monkeypatch):
         run_until_crash(monkeypatch, c, store, crash_at)
         Trainer(c, store, progress=False).run()
         assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_no_babblers_once_the_budget_has_slept_and_resume_stays_exact(tmp_path, monkeypatch):
+    """Babbling (M_phi's data) stops at the label budget's first sleep: the run judged its labels as losing
+    and M_phi has its first generations' data, so a wake-up trial runs without the babblers (on the swimmer,
+    3 of a 30-generation run's awake generations). The budget's state is checkpointed: a crash at the wake-up
+    resumes to the same rows."""
+    from shaped_es.guides import shaped
+
+    cfg = {**CFG, "generations": 16,
+           "shaping": {**CFG["shaping"], "history": 5,
+                       "inverse_dynamics": {**CFG["shaping"]["inverse_dynamics"], "babble": 3,
+                                            "babble_generations": 100}}}
+    drawn = []  # the generations whose babblers were drawn
+    real = shaped.babbling_policies
+
+    def spy(settings, seed, generation, num_params):
+        out = real(settings, seed, generation, num_params)
+        if out is not None:
+            drawn.append(generation)
+        return out
+
+    monkeypatch.setattr(shaped, "babbling_policies", spy)
+    full = train(tmp_path / "full", cfg).read_metrics()
+    awake = [r["shaping_awake"] == "1" for r in full]
+    first_sleep = awake.index(False)
+    woken = [g for g in range(first_sleep, 16) if awake[g]]
+    assert woken, "the schedule should wake within 16 generations"
+    assert drawn == list(range(first_sleep))  # every generation before the first sleep, none after
+    steps = np.diff([0] + [int(r["env_steps"]) for r in full])
+    # a judged wake-up generation steps a judged babbling generation's steps less the 3 babblers' 2 episodes
+    assert steps[woken].max() == steps[1:first_sleep].max() - 3 * 2 * 10
+    c, store = new_run(tmp_path / "crashed", cfg)
+    run_until_crash(monkeypatch, c, store, woken[0])
+    Trainer(c, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)

@@ -199,12 +199,14 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
     def extra_members(self, generation: int) -> np.ndarray | None:
         """Policies ``(k, n)`` evaluated beside the population (None: none): the mechanism's, then the
         babbling policies of the first generations (``guides/babble.py``; M_phi's data only); none while
-        the guide sleeps."""
+        the guide sleeps, and none once it has slept (the budget judged the labels as losing; M_phi has its
+        first generations' data: a wake-up trial runs without babblers; the budget's state is checkpointed,
+        so a resumed run draws the same)."""
         if not self.awake:
             self._babblers = 0
             return None
         mech = self.mechanism.extra_members(generation)
-        bab = None if self.mphi is None else babbling_policies(self.sh.inverse_dynamics, self.cfg.seed,
+        bab = None if self.mphi is None or self.budget.sleeps else babbling_policies(self.sh.inverse_dynamics, self.cfg.seed,
                                                                 generation, self.spec.num_params)  # (b, n)
         self._babblers = 0 if bab is None else bab.shape[0]
         if bab is None:
