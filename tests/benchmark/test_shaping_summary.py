@@ -30,6 +30,18 @@ def test_the_report_says_when_no_candidate_was_ever_accepted():
     methods = {"shaped": {"shaping": shaping_summary([lost, lost]), "wall_time_s": 15.0},
                "vanilla": {"wall_time_s": 10.0}}
     text = "\n".join(shaping_lines(methods, {k: v["wall_time_s"] for k, v in methods.items()}))
-    assert "| shaped | 6 | 0 (0 / 0 / 0 / 0) |" in text and "2/2 |" in text
+    assert "| shaped | 6 | 0 (0 / \u2013 / \u2013 / \u2013) |" in text and "2/2 |" in text  # no rival ran
     assert "no candidate was accepted in any run" in text and "1.50x vanilla's wall time" in text
     assert shaping_lines({"vanilla": {"wall_time_s": 1.0}}) == []
+
+
+def test_a_rival_dropped_in_some_runs_is_told_apart_from_one_that_never_won():
+    """The shooting rival ran (its gain column filled) in one of two runs, the servo in both, the frame in none."""
+    a = _run([nan, 1, 0], [nan, 2, 3], [nan, 1.0, -1.0], [1, 1, 1]) | {"servo_gain": np.array([nan, 1.0, -2.0]),
+                                                                     "shoot_gain": np.array([nan, -1.0, 0.5])}
+    b = _run([nan, 0, 0], [nan, 2, 0], [nan, -1.0, -1.0], [1, 1, 1]) | {"servo_gain": np.array([nan, -1.0, -2.0])}
+    s = shaping_summary([a, b])
+    assert s["runs_with_rival"] == {"rival_frame": 0, "servo": 2, "shoot": 1}
+    text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
+    assert "| shaped | 4 | 1 (0 / \u2013 / 1 / 0 (1/2 runs)) |" in text
+

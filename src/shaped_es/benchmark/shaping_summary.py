@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot"}
+GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain"}  # a rival's column: it ran
 
 
 def _finite(m: dict, col: str) -> np.ndarray:
@@ -23,7 +24,10 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
     judged = accepted = runs_without = 0
     by_variant = dict.fromkeys(VARIANTS.values(), 0)
     gains, asleep = [], []
+    ran = dict.fromkeys(GAINS, 0)  # runs in which each rival ran (the probe drops the shooting one on some)
     for m in runs:
+        for key, col in GAINS.items():
+            ran[key] += int(bool(np.isfinite(_finite(m, col)).any()))
         acc = _finite(m, "candidate_accepted")
         ok = np.isfinite(acc)  # (G,) generations with a judged candidate
         won = ok & (acc == 1)
@@ -40,9 +44,18 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
         asleep.append(float((awake == 0).sum()) if awake.size else 0.0)
     g = np.concatenate(gains) if gains else np.zeros(0)
     return {"candidates_judged": judged, "candidates_accepted": accepted, "accepted_by_variant": by_variant,
+            "runs_with_rival": ran,
             "mean_gain": float(g.mean()) if g.size else None,
             "generations_backed_off_mean": float(np.mean(asleep)) if asleep else 0.0,
             "runs_without_acceptance": runs_without, "runs": len(runs)}
+
+
+def _count(s: dict, key: str) -> str:
+    """A rival's accepted count for the report: \u2013 if it ran in no run, ``n (k/N runs)`` if in some."""
+    n, ran, runs = s["accepted_by_variant"].get(key, 0), s.get("runs_with_rival", {}).get(key), s["runs"]
+    if ran is None or ran == runs:  # a summary from before the count, or the rival ran everywhere
+        return str(n)
+    return "\u2013" if ran == 0 else f"{n} ({ran}/{runs} runs)"
 
 
 def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None) -> list[str]:
@@ -54,14 +67,17 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
            "Candidates judged and accepted, pooled over seeds (accepted by the run's own labels / the rival "
            "frame's / the servo's / the shooting labels'), the mean gain of the judged candidate over the mean (return, on every "
            "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
-           "was ever accepted: those runs are the ES strategy's alone, at shaping's price.", "",
+           "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
+           "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
+           "simulated candidate loses to zero action), and says in how many runs it ran where not all.", "",
            "| method | judged | accepted (own / frame / servo / shoot) | mean gain | backed off per run | runs with none accepted |",
            "|---|---|---|---|---|---|"]
     for k, s in rows.items():
         v = s["accepted_by_variant"]
         gain = "n/a" if s["mean_gain"] is None else f"{s['mean_gain']:.3g}"
+        counts = " / ".join(_count(s, key) for key in GAINS)
         out.append(f"| {k} | {s['candidates_judged']} | {s['candidates_accepted']} ({v.get('own', 0)} / "
-                   f"{v.get('rival_frame', 0)} / {v.get('servo', 0)} / {v.get('shoot', 0)}) | {gain} | "
+                   f"{counts}) | {gain} | "
                    f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
     out.append("")
     for k, s in rows.items():
