@@ -190,6 +190,7 @@ def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("shaping backs off") == 1
     assert "--method shaped_cmaes" in err  # the shaped method's note names the other base
+    assert "shaping.labels=controller" not in err  # and no oracle labels: this env has no controller
     awake = "".join(r["shaping_awake"] for r in rows)
     s = rows_summary(rows)
     assert s["candidates_accepted"] < s["candidates_judged"] and "0" * 8 in awake

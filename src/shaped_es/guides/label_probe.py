@@ -395,7 +395,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     elif -gain > 2 * se:
         verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
                    f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
-                   f"shaping.labels=controller, --method vanilla / cmaes")
+                   f"{'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla / cmaes")
     else:
         verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "

@@ -115,6 +115,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
         probe_line = None  # printed once the rival is known
         shoot = None  # the probe's verdict on the shooting rival (None: not probed)
+        self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
@@ -343,12 +344,13 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
             b = self.budget
+            oracle = "shaping.labels=controller or " if self.has_controller else ""
             print(f"shaped-es: note: the labels' candidate lost {b.patience} judged generations in a row (won "
                   f"{b.accepted} of {b.judged} so far): shaping backs off -- it sleeps {b.asleep_left} generations, "
                   f"then tries again (longer sleeps while it keeps losing; column shaping_awake), each sleeping "
                   f"generation at the ES strategy's own price. A run still improving has outpaced its labels; "
                   f"if they never win on this env, `shaped-es check-env {self.cfg.env} --labels` shows whether its labels "
-                  f"drive the body at all; compare shaping.labels=controller or --method vanilla / cmaes (the "
+                  f"drive the body at all; compare {oracle}--method vanilla / cmaes (the "
                   f"same labels run over Vanilla-ES with --method shaped, over CMA-ES with --method shaped_cmaes: "
                   f"pick the base whose baseline is faster on this env; docs/benchmarks/shaped_cmaes_suite)",
                   file=sys.stderr)
