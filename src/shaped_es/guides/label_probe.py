@@ -348,7 +348,7 @@ def parse(raw: bytes) -> ProbeResult:
         (isinstance(d.get("clones", {}), dict) and all(isinstance(v, list) for v in d.get("clones", {}).values()),
          "clones"),
         (isinstance(d.get("shoot", []), list), "shoot"),
-        (d.get("shoot_on") in (None, True, False), "shoot_on"),
+        (d.get("shoot_on") is None or isinstance(d.get("shoot_on"), bool), "shoot_on"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
