@@ -69,7 +69,8 @@ class ForwardServo(InverseDynamics):
                              f"{(self.obs_dim, self.pos_dim, self.ctrl_dim)}")
 
     def add(self, transitions_list: Sequence[Transitions]) -> dict[str, float]:
-        """Aggregate ``(s_t, a_t) -> (p_{t+1} - p_t) / step_scale`` of episodes passing the return filter."""
+        """Aggregate :meth:`_pairs` ``(s_t, a_t) -> displacement / step_scale`` of episodes passing the return
+        filter; ``step_scale`` and ``query_scale`` are fixed by the first data."""
         xs, ys, qs, episodes, kept = [], [], [], 0, 0
         for tr in transitions_list:
             if len(tr) == 0:
@@ -77,27 +78,34 @@ class ForwardServo(InverseDynamics):
             self._check(tr)
             eps, good = kept_episodes(tr, self.config.min_return, self.config.filter)
             episodes, kept = episodes + eps.size, kept + good.size
-            mask, nxt = tr.next_position()  # (T,), (T, d)
-            mask &= np.isin(tr.episode, good)
-            if not mask.any():
-                continue
-            xs.append(np.concatenate([tr.state[mask], tr.action[mask]], axis=1))  # (T', obs + act)
-            ys.append((nxt - tr.position)[mask])  # (T', d)
-            qs.append(tr.waypoint[mask] - tr.position[mask])  # (T', d)
+            pairs = self._pairs(tr, good)
+            if pairs is not None:
+                for out, v in zip((xs, ys, qs), pairs):
+                    out.append(v)
         x = np.concatenate(xs).astype(np.float32) if xs else self._x[:0]
-        dp = np.concatenate(ys).astype(np.float64) if ys else np.zeros((0, self.pos_dim))
+        dp = np.concatenate(ys).astype(np.float64) if ys else np.zeros((0, self.act_dim))  # (N, out)
         with self._lock:
             if self.step_scale == 0.0 and dp.shape[0]:  # fixed by the first data (checkpointed)
-                step = float(np.linalg.norm(dp, axis=1).mean())
+                step = float(np.linalg.norm(dp[:, -self.pos_dim:], axis=1).mean())  # the last displacement's
                 self.step_scale = TARGET_SCALE * step if step > 0 else 1.0
                 self.query_scale = float(np.median(np.linalg.norm(np.concatenate(qs), axis=1))) or 1.0
-            y = np.clip(dp / (self.step_scale or 1.0), -0.99, 0.99).astype(np.float32)  # (N, d)
+            y = np.clip(dp / (self.step_scale or 1.0), -0.99, 0.99).astype(np.float32)  # (N, out)
             self.norm.update(x)
             self._append(x, y)
             size = self.dataset_size
         return {"episodes": float(episodes), "kept_episodes": float(kept),
                 "kept_fraction": kept / episodes if episodes else 0.0,
                 "added": float(x.shape[0]), "dataset_size": float(size)}
+
+    def _pairs(self, tr: Transitions, good: np.ndarray):
+        """One recording's ``(inputs (T', obs + act), displacements (T', d), queries w - p (T', d))`` over
+        the steps of the ``good`` episodes that have a successor (None: no such step)."""
+        mask, nxt = tr.next_position()  # (T,), (T, d)
+        mask &= np.isin(tr.episode, good)
+        if not mask.any():
+            return None
+        return (np.concatenate([tr.state[mask], tr.action[mask]], axis=1), (nxt - tr.position)[mask],
+                tr.waypoint[mask] - tr.position[mask])
 
     def predict(self, states: np.ndarray, actions: np.ndarray) -> np.ndarray:
         """``f(s, a)``: ``(N, obs)``, ``(N, act)`` -> the one-step displacements ``(N, d)`` (float64)."""

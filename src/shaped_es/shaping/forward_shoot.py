@@ -27,7 +27,6 @@ labels through a learned waypoint-space model.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import replace
 from itertools import product
 
@@ -38,7 +37,7 @@ from shaped_es.shaping.forward_servo import ForwardServo, TARGET_SCALE
 from shaped_es.shaping.labels import LabelSource
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.inverse_dynamics import RunningNorm
-from shaped_es.shaping.mphi_inputs import episode_end, kept_episodes
+from shaped_es.shaping.mphi_inputs import episode_end
 
 HORIZON = 4  # steps a candidate action is held
 GRID = 5  # candidate values per action dimension (-1, -0.5, 0, 0.5, 1) while GRID ** act <= MAX_CANDIDATES
@@ -71,43 +70,22 @@ class ForwardChunk(ForwardServo):
         self.norm = RunningNorm(self.in_dim)
         self._y = np.zeros((0, self.act_dim), np.float32)  # (N, h d) scaled displacements
 
-    def add(self, transitions_list: Sequence[Transitions]) -> dict[str, float]:
-        """Aggregate ``(s_t, mean a_{t..t+h-1}) -> (p_{t+j} - p_t)_j / step_scale`` over the rows with ``h``
-        steps after them in episodes passing the return filter."""
+    def _pairs(self, tr: Transitions, good: np.ndarray):
+        """``(s_t, mean a_{t..t+h-1})``, ``(p_{t+j} - p_t)_j`` flattened ``(T', h d)`` and ``w_t - p_t`` over
+        the rows with ``h`` steps after them in the ``good`` episodes (None: no such row); the base class's
+        :meth:`~ForwardServo.add` scales them by the first data's mean ``h``-step displacement."""
         h, d = self.horizon, self.pos_dim
-        xs, ys, qs, episodes, kept = [], [], [], 0, 0
-        for tr in transitions_list:
-            if len(tr) == 0:
-                continue
-            self._check(tr)
-            eps, good = kept_episodes(tr, self.config.min_return, self.config.filter)
-            episodes, kept = episodes + eps.size, kept + good.size
-            idx = np.arange(len(tr))  # (T,)
-            rows = (episode_end(tr) - idx >= h) & np.isin(tr.episode, good)  # h successors in the episode
-            if not rows.any():
-                continue
-            t = idx[rows]  # (T',)
-            ahead = t[:, None] + np.arange(1, h + 1)  # (T', h) rows t+1 .. t+h
-            disp = tr.position[ahead] - tr.position[t][:, None, :]  # (T', h, d)
-            cs = np.concatenate([np.zeros((1, self.ctrl_dim)), np.cumsum(tr.action.astype(np.float64), 0)])
-            mean_a = (cs[t + h] - cs[t]) / h  # (T', act) the mean action of steps t .. t+h-1
-            xs.append(np.concatenate([tr.state[t], mean_a], axis=1))  # (T', obs + act)
-            ys.append(disp.reshape(len(t), h * d))  # (T', h, d) -> (T', h d)
-            qs.append(tr.waypoint[t] - tr.position[t])  # (T', d)
-        x = np.concatenate(xs).astype(np.float32) if xs else self._x[:0]
-        dp = np.concatenate(ys).astype(np.float64) if ys else np.zeros((0, h * d))
-        with self._lock:
-            if self.step_scale == 0.0 and dp.shape[0]:  # fixed by the first data (checkpointed)
-                end = np.linalg.norm(dp[:, -d:], axis=1).mean()  # the mean h-step displacement
-                self.step_scale = TARGET_SCALE * float(end) if end > 0 else 1.0
-                self.query_scale = float(np.median(np.linalg.norm(np.concatenate(qs), axis=1))) or 1.0
-            y = np.clip(dp / (self.step_scale or 1.0), -0.99, 0.99).astype(np.float32)  # (N, h d)
-            self.norm.update(x)
-            self._append(x, y)
-            size = self.dataset_size
-        return {"episodes": float(episodes), "kept_episodes": float(kept),
-                "kept_fraction": kept / episodes if episodes else 0.0,
-                "added": float(x.shape[0]), "dataset_size": float(size)}
+        idx = np.arange(len(tr))  # (T,)
+        rows = (episode_end(tr) - idx >= h) & np.isin(tr.episode, good)  # h successors in the episode
+        if not rows.any():
+            return None
+        t = idx[rows]  # (T',)
+        ahead = t[:, None] + np.arange(1, h + 1)  # (T', h) rows t+1 .. t+h
+        disp = tr.position[ahead] - tr.position[t][:, None, :]  # (T', h, d)
+        cs = np.concatenate([np.zeros((1, self.ctrl_dim)), np.cumsum(tr.action.astype(np.float64), 0)])
+        mean_a = (cs[t + h] - cs[t]) / h  # (T', act) the mean action of steps t .. t+h-1
+        return (np.concatenate([tr.state[t], mean_a], axis=1), disp.reshape(len(t), h * d),  # (T', h, d) -> (T', h d)
+                tr.waypoint[t] - tr.position[t])
 
     def predict(self, states: np.ndarray, actions: np.ndarray) -> np.ndarray:
         """``(N, obs)``, ``(N, act)`` -> the displacements ``(N, h, d)`` (float64) with ``actions`` held."""
