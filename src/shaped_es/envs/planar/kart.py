@@ -39,8 +39,8 @@ import numpy as np
 
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
 from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
+from shaped_es.envs.planar.heading import coast_speed, forward, heading_obs, lag, lag_input, wrap
 from shaped_es.envs.planar.task import PlanarTaskConfig
-from shaped_es.envs.planar.unicycle import wrap
 
 ENV_ID = "Kart-v0"
 LOOKAHEAD = 0.3  # the controller's pure-pursuit lookahead past the waypoint (units)
@@ -75,18 +75,13 @@ class KartCore(PlanarCore):
 
     def move(self, state: PlanarState, act: np.ndarray):
         cfg = self.config
-        v = state.vel[:, 0] + cfg.dt * (cfg.accel * act[:, 0] - cfg.damping * state.vel[:, 0])  # (B,)
+        v = lag(state.vel[:, 0], act[:, 0], cfg.accel, cfg.damping, cfg.dt)  # (B,)
         delta = np.clip(state.vel[:, 1] + cfg.dt * cfg.steer_rate * act[:, 1], -cfg.max_steer, cfg.max_steer)
         heading = wrap(state.heading + cfg.dt * v * np.tan(delta) / cfg.wheelbase)  # (B,)
-        pos = state.pos + (cfg.dt * v)[:, None] * np.stack([np.cos(heading), np.sin(heading)], axis=1)
-        return pos, np.stack([v, delta], axis=1), heading
+        return forward(state.pos, heading, cfg.dt * v), np.stack([v, delta], axis=1), heading
 
     def observe(self, state: PlanarState) -> np.ndarray:
-        c, s = np.cos(state.heading), np.sin(state.heading)  # (B,)
-        d = state.goal - state.pos  # (B, 2)
-        ahead, left = c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]  # body frame
-        return np.stack([state.pos[:, 0], state.pos[:, 1], c, s, state.vel[:, 0], state.vel[:, 1], ahead, left],
-                        axis=1).astype(np.float32)
+        return heading_obs(state, state.vel[:, 0], state.vel[:, 1])
 
     def waypoint_controller(self, state: PlanarState, obs: np.ndarray, info: dict) -> np.ndarray:
         """Pedal and wheel rate toward ``info["waypoint"]`` (pure pursuit, looking past it), ``(B, 2)``."""
@@ -104,11 +99,8 @@ class KartCore(PlanarCore):
         curv = np.where(np.cos(angle) > 0, 2 * np.sin(angle) / dist, np.sign(angle) * 1e3)
         delta_des = np.clip(np.arctan(curv * cfg.wheelbase), -cfg.max_steer, cfg.max_steer)
         wheel = (delta_des - state.vel[:, 1]) / (cfg.dt * cfg.steer_rate)
-        v_max = cfg.accel / cfg.damping
-        goal_dist = np.linalg.norm(np.asarray(info["goal"]) - np.asarray(info["position"]), axis=1)
-        brake = np.minimum(1.0, goal_dist * cfg.damping / v_max)  # slow down within the coasting distance
-        v_des = v_max * np.maximum(np.cos(angle), 0.3) * brake
-        pedal = (cfg.damping * v_des + (v_des - state.vel[:, 0]) / (2 * cfg.dt)) / cfg.accel
+        v_des = coast_speed(cfg, info, np.maximum(np.cos(angle), 0.3))
+        pedal = lag_input(state.vel[:, 0], v_des, cfg.accel, cfg.damping, cfg.dt)
         return np.clip(np.stack([pedal, wheel], axis=1), -1.0, 1.0).astype(np.float32)
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
 from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
+from shaped_es.envs.planar.heading import lag
 from shaped_es.envs.planar.task import PlanarTaskConfig, unit_norm
 
 ENV_ID = "PointForce-v0"
@@ -58,7 +59,7 @@ class PointForceCore(PlanarCore):
 
     def move(self, state: PlanarState, act: np.ndarray):
         cfg = self.config
-        vel = state.vel + cfg.dt * (cfg.accel * act - cfg.damping * state.vel)  # (B, 2)
+        vel = lag(state.vel, act, cfg.accel, cfg.damping, cfg.dt)  # (B, 2)
         return state.pos + cfg.dt * vel, vel, state.heading
 
     def observe(self, state: PlanarState) -> np.ndarray:

@@ -37,8 +37,8 @@ import numpy as np
 
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
 from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
+from shaped_es.envs.planar.heading import coast_speed, forward, heading_obs, lag, lag_input, wrap
 from shaped_es.envs.planar.task import PlanarTaskConfig
-from shaped_es.envs.planar.unicycle import wrap
 
 ENV_ID = "Rover-v0"
 REWARD_THRESHOLD = 8.0  # the controller scores 9.07 (200 episodes, min 8.72) less a margin, as Unicycle-v0
@@ -69,18 +69,13 @@ class RoverCore(PlanarCore):
 
     def move(self, state: PlanarState, act: np.ndarray):
         cfg = self.config
-        v = state.vel[:, 0] + cfg.dt * (cfg.accel * act[:, 0] - cfg.damping * state.vel[:, 0])  # (B,)
-        w = state.vel[:, 1] + cfg.dt * (cfg.yaw_accel * act[:, 1] - cfg.yaw_damping * state.vel[:, 1])  # (B,)
+        v = lag(state.vel[:, 0], act[:, 0], cfg.accel, cfg.damping, cfg.dt)  # (B,)
+        w = lag(state.vel[:, 1], act[:, 1], cfg.yaw_accel, cfg.yaw_damping, cfg.dt)  # (B,)
         heading = wrap(state.heading + cfg.dt * w)
-        pos = state.pos + (cfg.dt * v)[:, None] * np.stack([np.cos(heading), np.sin(heading)], axis=1)
-        return pos, np.stack([v, w], axis=1), heading
+        return forward(state.pos, heading, cfg.dt * v), np.stack([v, w], axis=1), heading
 
     def observe(self, state: PlanarState) -> np.ndarray:
-        c, s = np.cos(state.heading), np.sin(state.heading)  # (B,)
-        d = state.goal - state.pos  # (B, 2)
-        ahead, left = c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]  # body frame
-        return np.stack([state.pos[:, 0], state.pos[:, 1], c, s, state.vel[:, 0], state.vel[:, 1], ahead, left],
-                        axis=1).astype(np.float32)
+        return heading_obs(state, state.vel[:, 0], state.vel[:, 1])
 
     def waypoint_controller(self, state: PlanarState, obs: np.ndarray, info: dict, gain_turn: float = 6.0
                             ) -> np.ndarray:
@@ -89,14 +84,11 @@ class RoverCore(PlanarCore):
         cfg = self.config
         d = np.asarray(info["waypoint"]) - np.asarray(info["position"])  # (B, 2)
         angle = wrap(np.arctan2(d[:, 1], d[:, 0]) - state.heading)  # (B,)
-        w_max, v_max = cfg.yaw_accel / cfg.yaw_damping, cfg.accel / cfg.damping
+        w_max = cfg.yaw_accel / cfg.yaw_damping
         w_des = np.clip(gain_turn * angle, -w_max, w_max)
-        goal_dist = np.linalg.norm(np.asarray(info["goal"]) - np.asarray(info["position"]), axis=1)
-        brake = np.minimum(1.0, goal_dist * cfg.damping / v_max)  # slow down within the coasting distance
-        v_des = v_max * np.maximum(np.cos(angle), 0.0) * brake
-        # the input that reaches the target rate in about two steps, with the damping's share held
-        torque = (cfg.yaw_damping * w_des + (w_des - state.vel[:, 1]) / (2 * cfg.dt)) / cfg.yaw_accel
-        thrust = (cfg.damping * v_des + (v_des - state.vel[:, 0]) / (2 * cfg.dt)) / cfg.accel
+        v_des = coast_speed(cfg, info, np.maximum(np.cos(angle), 0.0))
+        torque = lag_input(state.vel[:, 1], w_des, cfg.yaw_accel, cfg.yaw_damping, cfg.dt)
+        thrust = lag_input(state.vel[:, 0], v_des, cfg.accel, cfg.damping, cfg.dt)
         return np.clip(np.stack([thrust, torque], axis=1), -1.0, 1.0).astype(np.float32)
 
 

@@ -33,13 +33,13 @@ frame" and "A rival frame inside the run").
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from shaped_es.envs.planar.core import PlanarCore, PlanarState
 from shaped_es.envs.planar.env import PlanarEnv, config_maker, entry_points
+from shaped_es.envs.planar.heading import forward, heading_obs, wrap
 from shaped_es.envs.planar.task import PlanarTaskConfig
 
 ENV_ID = "Unicycle-v0"
@@ -61,26 +61,16 @@ PRESETS = {"default": UnicycleConfig()}
 make_config = config_maker(ENV_ID, PRESETS)
 
 
-def wrap(angle: np.ndarray) -> np.ndarray:
-    """Angles wrapped to ``[-pi, pi)``."""
-    return (angle + math.pi) % (2 * math.pi) - math.pi
-
-
 class UnicycleCore(PlanarCore):
     obs_dim = 6
 
     def move(self, state: PlanarState, act: np.ndarray):
         cfg = self.config
         heading = wrap(state.heading + cfg.turn_rate * act[:, 1])  # (B,)
-        step = cfg.speed * act[:, 0]  # (B,)
-        pos = state.pos + step[:, None] * np.stack([np.cos(heading), np.sin(heading)], axis=1)
-        return pos, state.vel, heading
+        return forward(state.pos, heading, cfg.speed * act[:, 0]), state.vel, heading
 
     def observe(self, state: PlanarState) -> np.ndarray:
-        c, s = np.cos(state.heading), np.sin(state.heading)  # (B,)
-        d = state.goal - state.pos  # (B, 2)
-        ahead, left = c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]  # body frame
-        return np.stack([state.pos[:, 0], state.pos[:, 1], c, s, ahead, left], axis=1).astype(np.float32)
+        return heading_obs(state)
 
     def waypoint_controller(self, state: PlanarState, obs: np.ndarray, info: dict) -> np.ndarray:
         """Turn toward ``info["waypoint"]``, drive at ``max(cos angle, 0)`` of full speed, ``(B, 2)``."""
