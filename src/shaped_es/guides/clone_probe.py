@@ -25,6 +25,7 @@ from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task
+from shaped_es.shaping.forward_shoot import ShootLabels, shoot_model
 from shaped_es.shaping.labels import LabelSource
 from shaped_es.shaping.population_fit import FitTask, fit_rows
 
@@ -68,3 +69,17 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
             S_all = np.concatenate([S_all, s_new]) if len(S_all) else s_new  # (N + N', obs)
             A_all = np.concatenate([A_all, a_new]) if len(A_all) else a_new  # (N + N', act)
     return rets, steps
+
+
+def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: int, mphi_cfg, seeds: np.ndarray,
+                key: int) -> tuple[np.ndarray, int]:
+    """The shooting labels' simulated candidate (:func:`clone_rounds`) on the label probe's data (``data``:
+    its recorded steps per generation): its returns ``(E,)`` and env steps. On ReacherWay-v0 and
+    SwimmerWay-v0 it drives worse than zero action (their gaits and whipping arms are no held action's
+    path), where its candidate only adds a lucky row to each generation's pick; on the planar bodies far
+    better (``docs/benchmarks/suite_bodies_v7``)."""
+    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, cfg.shaping.inverse_dynamics.shoot_horizon)
+    for trs in data:
+        m.add(trs)
+        m.train()
+    return clone_rounds(cfg, spec, x0, [t for g in data for t in g], ShootLabels(m), seeds, key)

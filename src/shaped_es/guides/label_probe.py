@@ -62,9 +62,8 @@ from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, run_task, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
-from shaped_es.shaping.forward_shoot import ShootLabels, shoot_model
 from shaped_es.shaping.frames import rotate
-from shaped_es.guides.clone_probe import ROUNDS, clone_rounds
+from shaped_es.guides.clone_probe import ROUNDS, clone_rounds, shoot_clone
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.mphi_inputs import mixed_query
@@ -314,19 +313,6 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on)
-
-
-def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: int, mphi_cfg, seeds: np.ndarray,
-                key: int) -> tuple[np.ndarray, int]:
-    """The shooting labels' simulated candidate (``clone_probe.clone_rounds``) on the probe's data: its
-    returns ``(E,)`` and env steps. On ReacherWay-v0 and SwimmerWay-v0 it drives worse than zero action
-    (their gaits and whipping arms are no held action's path), where its candidate only adds a lucky row
-    to each generation's pick; on the planar bodies far better (``docs/benchmarks/suite_bodies_v7``)."""
-    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, cfg.shaping.inverse_dynamics.shoot_horizon)
-    for trs in data:
-        m.add(trs)
-        m.train()
-    return clone_rounds(cfg, spec, x0, [t for g in data for t in g], ShootLabels(m), seeds, key)
 
 
 def parse(raw: bytes) -> ProbeResult:

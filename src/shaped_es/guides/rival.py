@@ -130,3 +130,10 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
                             cfg.seed)
         out.append(Rival(SHOOT, "shooting", track, "shoot/", "shoot/parts"))
     return out
+
+
+def names(rivals: list[Rival]) -> str:
+    """The run's line about its rivals: ``"; rival candidates (a, b and c) run beside it"`` (none: "")."""
+    n = [r.name for r in rivals]
+    return f"; rival candidates ({' and '.join(filter(None, [', '.join(n[:-1]), n[-1]]))}) run beside it" if n else ""
+

@@ -84,7 +84,7 @@ from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.rival import rivals
+from shaped_es.guides.rival import names as rival_names, rivals
 from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # noqa: F401 (FIT_TEST_ROWS)
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
@@ -136,10 +136,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot)
         if probe_line:  # the probe's choice, and the rivals beside it
-            names = [r.name for r in self.rivals]
-            names = " and ".join(filter(None, [", ".join(names[:-1]), names[-1]])) if names else ""
-            rival = f"; rival candidates ({names}) run beside it" if names else ""
-            print(f"shaped-es: {probe_line}{rival}", file=sys.stderr)
+            print(f"shaped-es: {probe_line}{rival_names(self.rivals)}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
@@ -207,8 +204,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             self._babblers = 0
             return None
         mech = self.mechanism.extra_members(generation)
-        bab = None if self.mphi is None or self.budget.sleeps else babbling_policies(self.sh.inverse_dynamics, self.cfg.seed,
-                                                                generation, self.spec.num_params)  # (b, n)
+        bab = None if self.mphi is None or self.budget.sleeps else babbling_policies(
+            self.sh.inverse_dynamics, self.cfg.seed, generation, self.spec.num_params)  # (b, n)
         self._babblers = 0 if bab is None else bab.shape[0]
         if bab is None:
             return mech
@@ -343,17 +340,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         first time."""
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
-            b = self.budget
-            oracle = "shaping.labels=controller or " if self.has_controller else ""
-            print(f"shaped-es: note: the labels' candidate lost {b.patience} judged generations in a row (won "
-                  f"{b.accepted} of {b.judged} so far): shaping backs off -- it sleeps {b.asleep_left} generations, "
-                  f"then tries again (longer sleeps while it keeps losing; column shaping_awake), each sleeping "
-                  f"generation at the ES strategy's own price. A run still improving has outpaced its labels; "
-                  f"if they never win on this env, `shaped-es check-env {self.cfg.env} --labels` shows whether its labels "
-                  f"drive the body at all; compare {oracle}--method vanilla / cmaes (the "
-                  f"same labels run over Vanilla-ES with --method shaped, over CMA-ES with --method shaped_cmaes: "
-                  f"pick the base whose baseline is faster on this env; docs/benchmarks/shaped_cmaes_suite)",
-                  file=sys.stderr)
+            print(f"shaped-es: note: {self.budget.note(self.cfg.env, self.has_controller)}", file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:

@@ -33,7 +33,7 @@ from itertools import product
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.shaping.forward_servo import ForwardServo, TARGET_SCALE
+from shaped_es.shaping.forward_servo import ForwardServo
 from shaped_es.shaping.labels import LabelSource
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.inverse_dynamics import RunningNorm
