@@ -124,6 +124,11 @@ class InverseDynamicsSettings(_Strict):
         "of bodies whose action shows in the position only after a few steps: inertia, a steered wheel); with "
         "frame auto the label probe keeps it only where its simulated candidate beats zero action")
     shoot_horizon: Int = Field(4, ge=1, le=64, description="the shooting labels' horizon: steps an action is held")
+    shoot_probe_horizons: tuple[Annotated[Int, Field(ge=1, le=64)], ...] = Field(
+        (8, 16), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
+        "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "
+        "the frame's choice): a body whose action shows in its position only after many steps (a drone's tilt "
+        "rate) needs a longer look; (): shoot_horizon only")
     servo_gain: Float = Field(1.0, gt=0, description="the servo's gain k (its error in units of the median "
                               "query distance q, its action direction of unit norm)")
     servo_damping: Float = Field(3.0, ge=0, description="the servo's damping c: the predicted no-action step "

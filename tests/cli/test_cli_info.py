@@ -124,12 +124,16 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert lines[-2].startswith("labels: with seed 0 a shaped run picks frame=")
     assert lines[-2].endswith("; each run probes with its own seed")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
-    assert "the shooting labels' simulated candidate scores" in lines[-1] and "a run keeps that rival" in lines[-1]
+    assert "the shooting labels' simulated candidate (actions held " in lines[-1]
+    assert "a run keeps that rival" in lines[-1]
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
     assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
     assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0 and out["labels"]["seed"] == 0
     assert len(out["labels"]["shoot"]) == 10 and out["labels"]["shoot_on"] is True  # the point: kept
+    # every probed horizon's candidate, and the chosen one's returns are its
+    tried = out["labels"]["shoot_tried"]
+    assert set(tried) == {"4", "8", "16"} and tried[str(out["labels"]["shoot_horizon"])] == out["labels"]["shoot"]
     text = _out(capsys, ["check-env", "CartPole-v1", "--labels"]).out
     assert text.strip().splitlines()[-1].startswith("labels: no waypoint contract")
     out = json.loads(_out(capsys, ["check-env", "CartPole-v1", "--labels", "--json"]).out)

@@ -166,7 +166,9 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "env_steps": "x"}), json.dumps({**GOOD, "extra": 1}),
                                   json.dumps({**GOOD, "clones": [1.0]}), json.dumps({**GOOD, "clones": {"both": 1}}),
                                   json.dumps({**GOOD, "shoot": 1.0}), json.dumps({**GOOD, "shoot_on": "yes"}),
-                                  json.dumps({**GOOD, "shoot_on": 1}),
+                                  json.dumps({**GOOD, "shoot_on": 1}), json.dumps({**GOOD, "shoot_horizon": 0}),
+                                  json.dumps({**GOOD, "shoot_horizon": True}), json.dumps({**GOOD, "shoot_horizon": "8"}),
+                                  json.dumps({**GOOD, "shoot_horizon": 65}), json.dumps({**GOOD, "shoot_tried": [1.0]}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
@@ -185,6 +187,48 @@ def test_a_saved_probe_parses():
     assert label_probe.parse(json.dumps(GOOD).encode()).frame == "both"
     assert label_probe.parse(json.dumps(GOOD).encode()).shoot_on is None  # a probe from before the gate
     assert label_probe.parse(json.dumps({**GOOD, "shoot": [1.0], "shoot_on": False}).encode()).shoot_on is False
+    assert label_probe.parse(json.dumps(GOOD).encode()).shoot_horizon is None  # before the horizon's choice
+
+
+def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monkeypatch):
+    """Each probed horizon's simulated candidate is kept in the result; a longer horizon replaces the
+    default only where its candidate is clearly better, and the gate judges the chosen one."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.shaped_setup import mphi_config
+    from shaped_es.policies import MLPSpec
+
+    drives = {4: np.full(10, -3.0), 8: np.linspace(5.0, 6.0, 10), 16: np.linspace(5.0, 6.0, 10) - 0.5}
+    seen = []
+
+    def fake(cfg, spec, x0, data, pos_dim, mphi_cfg, seeds, key, horizon=None):
+        seen.append((horizon, key))
+        return drives[horizon], 7
+
+    monkeypatch.setattr(label_probe, "shoot_clone", fake)
+    cfg = build_config(POINT)
+    spec = MLPSpec(4, 2, (4,))
+    res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
+    assert [h for h, _ in seen] == [4, 8, 16] and len({k for _, k in seen}) == 3  # own minibatch streams
+    assert res.shoot_horizon == 8 and res.shoot == list(drives[8]) and res.shoot_on is True
+    assert set(res.shoot_tried) == {"4", "8", "16"} and "holding actions 8 steps" in res.line()
+    drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
+    seen.clear()
+    res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
+    assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
+    seen.clear()
+    one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
+    res = label_probe.probe(one, spec, 2, mphi_config(one, 2))
+    assert [h for h, _ in seen] == [8] and res.shoot_horizon == 8 and res.shoot_tried == {}
+
+
+def test_a_run_holds_the_shooting_labels_for_the_probes_horizon(tmp_path):
+    """The probe file's horizon is the shooting rival's model's (a resume reads the same file)."""
+    cfg, store = new_run(tmp_path / "run", POINT)
+    saved = {**GOOD, "returns": {"both": [1.0]}, "shoot": [1.0], "shoot_on": True, "shoot_horizon": 16}
+    (tmp_path / "run" / FILE).write_text(json.dumps(saved))
+    guide = Trainer(cfg, store, progress=False).guide
+    shoot = [r for r in guide.rivals if r.name == "shooting"]
+    assert len(shoot) == 1 and shoot[0].track.mphi.horizon == 16
 
 
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):

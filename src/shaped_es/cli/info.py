@@ -265,7 +265,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
     checks = check_env(a.env_id, parse_set(a.set), episodes=a.episodes, max_steps=a.max_steps)
     methods = trains_with(checks)
     failed = any(c.status == FAIL for c in checks)
-    from shaped_es.guides.label_probe import check_labels, clip_text
+    from shaped_es.guides.label_check import check_labels
+    from shaped_es.guides.label_probe import clip_text
 
     labels = None
     if a.labels and "shaped" in methods:

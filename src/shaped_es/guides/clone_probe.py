@@ -72,13 +72,13 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
 
 
 def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: int, mphi_cfg, seeds: np.ndarray,
-                key: int) -> tuple[np.ndarray, int]:
+                key: int, horizon: int | None = None) -> tuple[np.ndarray, int]:
     """The shooting labels' simulated candidate (:func:`clone_rounds`) on the label probe's data (``data``:
     its recorded steps per generation): its returns ``(E,)`` and env steps. On ReacherWay-v0 and
     SwimmerWay-v0 it drives worse than zero action (their gaits and whipping arms are no held action's
     path), where its candidate only adds a lucky row to each generation's pick; on the planar bodies far
-    better (``docs/benchmarks/suite_bodies_v7``)."""
-    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, cfg.shaping.inverse_dynamics.shoot_horizon)
+    better (``docs/benchmarks/suite_bodies_v7``). ``horizon``: the steps an action is held (None: the config's)."""
+    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, horizon or cfg.shaping.inverse_dynamics.shoot_horizon)
     for trs in data:
         m.add(trs)
         m.train()

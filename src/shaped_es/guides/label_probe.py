@@ -35,7 +35,11 @@ With ``rival_shoot`` on, the probe also simulates the candidate of the shooting 
 (``shaping/forward_shoot.py``: the held action whose predicted path passes nearest the waypoint) and keeps
 that rival for the run only where its candidate drives the body better than zero action, by two paired
 standard errors (``ProbeResult.shoot_on``; ``guides/rival.py``): on the Reacher and the swimmer it drives
-worse, and a rival that never wins still adds a lucky row to each generation's pick.
+worse, and a rival that never wins still adds a lucky row to each generation's pick. It simulates that
+candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_horizons``, and takes the
+horizon whose candidate beats the default's by the frame's test (``ProbeResult.shoot_horizon``): a drone
+steered by its tilt rate moves toward the waypoint only after 8-16 steps, where 4 show nothing
+(``docs/benchmarks/shoot_horizon_v8``).
 
 The probe is seeded by the run's seed, takes 0.4-3 s on the built-in envs once the shaping kernels are
 compiled (the first run after an install compiles them: a few seconds more), and its env steps and wall time
@@ -97,6 +101,10 @@ class ProbeResult:
     # and whether the run keeps the shooting rival (None: not probed, the config decides)
     shoot: list[float] = field(default_factory=list)
     shoot_on: bool | None = None
+    # the horizon the shooting rival holds its actions for (None: not probed, the config's shoot_horizon), and
+    # each horizon's simulated candidate where the probe tried several (shoot_probe_horizons)
+    shoot_horizon: int | None = None
+    shoot_tried: dict[str, list[float]] = field(default_factory=dict)
 
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
@@ -105,7 +113,10 @@ class ProbeResult:
         clones = f"; its clone's return: {clones}" if clones else ""
         shoot = ""
         if self.shoot and self.zero_action:
-            shoot = (f"; the shooting labels' clone {np.mean(self.shoot):.2f}: "
+            tried = ", ".join(f"{k} steps {np.mean(v):.2f}" for k, v in self.shoot_tried.items())
+            at = f" holding actions {self.shoot_horizon} steps" if self.shoot_horizon else ""
+            at += f" (held {tried})" if tried else ""
+            shoot = (f"; the shooting labels' clone{at} {np.mean(self.shoot):.2f}: "
                      f"{'kept' if self.shoot_on else 'dropped'} as a rival (beats zero action by 2 paired standard "
                      f"errors: {'yes' if self.shoot_on else 'no'})")
         return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
@@ -304,15 +315,23 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         steps += n
     zero, n = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
     steps += n
-    shoot, shoot_on = [], None
-    if cfg.shaping.inverse_dynamics.rival_shoot:  # the shooting rival is kept only where its clone drives
-        r, n = shoot_clone(cfg, spec, x0, data, pos_dim, mphi_cfg, seeds, len(clones))
-        shoot, shoot_on, steps = [float(v) for v in r], beats(r, zero)[0], steps + n
+    shoot, shoot_on, horizon, tried = [], None, None, {}
+    mp = cfg.shaping.inverse_dynamics
+    if mp.rival_shoot:  # the shooting rival is kept only where its clone drives, at the horizon that drives best
+        for i, h in enumerate(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))):
+            r, n = shoot_clone(cfg, spec, x0, data, pos_dim, mphi_cfg, seeds, len(clones) + i, h)
+            tried[str(h)], steps = [float(v) for v in r], steps + n
+        seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), *tried.values(), zero)])
+        scale = float(seen.max() - seen.min())
+        best, _ = _best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
+                                lambda a, b: clone_beats(a, b, scale))
+        horizon, shoot = int(best), tried[best]
+        shoot_on = beats(np.array(shoot), zero)[0]
     name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
                           {k: np.array(v) for k, v in clones.items()})
     frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
-                       clones, shoot, shoot_on)
+                       clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {})
 
 
 def parse(raw: bytes) -> ProbeResult:
@@ -335,6 +354,10 @@ def parse(raw: bytes) -> ProbeResult:
          "clones"),
         (isinstance(d.get("shoot", []), list), "shoot"),
         (d.get("shoot_on") is None or isinstance(d.get("shoot_on"), bool), "shoot_on"),
+        (d.get("shoot_horizon") is None or (type(d.get("shoot_horizon")) is int and 1 <= d["shoot_horizon"] <= 64),
+         "shoot_horizon"),
+        (isinstance(d.get("shoot_tried", {}), dict)
+         and all(isinstance(v, list) for v in d.get("shoot_tried", {}).values()), "shoot_tried"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
@@ -355,42 +378,3 @@ def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
     res = probe(cfg, spec, pos_dim, mphi_cfg)
     atomic_write_text(path, json.dumps(asdict(res), indent=1))
     return res, True
-
-
-def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
-    """``shaped-es check-env ID --labels``: the probe a shaped run with ``frame: auto`` would run, and the
-    zero-action policy on the same episodes. Returns ``{"chosen", "returns", "zero_action", "verdict"}``."""
-    from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
-    from shaped_es.config import build_config
-    from shaped_es.rollout import policy_spec, probe_env
-
-    cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
-    env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
-    spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
-    if pos_dim < 2:
-        return {"env": env_id, "zero_action": [],
-                "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
-    res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
-    out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
-    best = variant_name(res.frame, res.query_clip)
-    gain, se = paired(res.returns[best], res.zero_action)
-    if gain > 2 * se:
-        verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
-                   f"enough: a run accepts a candidate only where it beats the ES mean, which soon beats zero "
-                   f"action too; the run's rival frame and servo candidates are not probed here)")
-    elif -gain > 2 * se:
-        verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
-                   f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
-                   f"{'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla / cmaes")
-    else:
-        verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
-                   f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
-                   f"they keep losing)")
-    if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
-        verdict += (f"; the shooting labels' simulated candidate scores {np.mean(res.shoot):.2f} against zero "
-                    f"action's {np.mean(res.zero_action):.2f}: a run {'keeps' if res.shoot_on else 'drops'} that rival")
-    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
-            "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
-            "env_steps": res.env_steps, "seconds": res.seconds,
-            "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
-    return out

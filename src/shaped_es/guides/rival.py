@@ -112,9 +112,10 @@ def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int
 
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
-           shoot: bool | None = None) -> list[Rival]:
+           shoot: bool | None = None, shoot_horizon: int | None = None) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
-    probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides)."""
+    probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides), and
+    ``shoot_horizon`` the horizon it chose (None: the config's)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -126,8 +127,8 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         track.labels.gain, track.labels.damping = float(mp.servo_gain), float(mp.servo_damping)
         out.append(Rival(SERVO, "servo", track, "servo/", "servo/parts"))
     if shoot_on(cfg) and shoot is not False:
-        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, cfg.shaping.inverse_dynamics.shoot_horizon, root,
-                            cfg.seed)
+        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg,
+                            shoot_horizon or cfg.shaping.inverse_dynamics.shoot_horizon, root, cfg.seed)
         out.append(Rival(SHOOT, "shooting", track, "shoot/", "shoot/parts"))
     return out
 

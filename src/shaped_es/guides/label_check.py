@@ -1,0 +1,49 @@
+"""``shaped-es check-env ID --labels``: the label probe a shaped run with ``frame: auto`` would run
+(``guides/label_probe.py``), with a verdict a user can act on."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shaped_es.guides.label_probe import EPISODES, paired, probe, variant_name
+
+
+def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
+    """``shaped-es check-env ID --labels``: the probe a shaped run with ``frame: auto`` would run, and the
+    zero-action policy on the same episodes. Returns ``{"chosen", "returns", "zero_action", "verdict"}``."""
+    from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
+    from shaped_es.config import build_config
+    from shaped_es.rollout import policy_spec, probe_env
+
+    cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
+    env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
+    spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
+    if pos_dim < 2:
+        return {"env": env_id, "zero_action": [],
+                "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
+    res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
+    out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
+    best = variant_name(res.frame, res.query_clip)
+    gain, se = paired(res.returns[best], res.zero_action)
+    if gain > 2 * se:
+        verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
+                   f"enough: a run accepts a candidate only where it beats the ES mean, which soon beats zero "
+                   f"action too; the run's rival frame and servo candidates are not probed here)")
+    elif -gain > 2 * se:
+        verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
+                   f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
+                   f"{'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla / cmaes")
+    else:
+        verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
+                   f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
+                   f"they keep losing)")
+    if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
+        verdict += (f"; the shooting labels' simulated candidate (actions held {res.shoot_horizon} steps) "
+                    f"scores {np.mean(res.shoot):.2f} against zero "
+                    f"action's {np.mean(res.zero_action):.2f}: a run {'keeps' if res.shoot_on else 'drops'} that rival")
+    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
+            "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
+            "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
+            "env_steps": res.env_steps, "seconds": res.seconds,
+            "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
+    return out
