@@ -8,6 +8,7 @@ accepted. Prints JSON.
 Where the runs are: a seed whose probe chose the 4-step horizon and kept or dropped the rival as before
 runs the code path of ``../suite_bodies_v7`` (its "with" arm stands for it); the seeds whose probe chose
 another horizon or changed its verdict (``gate.txt``) ran again at this code: ``suite/TASK/runs/``.
+Seeds 10-19 of Kart-v0 and UR5Reach-v0 the same way (``gate_10_19.txt``, ``suite_10_19/``, ``v7_10_19/``).
 """
 
 from __future__ import annotations
@@ -49,4 +50,38 @@ for task in v7.TASKS:
 geo = lambda k: float(np.exp(np.mean([np.log(out[t][k]) for t in v7.TASKS])))  # noqa: E731
 out["geomean_over_vanilla"] = {"fixed_4": round(geo("fixed_over_vanilla"), 3),
                                "probed_4_8_16": round(geo("probed_over_vanilla"), 3)}
+
+
+def seeds_10_19(task: str) -> dict:
+    """Seeds 10-19 and 0-19: the probed horizon's runs (``suite_10_19/`` where the probe changed the
+    ninth session's choice, else that session's run, ``v7_10_19/``) against Vanilla-ES's and CMA-ES's
+    (UR5Reach-v0: ``../suite_waypoints_v6/seeds_10_19``; Kart-v0: ``v7_10_19``), ratios of means with a
+    95% bootstrap interval (seeds resampled in pairs)."""
+    t, b = sc.THRESHOLDS[task], sc.BUDGET[task]
+    base = HERE.parent / "suite_waypoints_v6" / "seeds_10_19" if task == "UR5Reach-v0" else HERE / "v7_10_19"
+    def run(arm, s):
+        p = HERE / "suite_10_19" / task / "runs" / f"shaped_s{s}" / "metrics.csv"
+        if arm == "shaped" and not p.exists():
+            p = HERE / "v7_10_19" / task / "runs" / f"shaped_s{s}" / "metrics.csv"
+        elif arm != "shaped":
+            p = base / task / "runs" / f"{arm}_s{s}" / "metrics.csv"
+        return sc.one(p, t, b) if p.exists() else None
+    res = {}
+    for arm in ("shaped", "vanilla", "cmaes"):
+        got = [run(arm, s) for s in range(10, 20)]
+        if all(got):
+            res[arm] = {"gens_per_seed": [x["gens"] for x in got], "late": round(float(np.mean([x["late"] for x in got])), 2)}
+    rng = np.random.default_rng(0)
+    a = np.array(out[task]["probed_4_8_16"]["gens_per_seed"] + res["shaped"]["gens_per_seed"], float)
+    for arm in ("vanilla", "cmaes"):
+        if arm not in res:
+            continue
+        v = np.array(out[task][arm]["gens_per_seed"] + res[arm]["gens_per_seed"], float)
+        boot = [a[i].mean() / v[i].mean() for i in (rng.integers(0, 20, 20) for _ in range(4000))]
+        res[f"0_19_over_{arm}"] = [round(a.mean() / v.mean(), 3), *np.percentile(boot, [2.5, 97.5]).round(2).tolist()]
+    res["0_19_gens"] = round(float(a.mean()), 2)
+    return res
+
+
+out["seeds_10_19"] = {task: seeds_10_19(task) for task in ("Kart-v0", "UR5Reach-v0")}
 print(json.dumps(out, indent=1))
