@@ -167,7 +167,8 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "clones": [1.0]}), json.dumps({**GOOD, "clones": {"both": 1}}),
                                   json.dumps({**GOOD, "shoot": 1.0}), json.dumps({**GOOD, "shoot_on": "yes"}),
                                   json.dumps({**GOOD, "shoot_on": 1}), json.dumps({**GOOD, "shoot_horizon": 0}),
-                                  json.dumps({**GOOD, "shoot_horizon": True}), json.dumps({**GOOD, "shoot_horizon": "8"}),
+                                  json.dumps({**GOOD, "shoot_horizon": True}),
+                                  json.dumps({**GOOD, "shoot_horizon": "8"}),
                                   json.dumps({**GOOD, "shoot_horizon": 65}), json.dumps({**GOOD, "shoot_tried": [1.0]}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):

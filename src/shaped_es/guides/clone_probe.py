@@ -78,7 +78,8 @@ def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: in
     SwimmerWay-v0 it drives worse than zero action (their gaits and whipping arms are no held action's
     path), where its candidate only adds a lucky row to each generation's pick; on the planar bodies far
     better (``docs/benchmarks/suite_bodies_v7``). ``horizon``: the steps an action is held (None: the config's)."""
-    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, horizon or cfg.shaping.inverse_dynamics.shoot_horizon)
+    h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
+    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h)
     for trs in data:
         m.add(trs)
         m.train()
