@@ -205,7 +205,7 @@ class RunLoop:
         self.store.check_writable_layout(self.columns(), self.cfg.tensorboard)
         loaded = self.store.load_checkpoint()
         if loaded is None:
-            self._repair = self.store.prepare_recovery(loaded=None)[1]
+            self._repair = self.store.prepare_recovery(loaded=None, uncheckpointed=self.cfg.checkpoint_every)[1]
             return False
         arrays, meta = loaded
         where = f"checkpoint gen_{meta['generation']:06d} in {self.store.ckpt_dir}"

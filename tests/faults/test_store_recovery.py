@@ -68,12 +68,14 @@ def test_a_damaged_newest_checkpoint_is_an_error_not_a_silent_fallback(tmp_path)
     store = _store(tmp_path)
     (store.ckpt_dir / "gen_000003.npz").write_bytes(b"")
     before = store.metrics_path.read_bytes()
-    with store.lock(), pytest.raises(StoreError, match="gen_000003.*delete gen_000003.npz, gen_000003.json "
-                                                       "and latest.json to resume from gen_000002"):
+    with store.lock(), pytest.raises(StoreError, match="gen_000003.*move gen_000003.npz, gen_000003.json "
+                                                       "and latest.json out of .* to resume from gen_000002"):
         store.recover()
     assert store.metrics_path.read_bytes() == before  # nothing changed
+    aside = tmp_path / "aside"
+    aside.mkdir()
     for name in ("gen_000003.npz", "gen_000003.json", "latest.json"):  # the line's advice, followed
-        (store.ckpt_dir / name).unlink()
+        (store.ckpt_dir / name).rename(aside / name)
     with store.lock():
         store.recover()
     assert store.load_checkpoint()[1]["generation"] == 2
@@ -108,3 +110,18 @@ def test_rows_the_checkpoint_covers_must_be_there_and_nothing_changes_if_not(tmp
     with store.lock(), pytest.raises(StoreError, match=f"{what} {covers}"):
         store.recover()
     assert {p: p.read_bytes() for p in store.root.rglob("*") if p.is_file()} == before
+
+
+def test_rows_past_the_first_checkpoint_without_any_checkpoint_are_an_error(tmp_path):
+    """Checkpoints deleted by hand: going on would start at generation 0 and drop every row. A run
+    killed before its first checkpoint (rows of the first interval only) still recovers."""
+    store = _store(tmp_path, gens=(), rows=0)
+    for g in range(4):
+        store.append_metrics({"generation": g})
+    before = store.metrics_path.read_bytes()
+    with store.lock(), pytest.raises(StoreError, match="holds no checkpoint, but .* generations 0-3 .* every 2 gen"):
+        store.prepare_recovery(uncheckpointed=2)
+    assert store.metrics_path.read_bytes() == before  # nothing changed
+    with store.lock():
+        store.prepare_recovery(uncheckpointed=4)[1]()  # the first 4 rows may precede a first checkpoint at 4
+    assert store.metrics_path.read_bytes() != before  # the rows no checkpoint covers are dropped, as before

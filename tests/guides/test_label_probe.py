@@ -211,11 +211,12 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert [h for h, _ in seen] == [4, 8, 16] and len({k for _, k in seen}) == 3  # own minibatch streams
     assert res.shoot_horizon == 8 and res.shoot == list(drives[8]) and res.shoot_on is True
-    assert set(res.shoot_tried) == {"4", "8", "16"} and "holding actions 8 steps" in res.line()
+    assert set(res.shoot_tried) == {"4", "8", "16"} and "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in res.line()
     drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
+    assert "(actions held 4 steps: no longer horizon's clone is clearly better: 8 steps" in res.line()
     seen.clear()
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))
@@ -241,3 +242,33 @@ def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):
     seeds = np.array([5, 6])
     r, steps = label_probe.drive(cfg, lambda s, q: np.zeros((s.shape[0], 2), np.float32), "both", seeds)
     assert r.shape == (2,) and steps > 0
+
+
+def test_a_probe_file_whose_horizon_differs_from_the_checkpoints_names_the_probe_file(tmp_path):
+    """Its shooting horizon edited after the run: the checkpoint's model no longer fits, and the error names
+    the rival and the probe file (not the checkpoint, which every older one would fail alike), moving
+    nothing; with every checkpoint gone, the run refuses instead of starting over."""
+    from shaped_es.rundir.atomic import StoreError
+
+    train(tmp_path / "run", {**POINT, "generations": 3})
+    path = tmp_path / "run" / FILE
+    saved = json.loads(path.read_text())
+    if not saved.get("shoot_on"):
+        pytest.skip("the probe dropped the shooting rival on this seed")
+    saved["shoot_horizon"] = 16 if saved["shoot_horizon"] != 16 else 8
+    path.write_text(json.dumps(saved))
+    from shaped_es.config import build_config, merge
+    from shaped_es.rundir.store import RunStore
+
+    store = RunStore(tmp_path / "run")
+    cfg = build_config(merge(store.read_config().model_dump(mode="json"), {"generations": 4}))  # a resume's
+    before = sorted(p.name for p in store.ckpt_dir.iterdir())
+    with pytest.raises(StoreError, match="the shooting rival's model: .*label_probe.json.*move .* out of"):
+        Trainer(cfg, store, progress=False).run()
+    assert sorted(p.name for p in store.ckpt_dir.iterdir()) == before
+    rows = store.metrics_path.read_bytes()
+    for p in store.ckpt_dir.iterdir():
+        p.unlink()
+    with pytest.raises(StoreError, match="holds no checkpoint, but .* generations 0-2"):
+        Trainer(cfg, store, progress=False).run()
+    assert store.metrics_path.read_bytes() == rows

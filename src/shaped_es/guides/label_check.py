@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import EPISODES, paired, probe, variant_name
+from shaped_es.guides.label_probe import EPISODES, horizon_text, paired, probe, variant_name
 
 
 def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
@@ -38,7 +38,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
                    f"they keep losing)")
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
-        verdict += (f"; the shooting labels' simulated candidate (actions held {res.shoot_horizon} steps) "
+        verdict += (f"; the shooting labels' simulated candidate {horizon_text(res)} "
                     f"scores {np.mean(res.shoot):.2f} against zero "
                     f"action's {np.mean(res.zero_action):.2f}: a run {'keeps' if res.shoot_on else 'drops'} that rival")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},

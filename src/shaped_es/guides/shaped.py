@@ -378,7 +378,11 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.track.restore(state, "mphi/", "mphi_parts")  # the data set lives in RUN/mphi_data
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
         for r in self.rivals:  # a checkpoint from before a rival: it starts afresh
-            r.track.restore(state, r.prefix, r.parts_key, optional=True)
+            try:
+                r.track.restore(state, r.prefix, r.parts_key, optional=True)
+            except ValueError as exc:  # its shape comes from the config and the probe's choices, not the checkpoint
+                raise ValueError(f"the {r.name} rival's model: {exc} (the run that wrote it had another setup: "
+                                 f"its config or RUN/{PROBE_FILE}, which holds the shooting labels' horizon)") from None
         self.labels.max_displacement = self.labels_max_displacement()
 
     def close(self) -> None:

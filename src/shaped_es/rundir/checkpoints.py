@@ -134,15 +134,18 @@ class CheckpointFiles:
         return {k: v for k, v in arrays.items() if not k.startswith(BIND_PREFIX)}, meta
 
     def fallback_hint(self, g: int) -> str:
-        """``; delete gen_G.npz and gen_G.json [and latest.json] to resume from gen_F`` (the newest
-        checkpoint before ``g``), or "" without one: what to do when checkpoint ``g`` cannot be taken
-        (``latest.json`` too where it names ``g``: it would then name a missing checkpoint)."""
+        """``; if only this checkpoint is damaged, move gen_G.npz and gen_G.json [and latest.json] out of
+        DIR to resume from gen_F`` (the newest checkpoint before ``g``), or "" without one: what to do when
+        checkpoint ``g`` cannot be taken (``latest.json`` too where it names ``g``: it would then name a
+        missing checkpoint). Moved, not deleted: where every checkpoint fails alike, the run's setup changed
+        (its config, ``label_probe.json``), not the checkpoint, and moving them back loses nothing."""
         older = [x for x in self.checkpoints() if x < g]
         name = f"gen_{g:06d}"
         named = self._latest_named() if self.ckpt_dir.is_dir() else None
         files = f"{name}.npz, {name}.json and latest.json" if named is not None and named >= g \
             else f"{name}.npz and {name}.json"
-        return f"; delete {files} to resume from gen_{older[-1]:06d}" if older else ""
+        return (f"; if only this checkpoint is damaged, move {files} out of {self.ckpt_dir} to resume from "
+                f"gen_{older[-1]:06d}") if older else ""
 
     def _foreign(self, arrays: dict[str, np.ndarray], meta: dict, g: int) -> str | None:
         """Why generation ``g``'s checkpoint (``arrays`` and ``meta`` as loaded) is not this run's own,

@@ -92,7 +92,7 @@ class Recovery:
         repair()
         return loaded
 
-    def prepare_recovery(self, loaded: Any = ...):
+    def prepare_recovery(self, loaded: Any = ..., uncheckpointed: int | None = None):
         """Check what :meth:`recover` repairs and delete what a killed writer left (temporaries, half
         checkpoints: nothing a run reads); returns ``(loaded, repair)``: the newest complete checkpoint
         (``load_checkpoint``, or ``loaded``, what it returned) and the function that points
@@ -101,10 +101,19 @@ class Recovery:
         repeated rows, which two writers at once leave, are reduced to the last of each (with a warning).
         The run loop calls ``repair`` once its first generation ran, so a resume that fails before
         changes no saved file. ``StoreError``, with nothing changed, if rows it covers are missing (a
-        deleted ``metrics.csv``)."""
+        deleted ``metrics.csv``), or if there is no checkpoint and ``metrics.csv`` holds rows past the first
+        ``uncheckpointed`` generations (the first checkpoint's interval: more than a run killed before its
+        first checkpoint leaves; its checkpoints were deleted, and going on would drop those rows)."""
         self._check_writable()
         if loaded is ...:
             loaded = self.load_checkpoint()  # validates before anything is changed
+        if loaded is None and uncheckpointed is not None and self.metrics_path.exists():
+            past = sorted({int(r["generation"]) for r in metrics_csv.read_table(self.metrics_path, repeats_ok=True)[1]})
+            if past and past[-1] >= uncheckpointed:
+                raise StoreError(f"{self.ckpt_dir} holds no checkpoint, but {self.metrics_path} holds the rows of "
+                                 f"generations {_span(past)} (the run checkpoints every {uncheckpointed} "
+                                 f"generation(s): were its checkpoints deleted?); restore them to resume, or move "
+                                 f"{self.metrics_path.name} away to run again from generation 0")
         cut = _rows_covered(loaded) - 1
         header, rows, repeats = metrics_csv.rows_up_to(self.metrics_path, cut)  # validates too
         missing = sorted(set(range(cut + 1)) - {int(r["generation"]) for r in rows})
