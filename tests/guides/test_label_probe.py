@@ -211,7 +211,8 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert [h for h, _ in seen] == [4, 8, 16] and len({k for _, k in seen}) == 3  # own minibatch streams
     assert res.shoot_horizon == 8 and res.shoot == list(drives[8]) and res.shoot_on is True
-    assert set(res.shoot_tried) == {"4", "8", "16"} and "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in res.line()
+    assert set(res.shoot_tried) == {"4", "8", "16"}
+    assert "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in res.line()
     drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
@@ -231,6 +232,37 @@ def test_a_run_holds_the_shooting_labels_for_the_probes_horizon(tmp_path):
     guide = Trainer(cfg, store, progress=False).guide
     shoot = [r for r in guide.rivals if r.name == "shooting"]
     assert len(shoot) == 1 and shoot[0].track.mphi.horizon == 16
+
+
+@pytest.mark.parametrize("keep", [True, False])
+def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action(tmp_path, keep, monkeypatch):
+    """The probe chose 16 steps and the 4-step candidate also beat zero action: both shooting rivals run
+    (variant 3 at 16 steps, 4 at 4), each its own model, gain column and checkpoint keys, and a killed run
+    resumes exactly; ``shoot_keep_base: false`` runs the chosen one alone."""
+    over = {**POINT, "generations": 3, "shaping": {"inverse_dynamics": {"shoot_keep_base": keep}}}
+    tried = {"4": [5.0, 5.1, 4.9, 5.2], "8": [5.0] * 4, "16": [6.0, 6.1, 5.9, 6.2]}
+    saved = {**GOOD, "returns": {"both": [1.0] * 4}, "zero_action": [-1.0, -1.1, -0.9, -1.0], "shoot": tried["16"],
+             "shoot_on": True, "shoot_horizon": 16, "shoot_tried": tried}
+    assert ProbeResult(**saved).keeps_base()
+    assert not ProbeResult(**{**saved, "shoot_tried": {**tried, "4": [-1.0] * 4}}).keeps_base()  # lost to zero
+
+    def fresh(name):
+        cfg, store = new_run(tmp_path / name, over)
+        (tmp_path / name / FILE).write_text(json.dumps(saved))
+        return cfg, store
+    cfg, store = fresh("full")
+    trainer = Trainer(cfg, store, progress=False)
+    names = {r.name: r.track.mphi.horizon for r in trainer.guide.rivals if r.name.startswith("shooting")}
+    assert names == ({"shooting (16 steps)": 16, "shooting (4 steps)": 4} if keep else {"shooting": 16})
+    trainer.run()
+    full = store.read_metrics()
+    assert ("shoot_base_gain" in full[0]) == keep and "shoot_gain" in full[0]
+    assert (tmp_path / "full" / "mphi_data_shoot_base").is_dir() == keep
+    if keep:
+        cfg, store = fresh("crashed")
+        run_until_crash(monkeypatch, cfg, store, 2)
+        Trainer(cfg, store, progress=False).run()
+        assert strip_time(store.read_metrics()) == strip_time(full)
 
 
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):
@@ -256,6 +288,7 @@ def test_a_probe_file_whose_horizon_differs_from_the_checkpoints_names_the_probe
     if not saved.get("shoot_on"):
         pytest.skip("the probe dropped the shooting rival on this seed")
     saved["shoot_horizon"] = 16 if saved["shoot_horizon"] != 16 else 8
+    saved["shoot_tried"] = {}  # one horizon tried: no 4-step rival beside it (its columns would differ first)
     path.write_text(json.dumps(saved))
     from shaped_es.config import build_config, merge
     from shaped_es.rundir.store import RunStore

@@ -1,6 +1,7 @@
 """What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
 judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
-own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels'; ``guides/rival.py``), their mean gain over the mean, the
+own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4 the shooting labels at 4 steps
+beside a longer horizon; ``guides/rival.py``), their mean gain over the mean, the
 generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
 (those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""
 
@@ -8,8 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot"}
-GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain"}  # a rival's column: it ran
+VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base"}
+GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran
+         "shoot_base": "shoot_base_gain"}
 
 
 def _finite(m: dict, col: str) -> np.ndarray:
@@ -65,12 +67,14 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
         return []
     out = ["## What shaping did", "",
            "Candidates judged and accepted, pooled over seeds (accepted by the run's own labels / the rival "
-           "frame's / the servo's / the shooting labels'), the mean gain of the judged candidate over the mean (return, on every "
+           "frame's / the servo's / the shooting labels' / the shooting labels' at shoot_horizon beside a longer "
+           "horizon the probe chose), the mean gain of the judged candidate over the mean (return, on every "
            "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
            "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
            "simulated candidate loses to zero action), and says in how many runs it ran where not all.", "",
-           "| method | judged | accepted (own / frame / servo / shoot) | mean gain | backed off per run | runs with none accepted |",
+           "| method | judged | accepted (own / frame / servo / shoot / shoot base) | mean gain | backed off per run "
+           "| runs with none accepted |",
            "|---|---|---|---|---|---|"]
     for k, s in rows.items():
         v = s["accepted_by_variant"]

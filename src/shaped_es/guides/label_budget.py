@@ -177,8 +177,9 @@ def rows_summary(rows: list[dict]) -> dict | None:
     # (variant 2), the shooting labels' (variant 3); None: the run has no such rival
     head = rows[0]
     has = {1: "candidate_rival" in head and ("rival_gain" in head or "servo_gain" not in head),  # older runs:
-           2: "servo_gain" in head, 3: "shoot_gain" in head}  # candidate_rival and no gain columns
-    for key, v in (("accepted_rival", 1), ("accepted_servo", 2), ("accepted_shoot", 3)):
+           2: "servo_gain" in head, 3: "shoot_gain" in head, 4: "shoot_base_gain" in head}  # candidate_rival
+    for key, v in (("accepted_rival", 1), ("accepted_servo", 2), ("accepted_shoot", 3),  # and no gain columns
+                   ("accepted_shoot_base", 4)):
         out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
                        and _num(r.get("candidate_rival")) == v) if has[v] else None
     return out

@@ -36,10 +36,9 @@ With ``rival_shoot`` on, the probe also simulates the candidate of the shooting 
 that rival for the run only where its candidate drives the body better than zero action, by two paired
 standard errors (``ProbeResult.shoot_on``; ``guides/rival.py``): on the Reacher and the swimmer it drives
 worse, and a rival that never wins still adds a lucky row to each generation's pick. It simulates that
-candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_horizons``, and takes the
-horizon whose candidate beats the default's by the frame's test (``ProbeResult.shoot_horizon``): a drone
-steered by its tilt rate moves toward the waypoint only after 8-16 steps, where 4 show nothing
-(``docs/benchmarks/shoot_horizon_v8``).
+candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_horizons``, and takes the one
+that beats the default's by the frame's test (``ProbeResult.shoot_horizon``; a drone steered by its tilt rate
+moves toward the waypoint only after 8-16 steps; ``docs/benchmarks/shoot_horizon_v8``).
 
 The probe is seeded by the run's seed, takes 0.4-3 s on the built-in envs once the shaping kernels are
 compiled (the first run after an install compiles them: a few seconds more), and its env steps and wall time
@@ -105,6 +104,13 @@ class ProbeResult:
     # each horizon's simulated candidate where the probe tried several (shoot_probe_horizons)
     shoot_horizon: int | None = None
     shoot_tried: dict[str, list[float]] = field(default_factory=dict)
+
+    def keeps_base(self) -> bool:
+        """Whether the shooting labels at the first probed horizon (``shoot_horizon``) also run, beside the
+        longer one chosen: its simulated candidate beat zero action too (``guides/rival.py``, variant 4)."""
+        base = next(iter(self.shoot_tried), None)
+        return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
+                    and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
 
     def line(self) -> str:
         means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())

@@ -6,7 +6,11 @@ make more candidates each generation; selection keeps whichever pays on this bod
   (``shaping/forward_servo.py``), the labels a torque-driven arm's inverse dynamics cannot give;
 - ``shaping.inverse_dynamics.rival_shoot`` (variant 3): a learned model of a few steps with an action held,
   and the held action whose path passes nearest the waypoint (``shaping/forward_shoot.py``), the labels of
-  bodies whose action shows in the position only after a few steps (a car steered by its wheel's rate).
+  bodies whose action shows in the position only after a few steps (a car steered by its wheel's rate);
+- ``shaping.inverse_dynamics.shoot_keep_base`` (variant 4): where the label probe chose a longer horizon
+  than ``shoot_horizon`` and the ``shoot_horizon`` one's candidate also beat zero action, the shooting labels
+  at ``shoot_horizon`` too: the probe judges the first generations' data, and the run's selection judges
+  both (on a 3-D hover the probe's 8 steps lost two seeds the 4 steps had solved).
 
 Which displacement frame makes M_phi's labels pay depends on the body, and the label probe before
 generation 0 (``label_probe.py``) cannot always tell: forced by hand, the waypoint frame solves
@@ -41,17 +45,19 @@ from shaped_es.shaping.labels import MphiLabels
 RIVAL_KEY = 1_000_021  # seed key of the rival frame's model (its init and minibatches)
 SERVO_KEY = 1_000_022  # seed key of the servo's forward model
 SHOOT_KEY = 1_000_024  # seed key of the shooting labels' forward model
+SHOOT_BASE_KEY = 1_000_026  # seed key of the shooting labels' model at shoot_horizon beside a longer one
 DIR = "mphi_data_rival"
 SERVO_DIR = "mphi_data_servo"
 SHOOT_DIR = "mphi_data_shoot"
-FRAME, SERVO, SHOOT = 1, 2, 3  # variant ids: the candidate_rival column's values (0: the run's own labels)
+SHOOT_BASE_DIR = "mphi_data_shoot_base"
+FRAME, SERVO, SHOOT, SHOOT_BASE = 1, 2, 3, 4  # variant ids: the candidate_rival column's values (0: own labels)
 
 
 @dataclass
 class Rival:
     """One rival label variant: its id, name, model track and checkpoint keys."""
 
-    variant: int  # FRAME, SERVO or SHOOT
+    variant: int  # FRAME, SERVO, SHOOT or SHOOT_BASE
     name: str  # for the run's lines: "waypoint frame", "servo", "shooting"
     track: MphiTrack
     prefix: str  # checkpoint keys of its model
@@ -104,18 +110,19 @@ def shoot_on(cfg) -> bool:
 
 
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
-                seed: int) -> MphiTrack:
+                seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR) -> MphiTrack:
     """The shooting labels' forward model (M_phi's training settings, its own seed), labels and data parts."""
     model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
-                        seed=seeding.derive_seed(seed, seeding.SHAPING, SHOOT_KEY))
-    return MphiTrack(model, ShootLabels(model), Path(root) / SHOOT_DIR)
+                        seed=seeding.derive_seed(seed, seeding.SHAPING, key))
+    return MphiTrack(model, ShootLabels(model), Path(root) / folder)
 
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
-           shoot: bool | None = None, shoot_horizon: int | None = None) -> list[Rival]:
+           shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
-    probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides), and
-    ``shoot_horizon`` the horizon it chose (None: the config's)."""
+    probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides),
+    ``shoot_horizon`` the horizon it chose (None: the config's), and ``shoot_base`` whether the config's
+    horizon also runs beside a longer chosen one (its candidate beat zero action too)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -127,9 +134,15 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         track.labels.gain, track.labels.damping = float(mp.servo_gain), float(mp.servo_damping)
         out.append(Rival(SERVO, "servo", track, "servo/", "servo/parts"))
     if shoot_on(cfg) and shoot is not False:
-        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg,
-                            shoot_horizon or cfg.shaping.inverse_dynamics.shoot_horizon, root, cfg.seed)
-        out.append(Rival(SHOOT, "shooting", track, "shoot/", "shoot/parts"))
+        base = cfg.shaping.inverse_dynamics.shoot_horizon
+        h = shoot_horizon or base
+        both = shoot_base and h != base and cfg.shaping.inverse_dynamics.shoot_keep_base
+        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed)
+        out.append(Rival(SHOOT, f"shooting ({h} steps)" if both else "shooting", track, "shoot/", "shoot/parts"))
+        if both:
+            track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, base, root, cfg.seed, SHOOT_BASE_KEY,
+                                SHOOT_BASE_DIR)
+            out.append(Rival(SHOOT_BASE, f"shooting ({base} steps)", track, "shoot_base/", "shoot_base/parts"))
     return out
 
 

@@ -115,6 +115,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
         probe_line = None  # printed once the rival is known
         shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
+        shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
@@ -123,7 +124,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             # counted in generation 0's row, also by a run that restarts it with the probe on file
             self.startup = (res.env_steps, res.seconds)
             probe_line = res.line() if fresh else None
-            shoot, shoot_h = res.shoot_on, res.shoot_horizon
+            shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
         # M_phi exists (and trains) only when it is the label source
@@ -135,7 +136,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # the shooting labels (where the probe found their clone driving the body)
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
-                                                          shoot_h)
+                                                          shoot_h, shoot_base)
         if probe_line:  # the probe's choice, and the rivals beside it
             print(f"shaped-es: {probe_line}{rival_names(self.rivals)}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)

@@ -38,7 +38,8 @@ from shaped_es.shaping.surrogate import cosine
 
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
-GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain"}  # per variant: its candidate's gain over the mean
+GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain"}  # per variant: its
+#                                                              candidate's gain over the mean
 SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
 REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
 
