@@ -130,9 +130,10 @@ class InverseDynamicsSettings(_Strict):
         "the frame's choice): a body whose action shows in its position only after many steps (a drone's tilt "
         "rate) needs a longer look; (): shoot_horizon only")
     shoot_keep_base: bool = Field(
-        True, description="where the label probe chose a longer shooting horizon and shoot_horizon's simulated "
+        False, description="where the label probe chose a longer shooting horizon and shoot_horizon's simulated "
         "candidate also beat zero action, the shooting labels at shoot_horizon run beside it as one more rival "
-        "(the run's selection judges both; the probe judged only the first generations' data)")
+        "(the run's selection judges both). Off: measured on the 15 seeds where it runs, no faster, one more "
+        "clone a generation (docs/benchmarks/shoot_horizon_v8)")
     servo_gain: Float = Field(1.0, gt=0, description="the servo's gain k (its error in units of the median "
                               "query distance q, its action direction of unit norm)")
     servo_damping: Float = Field(3.0, ge=0, description="the servo's damping c: the predicted no-action step "

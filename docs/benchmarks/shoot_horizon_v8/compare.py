@@ -30,26 +30,31 @@ with contextlib.redirect_stdout(io.StringIO()):  # v7's table module prints its 
 sc = v7.sc
 
 
-def runs(task: str) -> list[Path]:
+def runs(task: str, *dirs: str) -> list[Path]:
+    """Seeds 0-9: v7's "with" arm, replaced by the reruns in ``dirs`` (later ones win)."""
     got = dict(enumerate(v7.runs(task, "with")))  # seeds 0-9 in order
-    for p in sorted((HERE / "suite" / task).glob("runs/shaped_s*/metrics.csv")):
-        got[int(p.parent.name.split("_s")[-1])] = p
+    for d in dirs:
+        for p in sorted((HERE / d / task).glob("runs/shaped_s*/metrics.csv")):
+            got[int(p.parent.name.split("_s")[-1])] = p
     return [got[s] for s in sorted(got)]
 
 
 out = {}
 for task in v7.TASKS:
     before = v7.summary(v7.runs(task, "with"), task)
-    after = v7.summary(runs(task), task)
+    after = v7.summary(runs(task, "suite"), task)
+    both = v7.summary(runs(task, "suite", "suite_base"), task)
     van = v7.summary(v7.runs(task, "vanilla"), task)
     cma = v7.summary(v7.runs(task, "cmaes"), task)
     rerun = sorted(int(p.parent.name.split("_s")[-1]) for p in (HERE / "suite" / task).glob("runs/shaped_s*/metrics.csv"))
-    out[task] = {"fixed_4": before, "probed_4_8_16": after, "vanilla": van, "cmaes": cma, "rerun_seeds": rerun,
-                 "fixed_over_vanilla": round(before["gens"] / van["gens"], 3),
-                 "probed_over_vanilla": round(after["gens"] / van["gens"], 3)}
+    out[task] = {"fixed_4": before, "probed_4_8_16": after, "probed_and_4": both, "vanilla": van, "cmaes": cma,
+                 "rerun_seeds": rerun, "fixed_over_vanilla": round(before["gens"] / van["gens"], 3),
+                 "probed_over_vanilla": round(after["gens"] / van["gens"], 3),
+                 "probed_and_4_over_vanilla": round(both["gens"] / van["gens"], 3)}
 geo = lambda k: float(np.exp(np.mean([np.log(out[t][k]) for t in v7.TASKS])))  # noqa: E731
 out["geomean_over_vanilla"] = {"fixed_4": round(geo("fixed_over_vanilla"), 3),
-                               "probed_4_8_16": round(geo("probed_over_vanilla"), 3)}
+                               "probed_4_8_16": round(geo("probed_over_vanilla"), 3),
+                               "probed_and_4": round(geo("probed_and_4_over_vanilla"), 3)}
 
 
 def seeds_10_19(task: str) -> dict:
@@ -61,25 +66,29 @@ def seeds_10_19(task: str) -> dict:
     base = HERE.parent / "suite_waypoints_v6" / "seeds_10_19" if task == "UR5Reach-v0" else HERE / "v7_10_19"
     def run(arm, s):
         p = HERE / "suite_10_19" / task / "runs" / f"shaped_s{s}" / "metrics.csv"
-        if arm == "shaped" and not p.exists():
+        if arm == "shaped_and_4" and (HERE / "suite_10_19_base" / task / "runs" / f"shaped_s{s}").is_dir():
+            p = HERE / "suite_10_19_base" / task / "runs" / f"shaped_s{s}" / "metrics.csv"
+        if arm.startswith("shaped") and not p.exists():
             p = HERE / "v7_10_19" / task / "runs" / f"shaped_s{s}" / "metrics.csv"
-        elif arm != "shaped":
+        elif not arm.startswith("shaped"):
             p = base / task / "runs" / f"{arm}_s{s}" / "metrics.csv"
         return sc.one(p, t, b) if p.exists() else None
     res = {}
-    for arm in ("shaped", "vanilla", "cmaes"):
+    for arm in ("shaped", "shaped_and_4", "vanilla", "cmaes"):
         got = [run(arm, s) for s in range(10, 20)]
         if all(got):
             res[arm] = {"gens_per_seed": [x["gens"] for x in got], "late": round(float(np.mean([x["late"] for x in got])), 2)}
-    rng = np.random.default_rng(0)
-    a = np.array(out[task]["probed_4_8_16"]["gens_per_seed"] + res["shaped"]["gens_per_seed"], float)
-    for arm in ("vanilla", "cmaes"):
-        if arm not in res:
-            continue
-        v = np.array(out[task][arm]["gens_per_seed"] + res[arm]["gens_per_seed"], float)
-        boot = [a[i].mean() / v[i].mean() for i in (rng.integers(0, 20, 20) for _ in range(4000))]
-        res[f"0_19_over_{arm}"] = [round(a.mean() / v.mean(), 3), *np.percentile(boot, [2.5, 97.5]).round(2).tolist()]
-    res["0_19_gens"] = round(float(a.mean()), 2)
+    for mine, first in (("shaped", "probed_4_8_16"), ("shaped_and_4", "probed_and_4")):
+        rng = np.random.default_rng(0)
+        a = np.array(out[task][first]["gens_per_seed"] + res[mine]["gens_per_seed"], float)
+        for arm in ("vanilla", "cmaes"):
+            if arm not in res:
+                continue
+            v = np.array(out[task][arm]["gens_per_seed"] + res[arm]["gens_per_seed"], float)
+            boot = [a[i].mean() / v[i].mean() for i in (rng.integers(0, 20, 20) for _ in range(4000))]
+            res[f"{mine}_0_19_over_{arm}"] = [round(a.mean() / v.mean(), 3),
+                                              *np.percentile(boot, [2.5, 97.5]).round(2).tolist()]
+        res[f"{mine}_0_19_gens"] = round(float(a.mean()), 2)
     return res
 
 

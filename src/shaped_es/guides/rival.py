@@ -7,10 +7,11 @@ make more candidates each generation; selection keeps whichever pays on this bod
 - ``shaping.inverse_dynamics.rival_shoot`` (variant 3): a learned model of a few steps with an action held,
   and the held action whose path passes nearest the waypoint (``shaping/forward_shoot.py``), the labels of
   bodies whose action shows in the position only after a few steps (a car steered by its wheel's rate);
-- ``shaping.inverse_dynamics.shoot_keep_base`` (variant 4): where the label probe chose a longer horizon
-  than ``shoot_horizon`` and the ``shoot_horizon`` one's candidate also beat zero action, the shooting labels
-  at ``shoot_horizon`` too: the probe judges the first generations' data, and the run's selection judges
-  both (on a 3-D hover the probe's 8 steps lost two seeds the 4 steps had solved).
+- ``shaping.inverse_dynamics.shoot_keep_base`` (variant 4, off by default): where the label probe chose a
+  longer horizon than ``shoot_horizon`` and the ``shoot_horizon`` one's candidate also beat zero action, the
+  shooting labels at ``shoot_horizon`` too, so the run's selection judges both (the probe judges the first
+  generations' data only). Measured on the 15 seeds where it would run: no faster, at one more clone a
+  generation (``docs/benchmarks/shoot_horizon_v8``).
 
 Which displacement frame makes M_phi's labels pay depends on the body, and the label probe before
 generation 0 (``label_probe.py``) cannot always tell: forced by hand, the waypoint frame solves

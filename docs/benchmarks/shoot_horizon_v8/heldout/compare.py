@@ -7,8 +7,10 @@ final test reward's mean, candidates accepted per run. Prints JSON.
 Arms (``runs/BODY/ARM/shaped_sK/metrics.csv`` etc.):
 - ``before``: the default before the shooting rival (the eighth session's code), with ``vanilla`` and ``cmaes``;
 - ``shoot4``: the shooting rival at its fixed 4-step horizon (the ninth session's code);
-- ``probed``: this code; a seed whose probe chose the 4-step horizon runs shoot4's code path (its run stands
-  for it), the seeds in ``probed/`` ran again.
+- ``probed``: the probe chooses the horizon; a seed whose probe chose the 4-step horizon runs shoot4's code
+  path (its run stands for it), the seeds in ``probed/`` ran again;
+- ``probed_and_4``: this code, where the 4-step rival also runs beside a longer chosen horizon whose 4-step
+  candidate beat zero action too (``probed_and_4/``; the drone's never did: its arm is ``probed``).
 """
 
 from __future__ import annotations
@@ -36,7 +38,8 @@ def one(path: Path, threshold: float) -> dict:
 def arm(body: str, name: str) -> dict[int, Path]:
     d = HERE / "runs" / body
     got = {}
-    for src in ([name] if name != "probed" else ["shoot4", "probed"]):
+    chain = {"probed": ["shoot4", "probed"], "probed_and_4": ["shoot4", "probed", "probed_and_4"]}
+    for src in chain.get(name, [name]):
         for p in sorted((d / src).glob("*_s*/metrics.csv")):
             got[int(p.parent.name.split("_s")[-1])] = p
     return got
@@ -45,7 +48,7 @@ def arm(body: str, name: str) -> dict[int, Path]:
 out = {}
 for body, thr in BODIES.items():
     out[body] = {}
-    for name in ("before", "shoot4", "probed", "oracle", "vanilla", "cmaes"):
+    for name in ("before", "shoot4", "probed", "probed_and_4", "oracle", "vanilla", "cmaes"):
         runs = arm(body, name)
         if not runs:
             continue
@@ -55,6 +58,7 @@ for body, thr in BODIES.items():
                            "gens_per_seed": g.tolist(), "final": round(float(np.mean([x["final"] for x in per])), 2),
                            "accepted_per_run": round(float(np.mean([x["accepted"] for x in per])), 1),
                            "wall_s": round(float(np.mean([x["wall"] for x in per])), 1)}
-    if "probed" in out[body] and "vanilla" in out[body]:
-        out[body]["probed_over_vanilla"] = round(out[body]["probed"]["gens"] / out[body]["vanilla"]["gens"], 3)
+    for name in ("probed", "probed_and_4"):
+        if name in out[body] and "vanilla" in out[body]:
+            out[body][f"{name}_over_vanilla"] = round(out[body][name]["gens"] / out[body]["vanilla"]["gens"], 3)
 print(json.dumps(out, indent=1))
