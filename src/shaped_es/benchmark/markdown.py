@@ -119,7 +119,8 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
     out += [*_table(header, rows), ""]
     out += ["## Final test reward and cost per run", "",
             "IQM: interquartile mean of the seeds' final test rewards (mean of the middle 50%), robust to a "
-            "stray seed; mean ± the Student-t half width. Costs: a whole run, mean over seeds.", ""]
+            "stray seed; mean ± the Student-t half width. Best test reward: each seed's best, mean over seeds. "
+            "Costs: a whole run, mean over seeds.", ""]
     header = ["method", "seeds", f"final reward IQM [{level:.0%} CI]", f"final reward mean (± {level:.0%} CI)",
               "best test reward", "generations", "env steps", "CPU time (s)", "wall time (s)"]
     rows = [[k, str(s["seeds"]), f"{_num(s['final_test_reward_iqm'])} {_interval(s['final_test_reward_iqm_ci'])}",
