@@ -118,3 +118,12 @@ def test_estimate_only_without_out_as_a_process(tmp_path):
     out, err = p.communicate(timeout=300)
     assert p.returncode == 0, err
     assert "estimate_s" in json.loads(out) and list(tmp_path.iterdir()) == []
+
+
+def test_a_shaped_probe_keeps_its_run_lines_to_itself(capsys):
+    """The timing run's label-probe line is the real runs' to print: the estimate prints none of it."""
+    cfg = build_config({"env": "PointVel-v0", "method": "shaped", "executor": "inline", "es": {"pairs": 4},
+                        "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False})
+    capsys.readouterr()
+    assert timed_pace(cfg).generation_s > 0
+    assert "labels: frame=" not in capsys.readouterr().err

@@ -17,6 +17,8 @@ longer: the ES line therefore also gives the bound with every episode at its lim
 
 from __future__ import annotations
 
+import contextlib
+import io
 import statistics
 import tempfile
 import time
@@ -117,7 +119,8 @@ def _probe(cfg: RunConfig) -> tuple[list[float], list[dict]]:
     and the rows."""
     marks: list[float] = []
     t0 = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="shaped-es-estimate-") as tmp:
+    # its lines (a shaped run's label probe, a back-off note) are the real runs' to print: not twice
+    with tempfile.TemporaryDirectory(prefix="shaped-es-estimate-") as tmp, contextlib.redirect_stderr(io.StringIO()):
         store = RunStore(Path(tmp) / "run")
         store.create(cfg)
         rows = resolve(METHODS[cfg.method].train)(
