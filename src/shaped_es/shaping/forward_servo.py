@@ -124,13 +124,11 @@ class ForwardServo(InverseDynamics):
         self.step_scale, self.query_scale = float(scales[0]), float(scales[1])
 
 
-class ServoLabels(LabelSource):
-    """``a_hat = clip(k G_hat(s)^T ((w - p) - c f(s, 0)) / q, -1, 1)`` (module docstring); input ``w_t - p_t``."""
+class ForwardLabels(LabelSource):
+    """Labels read off a forward model ``self.model`` (this servo, ``forward_shoot.ShootLabels``): ready once
+    it has trained on data that fixed its scales; input the world-frame waypoint error ``w_t - p_t``."""
 
-    name = "servo"
-
-    def __init__(self, model: ForwardServo, gain: float = 1.0, damping: float = 3.0):
-        self.model, self.gain, self.damping = model, float(gain), float(damping)
+    model: ForwardServo
 
     @property
     def ready(self) -> bool:
@@ -138,6 +136,15 @@ class ServoLabels(LabelSource):
 
     def inputs(self, tr: Transitions) -> np.ndarray:
         return np.asarray(tr.waypoint - tr.position, np.float32)  # (T, d) world frame
+
+
+class ServoLabels(ForwardLabels):
+    """``a_hat = clip(k G_hat(s)^T ((w - p) - c f(s, 0)) / q, -1, 1)`` (module docstring); input ``w_t - p_t``."""
+
+    name = "servo"
+
+    def __init__(self, model: ForwardServo, gain: float = 1.0, damping: float = 3.0):
+        self.model, self.gain, self.damping = model, float(gain), float(damping)
 
     def __call__(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         m = self.model

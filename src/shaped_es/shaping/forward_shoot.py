@@ -33,8 +33,7 @@ from itertools import product
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.shaping.forward_servo import ForwardServo
-from shaped_es.shaping.labels import LabelSource
+from shaped_es.shaping.forward_servo import ForwardLabels, ForwardServo
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.inverse_dynamics import RunningNorm
 from shaped_es.shaping.mphi_inputs import episode_end
@@ -93,7 +92,7 @@ class ForwardChunk(ForwardServo):
         return out.reshape(-1, self.horizon, self.pos_dim)  # (N, h d) -> (N, h, d)
 
 
-class ShootLabels(LabelSource):
+class ShootLabels(ForwardLabels):
     """``a_hat = argmin_a min_j |f_j(s, a) - (w - p)|`` over :func:`candidate_actions` (module docstring);
     input ``w_t - p_t``."""
 
@@ -105,13 +104,6 @@ class ShootLabels(LabelSource):
     def __init__(self, model: ForwardChunk):
         self.model = model
         self.candidates = candidate_actions(model.ctrl_dim)  # (K, act)
-
-    @property
-    def ready(self) -> bool:
-        return self.model.iterations > 0 and self.model.step_scale > 0
-
-    def inputs(self, tr: Transitions) -> np.ndarray:
-        return np.asarray(tr.waypoint - tr.position, np.float32)  # (T, d) world frame
 
     def __call__(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         m, A = self.model, self.candidates
