@@ -49,6 +49,8 @@ def first_error(exc: ValidationError, model: type[BaseModel] | None = None) -> s
         msg = "unknown field" + (did_you_mean(model, err["loc"]) if model is not None else "")
     elif err.get("type") == "bool_type":  # YAML 1.1's yes/no/on/off are words here (safe_yaml)
         msg = "Input should be a valid boolean, true or false"
+    elif err.get("type") in ("tuple_type", "list_type"):  # the words `shaped-es config` uses for such a key
+        msg = "Input should be a list, e.g. [8, 16]"
     value = err.get("input")
     got = ""
     if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:

@@ -45,3 +45,29 @@ def test_a_rival_dropped_in_some_runs_is_told_apart_from_one_that_never_won():
     text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
     assert "| shaped | 4 | 1 (0 / \u2013 / 1 / 0 (1/2 runs) / \u2013) |" in text
 
+
+
+def test_the_report_counts_what_each_runs_label_probe_chose(tmp_path):
+    """Runs per frame and per shooting horizon, read from each run's label_probe.json (a run without one, or
+    with a damaged one, is left out; none readable: None)."""
+    import json
+
+    from shaped_es.benchmark.shaping_summary import probe_choices
+
+    base = {"query_clip": None, "returns": {}, "env_steps": 10, "seconds": 1.0, "reason": "r"}
+    probes = [{"frame": "world", "shoot_on": True, "shoot_horizon": 16}, {"frame": "world", "shoot_on": False},
+              {"frame": "both", "shoot_on": True, "shoot_horizon": 4}, {"frame": "both"}]
+    dirs = []
+    for i, p in enumerate(probes + ["not json", None]):
+        d = tmp_path / f"run{i}"
+        d.mkdir()
+        if p is not None:
+            (d / "label_probe.json").write_text(json.dumps(base | p) if isinstance(p, dict) else p)
+        dirs.append(d)
+    got = probe_choices(dirs)
+    assert got == {"frame": {"world": 2, "both": 2}, "shoot": {"16 steps": 1, "dropped": 1, "4 steps": 1, "config": 1}}
+    assert probe_choices(dirs[4:]) is None
+    s = shaping_summary([_run([nan, 1], [nan, 0], [nan, 1.0], [1, 1])]) | {"label_probe": got}
+    text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
+    assert "shaped's label probe, runs per choice: frame world 2, both 2; the shooting rival 4 steps 1, 16 steps 1, " \
+           "config 1, dropped 1" in text

@@ -38,6 +38,19 @@ def test_losses_back_off_exponentially_and_a_win_resets():
     assert b2.sleeps == 2 and b2.accepted == 1
 
 
+def test_sleeps_stop_doubling_while_the_labels_win_their_share():
+    wins = [True, True] + [False] * 12
+    # 2 wins in 5, 7, 9 judged (>= 0.2): the sleeps stay 4; 2 in 11: the sleep after this one doubles
+    kept = _run(LabelBudget(patience=3, max_sleep=8, keep_rate=0.2), wins)
+    assert kept.startswith("11111" + ("0" * 4 + "11") * 4 + "0" * 8 + "11")
+    # keep_rate 0 (the old schedule): every losing trial doubles the sleep
+    doubled = _run(LabelBudget(patience=3, max_sleep=8, keep_rate=0.0), wins)
+    assert doubled.startswith("11111" + "0" * 4 + "11" + "0" * 8 + "11" + "0" * 8)
+    # one win can be luck (KEEP_MIN_WINS), and labels that never won sleep as before, whatever the keep rate
+    for w in ([True] + [False] * 9, [False] * 9):
+        assert _run(LabelBudget(3, 8, keep_rate=0.5), w) == _run(LabelBudget(3, 8), w)
+
+
 def test_disabled_budget_never_sleeps():
     assert _run(LabelBudget(patience=0, max_sleep=32), [False] * 20) == "1" * 21
 

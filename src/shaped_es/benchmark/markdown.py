@@ -12,7 +12,7 @@ import math
 from pathlib import Path
 
 from shaped_es.benchmark.grouping import method_settings, plain, report_env
-from shaped_es.benchmark.shaping_summary import shaping_lines
+from shaped_es.benchmark.shaping_summary import probe_choices, shaping_lines
 from shaped_es.benchmark.summary import load_runs, summarize
 from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
@@ -195,6 +195,9 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
     env, scale = report_env(configs)  # scale: None when the groups' envs differ (no shared default threshold)
     title = title or f"Benchmark on {env}"
     summary = {**(extra or {}), **summarize(metrics, level, threshold=threshold, budget=generations, config=scale)}
+    for k, dirs in groups.items():  # which frame and shooting horizon each shaped run's label probe chose
+        if k in summary["methods"] and summary["methods"][k].get("shaping"):
+            summary["methods"][k]["shaping"]["label_probe"] = probe_choices(dirs)
     figs = draw_figures(metrics, summary, {"fig4": root / "figures" / FIG4, "fig5": root / "figures" / FIG5,
                                            "profile": root / "figures" / PROFILE}, env, title, level)
     rel = {k: f.relative_to(root).as_posix() if f else None for k, f in figs.items()}

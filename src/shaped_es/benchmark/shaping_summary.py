@@ -7,7 +7,12 @@ generations shaping slept (``shaping_awake`` = 0), and the runs in which no cand
 
 from __future__ import annotations
 
+from collections import Counter
+from pathlib import Path
+
 import numpy as np
+
+from shaped_es.guides.label_probe import parse
 
 VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base"}
 GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran
@@ -52,6 +57,28 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
             "runs_without_acceptance": runs_without, "runs": len(runs)}
 
 
+def probe_choices(dirs: list[Path]) -> dict | None:
+    """What each run's label probe chose (``RUN/label_probe.json``): runs per frame, and runs per shooting
+    horizon (``"dropped"``: the probe dropped the shooting rival; ``"config"``: it was not probed). None when
+    no run has a readable probe (a method without one, or runs from before it)."""
+    frames, shoot = Counter(), Counter()
+    for d in dirs:
+        try:
+            res = parse((Path(d) / "label_probe.json").read_bytes())
+        except (OSError, ValueError, TypeError, UnicodeDecodeError):
+            continue
+        frames[res.frame] += 1
+        shoot["dropped" if res.shoot_on is False else "config" if res.shoot_horizon is None
+              else f"{res.shoot_horizon} steps"] += 1
+    return {"frame": dict(frames), "shoot": dict(shoot)} if frames else None
+
+
+def _steps(item: tuple[str, int]) -> tuple[int, str]:
+    """Horizons in the order of their steps (4 before 16), then ``config`` and ``dropped``."""
+    head = item[0].split()[0]
+    return (int(head), "") if head.isdigit() else (10**9, item[0])
+
+
 def _count(s: dict, key: str) -> str:
     """A rival's accepted count for the report: \u2013 if it ran in no run, ``n (k/N runs)`` if in some."""
     n, ran, runs = s["accepted_by_variant"].get(key, 0), s.get("runs_with_rival", {}).get(key), s["runs"]
@@ -84,6 +111,12 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
                    f"{counts}) | {gain} | "
                    f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
     out.append("")
+    for k, s in rows.items():
+        if s.get("label_probe"):
+            p = s["label_probe"]
+            out += [f"{k}'s label probe, runs per choice: frame " + ", ".join(f"{f} {n}" for f, n in p["frame"].items())
+                    + "; the shooting rival " + ", ".join(f"{h} {n}" for h, n in sorted(p["shoot"].items(), key=_steps))
+                    + " (each run's `label_probe.json` says why).", ""]
     for k, s in rows.items():
         if s["candidates_accepted"] == 0 and s["candidates_judged"]:
             base = next((b for b in ("vanilla", "cmaes") if wall and b in wall), None)

@@ -7,6 +7,11 @@ no ``M_phi``, evaluates no candidate or babbler and clones nothing -- the genera
 Vanilla-ES's price. Then it wakes: one generation to record and clone, then ``WAKE_JUDGED`` judgements;
 an acceptance keeps it awake (and resets the sleep to ``first_sleep``), none sends it back to sleep for
 twice as long (at most ``max_sleep``): an exponential back-off, the schedule a retrying client uses.
+While the run's labels have paid their share (``keep_rate`` of the judged generations accepted, and at
+least ``KEEP_MIN_WINS``), a losing trial does not double the sleep: labels that won early often win again
+later (the kart: 3 wins in its first 5 judgements, then a 32-generation sleep, then 5 wins in 13 once
+awake), and two losses in a row are no evidence against a 1-in-3 win rate. Labels that never won sleep
+exactly as before.
 
 With ``judge_jumps``, an acceptance is judged once more, by what followed it: if the next generation's
 population (sampled around the accepted candidate) has a lower mean return than the population before the
@@ -26,13 +31,16 @@ import numpy as np
 
 WAKE_JUDGED = 2  # judgements a woken guide gets to show a win before it sleeps again
 FIRST_SLEEP = 4  # generations of the first sleep
+KEEP_MIN_WINS = 2  # acceptances before keep_rate holds the sleep (one can be luck: a noise env wins 1 of its first 4)
 
 
 class LabelBudget:
     """Counts judgements and acceptances; decides whether a generation is shaped (:attr:`awake`)."""
 
-    def __init__(self, patience: int, max_sleep: int, first_sleep: int = FIRST_SLEEP, judge_jumps: bool = False):
+    def __init__(self, patience: int, max_sleep: int, first_sleep: int = FIRST_SLEEP, judge_jumps: bool = False,
+                 keep_rate: float = 0.0):
         self.patience, self.max_sleep, self.judge_jumps = int(patience), int(max_sleep), bool(judge_jumps)
+        self.keep_rate = float(keep_rate)  # a share of accepted judgements at which sleeps stop doubling
         self.first_sleep = max(1, min(int(first_sleep), self.max_sleep)) if self.max_sleep else 0
         self.losses = 0  # judgements in a row without an acceptance
         self.sleep = self.first_sleep  # the next sleep's length
@@ -94,16 +102,18 @@ class LabelBudget:
         elif self.losses < self.patience:
             return False
         self.asleep_left, self.trial, self.sleeps = self.sleep, 0, self.sleeps + 1
-        self.sleep = min(2 * self.sleep, self.max_sleep)
+        if not (self.keep_rate and self.accepted >= max(KEEP_MIN_WINS, self.keep_rate * self.judged)):
+            self.sleep = min(2 * self.sleep, self.max_sleep)
         return True
 
     def note(self, env: str, has_controller: bool) -> str:
         """The line a run prints when it first sleeps: what happened, what a sleeping generation costs, and
         what to compare (the env's controller labels only where ``has_controller``)."""
         oracle = "shaping.labels=controller or " if has_controller else ""
+        kept = f", unless it has won {self.keep_rate:.0%} of its judgements" if self.keep_rate else ""
         return (f"the labels' candidate lost {self.patience} judged generations in a row (won {self.accepted} of "
                 f"{self.judged} so far): shaping backs off -- it sleeps {self.asleep_left} generations, then tries "
-                f"again (longer sleeps while it keeps losing; column shaping_awake), each sleeping generation at "
+                f"again (longer sleeps while it keeps losing{kept}; column shaping_awake), each sleeping generation at "
                 f"the ES strategy's own price. A run still improving has outpaced its labels; if they never win "
                 f"on this env, `shaped-es check-env {env} --labels` shows whether its labels drive the body at "
                 f"all; compare {oracle}--method vanilla / cmaes (the same labels run over Vanilla-ES with "

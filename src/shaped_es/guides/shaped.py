@@ -165,7 +165,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self._babblers = 0  # babbling policies among this generation's extra members (the last rows)
         # labels that keep losing put the shaping work to sleep (guides/label_budget.py)
         self.budget = LabelBudget(self.sh.backoff_after, self.sh.backoff_max,
-                                  judge_jumps=self.sh.backoff_judges_jumps)
+                                  judge_jumps=self.sh.backoff_judges_jumps, keep_rate=self.sh.backoff_keep_rate)
         self.awake = True  # this generation is shaped (False: asleep, a Vanilla-ES generation)
         self._silent: set[int] = set()  # recent generations slept through: no steps were recorded
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch

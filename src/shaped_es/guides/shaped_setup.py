@@ -99,7 +99,8 @@ def check_candidate_settings(cfg: RunConfig) -> None:
     default = type(sh.mean_clone)()
     changed = [f"shaping.mean_clone.{k}" for k in CANDIDATE_ONLY
                if getattr(sh.mean_clone, k) != getattr(default, k)]
-    changed += [f"shaping.{k}" for k in ("backoff_after", "backoff_max", "backoff_judges_jumps")
+    changed += [f"shaping.{k}" for k in ("backoff_after", "backoff_max", "backoff_judges_jumps",
+                                         "backoff_keep_rate")
                 if getattr(sh, k) != type(sh).model_fields[k].default]
     if changed:
         one = len(changed) == 1
