@@ -46,7 +46,8 @@ class _Strict(BaseModel):
 
 
 class PolicyConfig(_Strict):
-    hidden: tuple[Int, ...] = Field((32, 32), description="hidden layer widths of the tanh MLP policy")
+    hidden: tuple[Int, ...] = Field((32, 32), description="hidden layer widths of the tanh MLP policy "
+                                    "([]: a linear policy)")
 
     @model_validator(mode="after")
     def _positive(self):

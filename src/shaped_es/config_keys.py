@@ -50,13 +50,24 @@ def first_error(exc: ValidationError, model: type[BaseModel] | None = None) -> s
     elif err.get("type") == "bool_type":  # YAML 1.1's yes/no/on/off are words here (safe_yaml)
         msg = "Input should be a valid boolean, true or false"
     elif err.get("type") in ("tuple_type", "list_type"):  # the words `shaped-es config` uses for such a key
-        msg = "Input should be a list, e.g. [8, 16]"
+        msg = "Input should be a list" + (f", e.g. its default {_default_at(model, err['loc'])}" if model else "")
     value = err.get("input")
     got = ""
     if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:
         shown = str(value).lower() if isinstance(value, bool) else repr(value)
         got = f" (got {shown[:40]})"
     return f"{where}: {msg}{got}{more}"
+
+
+def _default_at(model: type[BaseModel], loc: tuple) -> str:
+    """The default of the field at ``loc`` as YAML writes a list (``[8, 16]``); ``'[]'`` if not found."""
+    default = None
+    for part in loc:
+        field = getattr(model, "model_fields", {}).get(part)
+        if field is None:
+            break
+        default, model = field.get_default(call_default_factory=True), field.annotation
+    return "[" + ", ".join(str(v) for v in default) + "]" if isinstance(default, (list, tuple)) else "[]"
 
 
 def did_you_mean(model: type[BaseModel], loc: tuple) -> str:

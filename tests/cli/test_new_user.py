@@ -44,8 +44,9 @@ def test_resume_of_a_run_stop_at_ended_says_why_and_continues_with_no_stop_at(tm
     assert strip_time(RunStore(run).read_metrics()) == strip_time(RunStore(full).read_metrics())
     assert RunStore(run).read_config().stop_at is None
     capsys.readouterr()
-    assert main(["resume", run, "--quiet"]) == 0  # all done (not stopped): its result again, no line
-    assert _err_lines(capsys) == []
+    assert main(["resume", run, "--quiet"]) == 0  # all done (not stopped): its result again, and one line
+    assert _err_lines(capsys) == [f"shaped-es: {run} has all its 5 generations done: nothing ran, its result is "
+                                  f"printed again (--generations N above 5 continues it)"]
 
 
 def test_resume_with_a_higher_stop_at_continues(tmp_path, capsys):

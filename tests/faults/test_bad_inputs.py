@@ -64,7 +64,7 @@ CASES = [
     ("pairs-true", nothing, s("es.pairs=true"), "es.pairs: Input should be a valid integer (got true)"),
     ("seed-2**32", nothing, train("--seed", str(2**32)), "seed: Input should be less than 4294967296"),
     ("hidden-bool", nothing, s("policy.hidden=[8, true]"), "policy.hidden.1"),
-    ("hidden-word", nothing, s("policy.hidden=abc"), "policy.hidden: Input should be a list, e.g. [8, 16]"),
+    ("hidden-word", nothing, s("policy.hidden=abc"), "policy.hidden: Input should be a list, e.g. its default [32, 32]"),
     ("tensorboard-1", nothing, s("tensorboard=1"), "tensorboard: Input should be a valid boolean"),
     ("episodes-2.5", nothing, s("rollout.episodes=2.5"), "rollout.episodes"),
     ("sigma-true", nothing, s("es.sigma=true"), "es.sigma: Input should be a number, not a boolean"),

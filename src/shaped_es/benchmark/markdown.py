@@ -23,6 +23,9 @@ from shaped_es.rundir.store import atomic_write_text
 MPHI_COLUMNS = ("mphi_train_loss", "mphi_fig5_test_loss", "mphi_fit_test_loss", "mphi_test_loss")
 FIG4, FIG5, PROFILE = "fig4_test_reward.png", "fig5_mphi_loss.png", "profile_final_reward.png"
 
+# in every report page: ``report`` writes over a page only where it finds this (cli/overwrite.py)
+REPORT_MARK = "<!-- a report page written by shaped-es: report and benchmark redraw it -->"
+
 
 def _num(v, digits: int = 2) -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
@@ -74,7 +77,7 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
                     settings: dict[str, dict], title: str) -> str:
     level, thr, methods = summary["ci_level"], summary["threshold"], summary["methods"]
     budget, poi = summary["budget_generations"], summary["probability_of_improvement"]
-    out = [f"# {title}", ""]
+    out = [f"# {title}", "", REPORT_MARK, ""]
     seeds = ", ".join(f"{k} {v['seeds']}" for k, v in methods.items())
     out += [f"Methods: {', '.join(methods)}; seeds per method: {seeds}. Intervals: {level:.0%}; Student-t "
             f"over seeds for means and curves, percentile bootstrap ({summary['bootstrap']['resamples']} "

@@ -234,6 +234,23 @@ def _check_all(cfgs: dict[str, RunConfig]) -> None:
             check_run(cfg, warn=False)
 
 
+def check_own_folder(out: Path, mark: str, what: str) -> None:
+    """A benchmark (suite) directory is its own: refuse (``StoreError``) an existing folder without ``mark``
+    (``benchmark.yaml``, ``suite.yaml``) that holds anything but ``runs/``: its report would land beside them."""
+    if out.exists() and not out.is_dir():
+        raise StoreError(f"--out {out} exists and is not a directory")
+    if not out.is_dir() or (out / mark).exists():
+        return
+    try:
+        names = sorted(p.name for p in out.iterdir() if p.name != "runs" or not p.is_dir())
+    except OSError as exc:
+        raise StoreError(f"cannot list --out {out}: {exc.strerror or exc}") from None
+    if names:
+        shown = ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
+        raise StoreError(f"--out {out} is a folder that holds no {what} but other files ({shown}); a {what} "
+                         f"directory is the {what}'s own: name a new or empty folder")
+
+
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
                   estimate: bool = True, estimate_only: bool = False) -> dict:
     """Run (or continue) every run of ``spec`` under ``out``, then write summary.json and report.md;
@@ -243,8 +260,7 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
 
     log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
     out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise StoreError(f"--out {out} exists and is not a directory")
+    check_own_folder(out, "benchmark.yaml", "benchmark")
     cfgs = run_configs(spec)
     _check_all(cfgs)
     plan = plan_runs(cfgs, out / "runs")

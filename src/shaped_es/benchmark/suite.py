@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark, run_name
+from shaped_es.benchmark.runner import BenchmarkSpec, check_own_folder, run_benchmark, run_name
 from shaped_es.config import ConfigError
 from shaped_es.rundir.store import StoreError, atomic_write_text
 
@@ -100,6 +100,7 @@ def run_suite(out: str | Path, suite: str = DEFAULT_SUITE, tasks: list[str] | No
     ``estimate_only``: print each task's estimate (``estimate.py``) and the total, and write nothing."""
     log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
     out = Path(out)
+    check_own_folder(out, "suite.yaml", "suite")
     chosen = suite_tasks(suite, tasks)
     specs = [task_spec(t, methods, seeds, generations, overrides or {}) for t in chosen]
     if estimate_only:

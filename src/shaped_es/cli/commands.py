@@ -87,6 +87,12 @@ def cmd_resume(a: argparse.Namespace) -> int:
         # config.yaml takes the changes once the restore held up (the run loop writes it), not before
         cfg = build_config(merge(cfg.model_dump(mode="json"), changes))
         why = _nothing_to_run(cfg, loaded[1] if loaded else None, a)
+        if why is None and loaded and done >= cfg.generations:
+            why = (f"{a.run_dir} has all its {done} generations done: nothing ran, its result is printed again "
+                   f"(--generations N above {done} continues it)")
+        elif why is None and loaded:
+            print(f"shaped-es: resuming {a.run_dir}: {done} of its {cfg.generations} generations done",
+                  file=sys.stderr)
         rc = _run(cfg, store, a)  # restores (and checks) the checkpoint even when nothing is left to run
         if why:
             print(f"shaped-es: {why}", file=sys.stderr)

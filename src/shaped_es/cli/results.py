@@ -40,6 +40,8 @@ def add_report_parser(sub) -> argparse.ArgumentParser:
                         f"Fig. 4 there, the profile and Fig. 5 beside it) (default: {REPORT_OUT}, a folder of "
                         "its own)")
     r.add_argument("--title", help="figure / report title (default: the env and the seeds)")
+    r.add_argument("--force", action="store_true", help="write over existing files at --out (a page no report "
+                   "wrote, another set of runs' report, existing figures)")
     add_threshold(r)
     r.set_defaults(fn=cmd_report)
     return r
@@ -62,6 +64,7 @@ def cmd_report(a: argparse.Namespace) -> int:
     from shaped_es.benchmark.markdown import draw_figures, write_report
     from shaped_es.benchmark.grouping import group_runs, report_env
     from shaped_es.benchmark.summary import load_runs, summarize
+    from shaped_es.cli.overwrite import check_free, check_report_page
     from shaped_es.config import ConfigError
 
     check_threshold(a.threshold)
@@ -69,6 +72,7 @@ def cmd_report(a: argparse.Namespace) -> int:
     out = Path(a.out)
     suffix = out.suffix.lower()
     if suffix == ".md":
+        check_report_page(out, [d for dirs in groups.values() for d in dirs], a.force)
         from shaped_es.benchmark.markdown import FIG4, FIG5, PROFILE
 
         beside = [out.parent / "summary.json", *(out.parent / "figures" / f for f in (FIG4, FIG5, PROFILE))]
@@ -80,12 +84,13 @@ def cmd_report(a: argparse.Namespace) -> int:
         return 0
     if suffix not in FIGURE_SUFFIXES:
         raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
+    targets = {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
+               "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")}
+    check_free(list(targets.values()), a.force)
     metrics = {k: load_runs(dirs) for k, dirs in groups.items()}
     env, scale = report_env(configs)
     summary = summarize(metrics, threshold=a.threshold, config=scale)
-    figs = draw_figures(metrics, summary, {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
-                                           "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")},
-                        env, a.title or "")
+    figs = draw_figures(metrics, summary, targets, env, a.title or "")
     print(json.dumps({k: str(f) if f else None for k, f in figs.items()}))
     return 0
 
@@ -102,13 +107,16 @@ def add_render_parser(sub) -> argparse.ArgumentParser:
                    help="cap on steps per episode (default: the run's rollout.max_steps, else the env's limit)")
     r.add_argument("--fps", type=float, default=30.0, help="frames per second of the GIF")
     r.add_argument("--every", type=int, default=1, help="keep every N-th frame")
+    r.add_argument("--force", action="store_true", help="write over an existing --out file")
     r.set_defaults(fn=cmd_render)
     return r
 
 
 def cmd_render(a: argparse.Namespace) -> int:
+    from shaped_es.cli.overwrite import check_free
     from shaped_es.trained.render import render_run
 
+    check_free([Path(a.out)], a.force)
     res = render_run(a.run_dir, a.out, episodes=a.episodes, which=a.policy, seed=a.seed,
                      max_steps=a.max_steps, fps=a.fps, every=a.every)
     print(json.dumps(res))

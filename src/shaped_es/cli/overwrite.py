@@ -1,0 +1,47 @@
+"""What ``report`` and ``render`` refuse to write over: files they did not write (a user's own page or
+picture), and a report page of other runs. ``--force`` writes over them. One ``ConfigError`` line each."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from shaped_es.benchmark.markdown import REPORT_MARK
+from shaped_es.config import ConfigError
+
+
+def _report_runs(out: Path) -> set[Path] | None:
+    """The runs an existing report page at ``out`` shows (its ``summary.json``); None: not a report's."""
+    try:
+        head = out.read_text(errors="replace")[:400]
+        summary = json.loads((out.parent / "summary.json").read_text())
+        runs = summary["runs"]
+        paths = {(out.parent / p).resolve() for group in runs.values() for p in group}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+    old_page = head.startswith("# ") and "## Fig. 4" in out.read_text(errors="replace")  # before the mark
+    return paths if REPORT_MARK in head or old_page else None
+
+
+def check_report_page(out: Path, run_dirs: list[Path], force: bool) -> None:
+    """Refuse to write a report page over a file no report wrote, or over the report of other runs."""
+    if force or not out.exists():
+        return
+    shown = _report_runs(out)
+    if shown is None:
+        raise ConfigError(f"--out {out} exists and is not a report page shaped-es wrote (with its summary.json "
+                          f"beside it); choose another path, or pass --force to write over it")
+    new = {Path(d).resolve() for d in run_dirs}
+    if shown != new:
+        n = len(shown)
+        raise ConfigError(f"--out {out} is the report of other runs ({n} run{'s' * (n != 1)}, {len(shown & new)} "
+                          f"of them among these {len(new)}); choose another path, or pass --force to replace it")
+
+
+def check_free(paths: list[Path], force: bool) -> None:
+    """Refuse to write over existing files (figures, a GIF) unless ``force``."""
+    taken = [str(p) for p in paths if p.exists()]
+    if taken and not force:
+        one = len(taken) == 1
+        raise ConfigError(f"--out would write over {', '.join(taken)}, which exist{'s' * one}; choose another name, "
+                          f"or pass --force to write over {'it' if one else 'them'}")
