@@ -264,7 +264,7 @@ class ShapingConfig(_Strict):
         0.0, ge=0, le=1, description="candidate: while at least this share of the run's judged generations "
         "(and 2) accepted a candidate, a losing wake-up trial sleeps as long as the last sleep instead of twice "
         "as long (guides/label_budget.py); 0: always double. 0.2 was measured on the suite and 4 held-out "
-        "bodies: the same generations to the threshold, 20-45% more awake generations (docs/benchmarks/"
+        "bodies: about the same generations to the threshold, 5-43% more awake ones (docs/benchmarks/"
         "backoff_keep_v9)")
     backoff_judges_jumps: Bool = Field(False, description="candidate: an accepted candidate after which the "
                                        "next population's mean return falls below the one before the jump counts "

@@ -12,7 +12,7 @@ judged generations accepted, and at least ``KEEP_MIN_WINS``), a losing trial doe
 labels that won early often win again later (the kart: 3 wins in its first 5 judgements, a 32-generation
 sleep, then 5 wins in 13 once awake), and two losses are no evidence against a 1-in-3 win rate. Measured
 at 0.2 (``docs/benchmarks/backoff_keep_v9``): more candidates accepted late, the same generations to the
-threshold on the suite and four held-out bodies, and 20-45% more awake generations: the labels' wins that
+threshold on the suite and four held-out bodies, and 5-43% more awake generations: the labels' wins that
 move a run come early.
 
 With ``judge_jumps``, an acceptance is judged once more, by what followed it: if the next generation's
