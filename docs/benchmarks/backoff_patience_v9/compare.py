@@ -46,7 +46,8 @@ def path(task: str, seed: int, arm: str) -> Path:
             return HERE.parent / "suite_waypoints_v6" / "seeds_10_19" / task / "runs" / f"{arm}_s{seed}" / "metrics.csv"
         return HERE / "reacher_10_19" / arm / task / "runs" / f"shaped_s{seed}" / "metrics.csv"
     if arm == "patience_8":
-        return HERE / "suite" / task / "runs" / f"shaped_s{seed}" / "metrics.csv"
+        top = "suite" if seed < 10 else "suite_10_19"
+        return HERE / top / task / "runs" / f"shaped_s{seed}" / "metrics.csv"
     return v9.path(task, seed, "double" if arm == "patience_5" else arm)
 
 
@@ -70,6 +71,13 @@ for task in v9.TASKS:
             res[f"{k}_over_vanilla"] = v9.ratio(res[k], res["vanilla"], rng)
     if task == "ReacherWay-v0":
         res["seeds_10_19"] = {k: arm(task, k, range(10, 20)) for k in ("patience_8", "patience_5", "vanilla", "cmaes")}
+    if task in ("Kart-v0", "UR5Reach-v0"):  # seeds 0-19, ratios with 95% bootstrap intervals
+        both = {k: arm(task, k, range(20)) for k in ("patience_8", "patience_5", "vanilla", "cmaes")}
+        res["seeds_0_19"] = {k: v for k, v in both.items() if v}
+        for k in ("patience_8", "patience_5"):
+            for b in ("vanilla", "cmaes"):
+                if both.get(k) and both.get(b):
+                    res["seeds_0_19"][f"{k}_over_{b}"] = v9.ratio(both[k], both[b], rng)
     out[task] = res
 done = [t for t in v9.TASKS if out[t]["patience_8"]]
 geo = lambda k: round(float(np.exp(np.mean([np.log(out[t][f"{k}_over_vanilla"][0]) for t in done]))), 3)  # noqa: E731
