@@ -252,7 +252,8 @@ def test_resume_keeps_the_last_of_rows_two_writers_interleaved(tmp_path, tmp_pat
     capsys.readouterr()
     assert main(["resume", str(run), "--quiet"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "held 2 repeated rows" in err[0], err
+    assert len(err) == 2 and "held 2 repeated rows" in err[0], err
+    assert "has all its 4 generations done: nothing ran" in err[1]  # a finished run: resume says so
     assert RunStore(run).read_metrics() == RunStore(base).read_metrics()
 
 

@@ -90,9 +90,6 @@ def cmd_resume(a: argparse.Namespace) -> int:
         if why is None and loaded and done >= cfg.generations:
             why = (f"{a.run_dir} has all its {done} generations done: nothing ran, its result is printed again "
                    f"(--generations N above {done} continues it)")
-        elif why is None and loaded:
-            print(f"shaped-es: resuming {a.run_dir}: {done} of its {cfg.generations} generations done",
-                  file=sys.stderr)
         rc = _run(cfg, store, a)  # restores (and checks) the checkpoint even when nothing is left to run
         if why:
             print(f"shaped-es: {why}", file=sys.stderr)
