@@ -51,8 +51,13 @@ def path(task: str, seed: int, arm: str) -> Path:
     return base / task / "runs" / f"{arm}_s{seed}" / "metrics.csv"
 
 
-def arm(task: str, name: str, seeds: range) -> dict | None:
-    paths = [v8.runs(task, "suite")[s] for s in seeds] if name == "v8" else [path(task, s, name) for s in seeds]
+def arm(task: str, name: str, seeds: range, where=None) -> dict | None:
+    """One arm's runs of one task over ``seeds`` (None: some missing); ``where(task, seed, name)``: the run's
+    metrics.csv (default :func:`path`; ``../backoff_patience_v9/compare.py`` passes its own)."""
+    if name == "v8" and where is None:
+        paths = [v8.runs(task, "suite")[s] for s in seeds]
+    else:
+        paths = [(where or path)(task, s, name) for s in seeds]
     if not all(p.exists() for p in paths):
         return None
     per = [sc.one(p, sc.THRESHOLDS[task], sc.BUDGET[task]) for p in paths]

@@ -52,15 +52,7 @@ def path(task: str, seed: int, arm: str) -> Path:
 
 
 def arm(task: str, name: str, seeds: range) -> dict | None:
-    paths = [path(task, s, name) for s in seeds]
-    if not all(p.exists() for p in paths):
-        return None
-    per = [sc.one(p, sc.THRESHOLDS[task], sc.BUDGET[task]) for p in paths]
-    g = np.array([x["gens"] for x in per])  # (S,)
-    return {"solved": int((g <= sc.BUDGET[task]).sum()), "gens": round(float(g.mean()), 1), "gens_per_seed": g.tolist(),
-            "late": round(float(np.mean([x["late"] for x in per])), 2),
-            "accepted_per_run": round(float(np.mean([x["accepted"] for x in per])), 1),
-            "awake_per_run": round(float(np.mean([x["awake"] for x in per])), 1)}
+    return v9.arm(task, name, seeds, path)
 
 
 out, rng = {}, np.random.default_rng(0)

@@ -6,25 +6,31 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from shaped_es.benchmark.markdown import REPORT_MARK
+from shaped_es.benchmark.markdown import FIG4, FIG5, PROFILE, REPORT_MARK
 from shaped_es.config import ConfigError
 
 
 def _report_runs(out: Path) -> set[Path] | None:
     """The runs an existing report page at ``out`` shows (its ``summary.json``); None: not a report's."""
     try:
-        head = out.read_text(errors="replace")[:400]
+        page = out.read_text(errors="replace")
         summary = json.loads((out.parent / "summary.json").read_text())
         runs = summary["runs"]
         paths = {(out.parent / p).resolve() for group in runs.values() for p in group}
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
-    old_page = head.startswith("# ") and "## Fig. 4" in out.read_text(errors="replace")  # before the mark
-    return paths if REPORT_MARK in head or old_page else None
+    old_page = page.startswith("# ") and "## Fig. 4" in page  # a page from before the mark
+    return paths if REPORT_MARK in page[:400] or old_page else None
 
 
 def check_report_page(out: Path, run_dirs: list[Path], force: bool) -> None:
-    """Refuse to write a report page over a file no report wrote, or over the report of other runs."""
+    """Refuse to write a report page beside a report's files without its page (even with ``force``), over a
+    file no report wrote, or over the report of other runs."""
+    beside = [out.parent / "summary.json", *(out.parent / "figures" / f for f in (FIG4, FIG5, PROFILE))]
+    taken = [str(p) for p in beside if p.exists()]
+    if taken and not out.exists():  # files a report page writes, but not from a report here
+        raise ConfigError(f"--out {out} would overwrite {', '.join(taken)}, which no report {out.name} "
+                          f"wrote; choose a directory of its own (or the existing report to redraw it)")
     if force or not out.exists():
         return
     shown = _report_runs(out)

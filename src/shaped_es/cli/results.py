@@ -73,13 +73,6 @@ def cmd_report(a: argparse.Namespace) -> int:
     suffix = out.suffix.lower()
     if suffix == ".md":
         check_report_page(out, [d for dirs in groups.values() for d in dirs], a.force)
-        from shaped_es.benchmark.markdown import FIG4, FIG5, PROFILE
-
-        beside = [out.parent / "summary.json", *(out.parent / "figures" / f for f in (FIG4, FIG5, PROFILE))]
-        taken = [str(p) for p in beside if p.exists()]
-        if taken and not out.exists():  # files a report page writes, but not from a report here
-            raise ConfigError(f"--out {out} would overwrite {', '.join(taken)}, which no report {out.name} "
-                              f"wrote; choose a directory of its own (or the existing report to redraw it)")
         print(json.dumps(write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)))
         return 0
     if suffix not in FIGURE_SUFFIXES:

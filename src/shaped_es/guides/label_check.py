@@ -38,18 +38,22 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
                    f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
                    f"they keep losing)")
     if res.clones.get(best):  # the frame was chosen on this, not on the labels' own return
-        _, cse = paired(res.clones[best], res.zero_action)
-        verdict += (f"; {best}'s simulated candidate (what the frame was chosen on) scores "
-                    f"{np.mean(res.clones[best]):.2f} against zero action's {np.mean(res.zero_action):.2f} "
-                    f"(2 paired standard errors {2 * cse:.2f})")
+        verdict += (f"; {best}'s simulated candidate (what the frame was chosen on) "
+                    f"{_against_zero(res.clones[best], res.zero_action)}")
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
-        _, sse = paired(res.shoot, res.zero_action)
         verdict += (f"; the shooting labels' simulated candidate {horizon_text(res)} "
-                    f"scores {np.mean(res.shoot):.2f} against zero action's {np.mean(res.zero_action):.2f} (2 paired "
-                    f"standard errors {2 * sse:.2f}): a run {'keeps' if res.shoot_on else 'drops'} that rival")
+                    f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
+                    f"that rival")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
             "env_steps": res.env_steps, "seconds": res.seconds,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
+
+
+def _against_zero(returns: list[float], zero: list[float]) -> str:
+    """``scores 9.05 against zero action's -1.00 (2 paired standard errors 0.35)``, over the same episodes."""
+    _, se = paired(returns, zero)
+    return (f"scores {np.mean(returns):.2f} against zero action's {np.mean(zero):.2f} (2 paired standard errors "
+            f"{2 * se:.2f})")
