@@ -64,3 +64,11 @@ def test_benchmark_refuses_a_folder_of_other_files(tmp_path, capsys):
                  "--out", str(folder), "--quiet", "--no-estimate"]) == 2
     assert "holds no benchmark but other files (report.md)" in _one_error_line(capsys)
     assert sorted(p.name for p in folder.iterdir()) == ["report.md"] and (folder / "report.md").read_text() == "mine"
+
+
+def test_a_reports_files_without_its_page_are_refused_even_with_force(tmp_path, two_runs, capsys):
+    (tmp_path / "summary.json").write_text("{}")
+    capsys.readouterr()
+    assert main(["report", two_runs[0], "--out", str(tmp_path / "report.md"), "--force"]) == 2
+    assert "which no report report.md wrote" in _one_error_line(capsys)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["summary.json"]
