@@ -10,6 +10,8 @@ from helpers import new_run, npz_round_trip, run_until_crash, strip_time, train
 from shaped_es.guides.label_budget import FIRST_SLEEP, WAKE_JUDGED, LabelBudget, rows_summary
 from shaped_es.trainer import Trainer
 
+NOTE_MAX = 270  # characters of the printed back-off note, for a built-in env with a controller
+
 
 def _run(budget: LabelBudget, wins: list[bool]) -> str:
     """Feed one judgement per awake generation; returns the awake pattern '1'/'0' per generation."""
@@ -49,6 +51,23 @@ def test_sleeps_stop_doubling_while_the_labels_win_their_share():
     # one win can be luck (KEEP_MIN_WINS), and labels that never won sleep as before, whatever the keep rate
     for w in ([True] + [False] * 9, [False] * 9):
         assert _run(LabelBudget(3, 8, keep_rate=0.5), w) == _run(LabelBudget(3, 8), w)
+
+
+def test_the_back_off_note_is_one_short_line():
+    """The note a new user found ~700 characters long: what happened, what sleeping costs, what to try (the
+    controller's labels only where the env has one), in at most NOTE_MAX characters with a built-in env's id;
+    the longer explanation (shaped_cmaes, a run that outpaced its labels) is README.md's."""
+    b = LabelBudget(patience=8, max_sleep=32, keep_rate=0.2)
+    for accepted in [False] * 3 + [True] + [False] * 8:
+        b.judge(accepted, 0.0)
+    assert b.sleeps == 1
+    with_oracle, without = (f"shaped-es: note: {b.note('CarNav-v0', c)}" for c in (True, False))
+    assert with_oracle == ("shaped-es: note: labels lost 8 judged generations in a row (won 1 of 12): shaping "
+                           "sleeps 4 generations at the ES strategy's price and retries (column shaping_awake); "
+                           "try shaped-es check-env CarNav-v0 --labels; compare shaping.labels=controller, "
+                           "--method vanilla / cmaes")
+    assert without == with_oracle.replace("shaping.labels=controller, ", "")
+    assert len(with_oracle) <= NOTE_MAX and len(without) <= 250
 
 
 def test_disabled_budget_never_sleeps():
@@ -202,8 +221,10 @@ CFG = {"env": "NoisyWaypoints-v0", "executor": "inline", "method": "shaped", "ge
 def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
     rows = train(tmp_path / "shaped", CFG).read_metrics()
     err = capsys.readouterr().err
-    assert err.count("shaping backs off") == 1
-    assert "--method shaped_cmaes" in err  # the shaped method's note names the other base
+    assert err.count("shaped-es: note: labels lost 3 judged generations in a row (won ") == 1
+    note = next(ln for ln in err.splitlines() if ln.startswith("shaped-es: note: "))
+    assert "shaping sleeps 4 generations at the ES strategy's price and retries (column shaping_awake)" in note
+    assert "try shaped-es check-env NoisyWaypoints-v0 --labels; compare --method vanilla / cmaes" in note
     assert "shaping.labels=controller" not in err  # and no oracle labels: this env has no controller
     awake = "".join(r["shaping_awake"] for r in rows)
     s = rows_summary(rows)

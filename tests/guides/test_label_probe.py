@@ -11,11 +11,13 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe
+from shaped_es.guides.label_check import horizon_text
 from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
 
+LINE_MAX = 250  # characters of the run's printed probe line, for a built-in env's id
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
 
@@ -48,6 +50,38 @@ def test_choose_takes_the_variant_whose_simulated_candidate_is_clearly_better():
     assert choose({**labels, "both": np.full(10, 35.0)}, "both", zero, tiny)[0] == "both"
     # clones that do not differ: the label rule decides (here: keep the default)
     assert choose(labels, "both", zero, {"both": clipped, "both+clip2": clipped[::-1], "world": clipped})[0] == "both"
+
+
+def test_the_probe_line_is_short_and_keeps_the_key_facts():
+    """A new user's CarNav-v0 probe (once ~900 characters: every variant's returns, the horizons' details):
+    the printed line names the choice and why, the chosen variant's simulated candidate against zero action,
+    the rivals (the shooting one's horizon, or that it was dropped) and where the details are, in at most
+    LINE_MAX characters; the per-variant numbers stay in label_probe.json and check-env --labels."""
+    from dataclasses import replace
+
+    def eps(m):
+        return [m + 0.01 * (k - 4.5) for k in range(10)]  # 10 episodes whose mean is m
+    returns = {"both": eps(-11.76), "both+clip2": eps(1.34), "world": eps(-0.39), "world+clip2": eps(-0.81)}
+    clones = {"both": eps(-19.19), "both+clip2": eps(-0.19), "world": eps(-0.54), "world+clip2": eps(-0.29)}
+    zero = eps(-1.2)
+    _, reason = choose({k: np.array(v) for k, v in returns.items()}, "both", np.array(zero),
+                       {k: np.array(v) for k, v in clones.items()})
+    res = ProbeResult("both", 2.0, returns, 38446, 2.0, reason, zero, clones, eps(5.34), True, 4,
+                      {"4": eps(5.34), "8": eps(3.42), "16": eps(6.37)})
+    rivals = ["waypoint frame", "servo", "shooting (4 steps)"]
+    line = f"shaped-es: {res.line('CarNav-v0', rivals)}"
+    assert line == ("shaped-es: labels: frame=both, query_clip=2 (its candidate beat both's): simulated candidate "
+                    "-0.19 vs zero action -1.20; rivals: waypoint frame, servo, shooting (4 steps); see "
+                    "label_probe.json, shaped-es check-env CarNav-v0 --labels")
+    dropped = f"shaped-es: {replace(res, shoot_on=False).line('CarNav-v0', rivals[:2])}"
+    assert "; shooting rival dropped (4 steps); rivals: waypoint frame, servo; " in dropped
+    # the default kept; the default's labels lost to zero action (no clones: the labels' own return)
+    kept = replace(res, query_clip=None, reason="the default: ...").line("CarNav-v0", rivals)
+    assert "query_clip=none (the default): simulated candidate -19.19 vs zero action" in kept
+    lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
+    assert "(both's labels lost to zero action): labels -0.39 vs zero action" in lost.line("ReacherWay-v0", rivals)
+    for text in (line, dropped, f"shaped-es: {kept}", f"shaped-es: {lost.line('ReacherWay-v0', rivals)}"):
+        assert len(text) <= LINE_MAX and "\n" not in text
 
 
 def test_clone_beats_needs_a_signed_rank_win_and_a_share_of_the_spread():
@@ -130,10 +164,18 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     full = train(tmp_path / "full", {**POINT, "generations": 3}).read_metrics()
     err = capsys.readouterr().err
     res = ProbeResult(**json.loads((tmp_path / "full" / FILE).read_text()))
-    # the shooting rival runs where the probe found its simulated candidate beating zero action
-    rivals = "waypoint frame, servo and shooting" if res.shoot_on else "waypoint frame and servo"
-    assert err.count("labels: frame=") == 1 and f"rival candidates ({rivals}) run beside it" in err
-    assert len(res.shoot) == len(res.zero_action) and "the shooting labels' clone" in err
+    # one short line: the choice, its simulated candidate against zero action, the rivals (the shooting one,
+    # with its horizon, where the probe found its simulated candidate beating zero action), where the rest is
+    assert err.count("labels: frame=") == 1
+    line = next(ln for ln in err.splitlines() if "labels: frame=" in ln)
+    shoot = f", shooting ({res.shoot_horizon} steps)" if res.shoot_on else ""
+    assert f"; rivals: waypoint frame, servo{shoot}; " in line and len(line) <= LINE_MAX
+    assert ("; shooting rival dropped" in line) == (not res.shoot_on)
+    name = label_probe.variant_name(res.frame, res.query_clip)
+    own, zero = np.mean(res.clones[name]), np.mean(res.zero_action)
+    assert f"simulated candidate {own:.2f} vs zero action {zero:.2f}" in line
+    assert line.endswith(f"; see {FILE}, shaped-es check-env PointVel-v0 --labels")
+    assert len(res.shoot) == len(res.zero_action)
     assert ("shoot_gain" in full[0]) == res.shoot_on
     assert res.frame in ("both", "world") and res.env_steps > 0
     assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
@@ -212,12 +254,14 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     assert [h for h, _ in seen] == [4, 8, 16] and len({k for _, k in seen}) == 3  # own minibatch streams
     assert res.shoot_horizon == 8 and res.shoot == list(drives[8]) and res.shoot_on is True
     assert set(res.shoot_tried) == {"4", "8", "16"}
-    assert "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in res.line()
+    assert "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in horizon_text(res)
+    assert "; shooting rival kept (8 steps)" in res.line()  # the run's line: the verdict and the horizon
     drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
-    assert "(actions held 4 steps: no longer horizon's clone is clearly better: 8 steps" in res.line()
+    assert "(actions held 4 steps: no longer horizon's clone is clearly better: 8 steps" in horizon_text(res)
+    assert "; shooting rival dropped (4 steps)" in res.line()
     seen.clear()
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))

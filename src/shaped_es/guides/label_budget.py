@@ -109,18 +109,12 @@ class LabelBudget:
         return True
 
     def note(self, env: str, has_controller: bool) -> str:
-        """The line a run prints when it first sleeps: what happened, what a sleeping generation costs, and
-        what to compare (the env's controller labels only where ``has_controller``)."""
-        oracle = "shaping.labels=controller or " if has_controller else ""
-        kept = f", unless it has won {self.keep_rate:.0%} of its judgements" if self.keep_rate else ""
-        return (f"the labels' candidate lost {self.patience} judged generations in a row (won {self.accepted} of "
-                f"{self.judged} so far): shaping backs off -- it sleeps {self.asleep_left} generations, then tries "
-                f"again (longer sleeps while it keeps losing{kept}; column shaping_awake), each sleeping generation at "
-                f"the ES strategy's own price. A run still improving has outpaced its labels; if they never win "
-                f"on this env, `shaped-es check-env {env} --labels` shows whether its labels drive the body at "
-                f"all; compare {oracle}--method vanilla / cmaes (the same labels run over Vanilla-ES with "
-                f"--method shaped, over CMA-ES with --method shaped_cmaes: pick the base whose baseline is faster "
-                f"on this env; docs/benchmarks/shaped_cmaes_suite)")
+        """The line a run prints when it first sleeps: what happened, what sleeping costs, what to try (the env's
+        controller labels only where ``has_controller``); README.md's back-off ("backs off") says more."""
+        oracle = "shaping.labels=controller, " if has_controller else ""
+        return (f"labels lost {self.patience} judged generations in a row (won {self.accepted} of {self.judged}): "
+                f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (column "
+                f"shaping_awake); try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes")
 
     def summary(self) -> dict:
         """What shaping did so far (the final JSON's ``shaping``, with ``accepted_then_fell``, is

@@ -112,35 +112,21 @@ class ProbeResult:
         return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
 
-    def line(self) -> str:
-        means = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.returns.items())
-        means += f", zero action {np.mean(self.zero_action):.2f}" if self.zero_action else ""
-        clones = ", ".join(f"{k} {np.mean(v):.2f}" for k, v in self.clones.items())
-        clones = f"; its clone's return: {clones}" if clones else ""
-        shoot = ""
-        if self.shoot and self.zero_action:
-            held = horizon_text(self)
-            shoot = (f"; the shooting labels' clone {held + ' ' if held else ''}{np.mean(self.shoot):.2f}: "
-                     f"{'kept' if self.shoot_on else 'dropped'} as a rival (beats zero action by 2 paired standard "
-                     f"errors: {'yes' if self.shoot_on else 'no'})")
-        return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)}: {self.reason}. Label-driven return over "
-                f"{EPISODES} episodes: {means}{clones}{shoot} ({self.env_steps} env steps, {self.seconds:.1f} s)")
-
-
-def horizon_text(res: ProbeResult) -> str:
-    """How long the shooting labels hold an action, and why: ``(actions held 8 steps: its clone beats 4
-    steps' (3.03) clearly; 16 steps 5.41)`` ("" without a probed horizon)."""
-    if not res.shoot_horizon:
-        return ""
-    h, tried = str(res.shoot_horizon), res.shoot_tried
-    if not tried:
-        return f"(actions held {h} steps)"
-    first = next(iter(tried))
-    others = ", ".join(f"{k} steps {np.mean(v):.2f}" for k, v in tried.items() if k not in (h, first))
-    if h == first:
-        return f"(actions held {h} steps: no longer horizon's clone is clearly better: {others})"
-    return (f"(actions held {h} steps: its clone beats {first} steps' ({np.mean(tried[first]):.2f}) clearly"
-            + (f"; {others})" if others else ")"))
+    def line(self, env: str = "ENV", rivals: list[str] = ()) -> str:
+        """The run's one line on the probe (every number: label_probe.json; tables: ``check-env --labels``);
+        ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
+        name, h = variant_name(self.frame, self.query_clip), self.shoot_horizon
+        default = next(iter(self.returns), name)
+        why = ("the default" if name == default else f"its candidate beat {default}'s"
+               if self.reason.startswith("its") else f"{default}'s labels lost to zero action")
+        own, what = (self.clones, "simulated candidate") if self.clones.get(name) else (self.returns, "labels")
+        zero, own = self.zero_action, own.get(name)
+        score = f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}" if own and zero else ""
+        shoot = (f"; shooting rival {'kept' if self.shoot_on else 'dropped'}{f' ({h} steps)' if h else ''}"
+                 if self.shoot and not any(n.startswith("shooting") for n in rivals) else "")
+        return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)} ({why}){score}{shoot}"
+                + (f"; rivals: {', '.join(rivals)}" if rivals else "")
+                + f"; see {FILE}, shaped-es check-env {env} --labels")
 
 
 def clip_text(query_clip: float | None) -> str:

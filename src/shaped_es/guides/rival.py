@@ -147,8 +147,6 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
     return out
 
 
-def names(rivals: list[Rival]) -> str:
-    """The run's line about its rivals: ``"; rival candidates (a, b and c) run beside it"`` (none: "")."""
-    n = [r.name for r in rivals]
-    return f"; rival candidates ({' and '.join(filter(None, [', '.join(n[:-1]), n[-1]]))}) run beside it" if n else ""
-
+def names(rivals: list[Rival]) -> list[str]:
+    """The rivals' names for the probe's line, the shooting labels' with their horizon: ``shooting (8 steps)``."""
+    return [f"{r.name} ({r.track.mphi.horizon} steps)" if r.name == "shooting" else r.name for r in rivals]

@@ -113,7 +113,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
         # (~10-30 s), not on the clock: before the label probe, which uses them and whose seconds count
         self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
-        probe_line = None  # printed once the rival is known
+        probe_res = None  # a fresh probe's result, printed once the rivals are known
         shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
@@ -123,7 +123,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             self.query_clip = res.query_clip
             # counted in generation 0's row, also by a run that restarts it with the probe on file
             self.startup = (res.env_steps, res.seconds)
-            probe_line = res.line() if fresh else None
+            probe_res = res if fresh else None
             shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
@@ -137,8 +137,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
                                                           shoot_h, shoot_base)
-        if probe_line:  # the probe's choice, and the rivals beside it
-            print(f"shaped-es: {probe_line}{rival_names(self.rivals)}", file=sys.stderr)
+        if probe_res is not None:  # the probe's choice, and the rivals beside it
+            print(f"shaped-es: {probe_res.line(cfg.env, rival_names(self.rivals))}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
