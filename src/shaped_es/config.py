@@ -125,6 +125,10 @@ class InverseDynamicsSettings(_Strict):
         "of bodies whose action shows in the position only after a few steps: inertia, a steered wheel); with "
         "frame auto the label probe keeps it only where its simulated candidate beats zero action")
     shoot_horizon: Int = Field(4, ge=1, le=64, description="the shooting labels' horizon: steps an action is held")
+    shoot_ahead: Float = Field(1.0, ge=0, le=4, description="the shooting labels aim this many of the waypoint "
+                               "path's last steps past the waypoint (w + k (w - the waypoint before it)), as pure "
+                               "pursuit looks past its waypoint (a car circles a waypoint inside its turning "
+                               "circle); 0: at the waypoint (docs/benchmarks/shoot_ahead_v10)")
     shoot_probe_horizons: tuple[Annotated[Int, Field(ge=1, le=64)], ...] = Field(
         (8, 16), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "

@@ -94,3 +94,28 @@ def test_state_round_trips_and_untrained_is_not_ready(model):
     s, q = np.zeros((4, 2), np.float32), np.full((4, 2), 0.2, np.float32)
     np.testing.assert_array_equal(ShootLabels(fresh)(s, q), ShootLabels(model)(s, q))
     assert ShootLabels(fresh).ready
+
+
+def _path_rows() -> Transitions:
+    """Two episodes; waypoints every 1 along x in the first, a jump in the second's second step."""
+    ep, st = np.array([0, 0, 0, 0, 1, 1, 1], np.int32), np.array([0, 1, 2, 3, 0, 1, 2], np.int32)
+    pos = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [9, 9], [9, 8], [9, 7]], np.float32)
+    wp = np.array([[1, 1], [1, 1], [2, 2], [2, 2], [5, 5], [6, 6], [6, 6]], np.float32)
+    z = np.zeros((7, 1), np.float32)
+    return Transitions(0, 0, ep, st, z, pos, wp, z, z[:, 0])
+
+
+def test_waypoint_before_is_the_last_different_waypoint_or_the_episode_start():
+    from shaped_es.shaping.mphi_inputs import waypoint_before
+
+    got = waypoint_before(_path_rows())
+    np.testing.assert_array_equal(got, [[0, 0], [0, 0], [1, 1], [1, 1], [9, 9], [5, 5], [5, 5]])
+
+
+def test_ahead_aims_past_the_waypoint_along_its_path(model):
+    tr = _path_rows()
+    at = ShootLabels(model).inputs(tr)
+    np.testing.assert_allclose(at, tr.waypoint - tr.position)
+    past = ShootLabels(model, ahead=1.0).inputs(tr)
+    np.testing.assert_allclose(past[2], [2 + 1 - 2, 2 + 1 - 0])  # w (2, 2) + (w - (1, 1)) - p (2, 0)
+    np.testing.assert_allclose(past[5], [6 + 1 - 9, 6 + 1 - 8])

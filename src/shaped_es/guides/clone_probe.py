@@ -83,4 +83,5 @@ def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: in
     for trs in data:
         m.add(trs)
         m.train()
-    return clone_rounds(cfg, spec, x0, [t for g in data for t in g], ShootLabels(m), seeds, key)
+    labels = ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead)
+    return clone_rounds(cfg, spec, x0, [t for g in data for t in g], labels, seeds, key)

@@ -30,6 +30,22 @@ def episode_end(tr: Transitions) -> np.ndarray:
     return last[np.searchsorted(last, np.arange(T))]  # (T,)
 
 
+def waypoint_before(tr: Transitions) -> np.ndarray:
+    """The waypoint each row's waypoint took over from, ``(T, d)``: the last different waypoint of its
+    episode, or the episode's first position while its first waypoint holds. ``w_t - waypoint_before`` is
+    the waypoint path's last step (one spacing of spatial waypoints; a timed schedule's last step)."""
+    T = len(tr)
+    if T == 0:
+        return tr.waypoint.copy()
+    idx = np.arange(T)
+    start = np.ones(T, bool)  # a contiguous episode run begins here
+    start[1:] = ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))
+    change = start.copy()
+    change[1:] |= np.any(tr.waypoint[1:] != tr.waypoint[:-1], axis=1)  # (T,) a new waypoint
+    since = np.maximum.accumulate(np.where(change, idx, 0))  # (T,) the row its waypoint appeared at
+    return np.where(start[since][:, None], tr.position[since], tr.waypoint[np.maximum(since - 1, 0)])
+
+
 def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon: int = 8,
                  rng: np.random.Generator | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Training triples ``(s_t, position_{t+h} - position_t, a_t)`` for the rows that have a successor.
