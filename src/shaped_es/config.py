@@ -199,6 +199,9 @@ class MeanCloneSettings(_Strict):
     accept_margin: Float = Field(_MEAN.accept_margin, ge=0, le=100, description="candidate, accept paired or "
                                  "best_paired: the candidate's mean paired difference to the mean must exceed this "
                                  "many standard errors of it")
+    accept_flat: Bool = Field(_MEAN.accept_flat, description="candidate: where every member of the population "
+                              "returned the same (the ES step is zero: a plateau, a sparse reward nobody met yet), a "
+                              "candidate whose mean gain over the mean on the paired episodes is positive wins")
     warm_start: Bool = Field(_MEAN.warm_start, description="the clone starts from the previous generation's "
                              "clone (a DAgger learner kept across generations) instead of the mean")
     extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "

@@ -221,8 +221,8 @@ CFG = {"env": "NoisyWaypoints-v0", "executor": "inline", "method": "shaped", "ge
 def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
     rows = train(tmp_path / "shaped", CFG).read_metrics()
     err = capsys.readouterr().err
-    assert err.count("shaped-es: note: labels lost 3 judged generations in a row (won ") == 1
-    note = next(ln for ln in err.splitlines() if ln.startswith("shaped-es: note: "))
+    assert err.count("shaped-es: shaped: note: labels lost 3 judged generations in a row (won ") == 1  # the run's
+    note = next(ln for ln in err.splitlines() if ln.startswith("shaped-es: shaped: note: "))  # name, then the note
     assert "shaping sleeps 4 generations at the ES strategy's price and retries (column shaping_awake)" in note
     assert "try shaped-es check-env NoisyWaypoints-v0 --labels; compare --method vanilla / cmaes" in note
     assert "shaping.labels=controller" not in err  # and no oracle labels: this env has no controller

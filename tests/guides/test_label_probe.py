@@ -168,6 +168,7 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     # with its horizon, where the probe found its simulated candidate beating zero action), where the rest is
     assert err.count("labels: frame=") == 1
     line = next(ln for ln in err.splitlines() if "labels: frame=" in ln)
+    assert line.startswith("shaped-es: full: labels: frame=")  # the run's name: a benchmark's runs print in turn
     shoot = f", shooting ({res.shoot_horizon} steps)" if res.shoot_on else ""
     assert f"; rivals: waypoint frame, servo{shoot}; " in line and len(line) <= LINE_MAX
     assert ("; shooting rival dropped" in line) == (not res.shoot_on)

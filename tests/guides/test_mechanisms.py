@@ -288,6 +288,24 @@ def test_paired_win_needs_more_than_a_standard_error():
     assert not paired_win(np.array([-1.0, -1.0, -1.0, -1.0]), mean)
 
 
+def test_a_sparse_rewards_one_success_wins_only_on_a_flat_population():
+    """One success among n episodes (the rest tied at a sparse reward's floor) is x / n against a standard
+    error of x / n: never significant. Where every member returned the same, a mean gain is enough."""
+    from shaped_es.guides.mechanisms.candidate import flat_win, paired_win
+
+    floor = np.full(6, -25.0)
+    one = floor.copy()
+    one[2] = 150.0
+    assert not paired_win(one, floor)
+    assert flat_win(np.full(8, -25.0), one, floor)
+    assert not flat_win(np.array([-25.0] * 7 + [-24.0]), one, floor)  # the population has a signal
+    crash = one.copy()
+    crash[4] = -60.0  # one success, one crash: still a mean gain
+    assert flat_win(np.full(8, -25.0), crash, floor)
+    assert not flat_win(np.full(8, -25.0), floor, floor)  # no gain
+    assert not flat_win(np.zeros(0), one, floor)
+
+
 def test_shaped_cmaes_resumes_exactly(tmp_path, monkeypatch):
     """The candidate over CMA-ES (--method shaped_cmaes): the controller's candidates are judged, and a
     run crashed at generation 3 resumes to the uninterrupted run's rows."""

@@ -298,6 +298,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                 c = labels["chosen"]
                 print(f"labels: with seed {labels['seed']} a shaped run picks frame={c['frame']}, query_clip="
                       f"{clip_text(c['query_clip'])}: {c['reason']}; each run probes with its own seed")
+            for line in labels.get("details", []):
+                print(f"labels: {line}")
             print(f"labels: {labels['verdict']}")
     sys.stdout.flush()
     return 1 if failed else 0

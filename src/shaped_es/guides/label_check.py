@@ -27,27 +27,26 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     gain, se = paired(res.returns[best], res.zero_action)
     if gain > 2 * se:
         verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
-                   f"enough: a run accepts a candidate only where it beats the ES mean, which soon beats zero "
-                   f"action too; the run's rival frame and servo candidates are not probed here)")
+                   f"enough: a run's candidate must beat the ES mean, which soon beats zero action too)")
     elif -gain > 2 * se:
         verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
-                   f"candidates may rarely win (a shaped run backs off when they keep losing); compare "
+                   f"candidates may rarely win (a run then backs off); compare "
                    f"{'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla / cmaes")
     else:
         verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
-                   f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a shaped run backs off when "
-                   f"they keep losing)")
+                   f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a run then backs off)")
+    details = []  # one line each, before the verdict
     if res.clones.get(best):  # the frame was chosen on this, not on the labels' own return
-        verdict += (f"; {best}'s simulated candidate (what the frame was chosen on) "
-                    f"{_against_zero(res.clones[best], res.zero_action)}")
+        details.append(f"{best}'s simulated candidate (what the frame was chosen on) "
+                       f"{_against_zero(res.clones[best], res.zero_action)}")
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
-        verdict += (f"; the shooting labels' simulated candidate {horizon_text(res)} "
-                    f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
-                    f"that rival")
+        details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
+                       f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
+                       f"that rival")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
-            "env_steps": res.env_steps, "seconds": res.seconds,
+            "env_steps": res.env_steps, "seconds": res.seconds, "details": details,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
 

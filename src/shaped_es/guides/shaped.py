@@ -104,6 +104,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         check_obs_norm(cfg)  # es.obs_norm: mechanism candidate only (preflight says so first)
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
         self.traj_root = run_root(self.sh.trajectory_root, str(store.trajectories_dir), store.run_id())
+        self.run_name = Path(store.root).name  # the run's lines name it (a benchmark's --quiet runs print in turn)
         self.placement = placement(cfg, spec)
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
@@ -138,7 +139,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
                                                           shoot_h, shoot_base)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
-            print(f"shaped-es: {probe_res.line(cfg.env, rival_names(self.rivals))}", file=sys.stderr)
+            print(f"shaped-es: {self.run_name}: {probe_res.line(cfg.env, rival_names(self.rivals))}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
@@ -342,14 +343,14 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         first time."""
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
-            print(f"shaped-es: note: {self.budget.note(self.cfg.env, self.has_controller)}", file=sys.stderr)
+            print(f"shaped-es: {self.run_name}: note: {self.budget.note(self.cfg.env, self.has_controller)}", file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
             return
         self._warned = True
         mp = self.sh.inverse_dynamics
-        print(f"shaped-es: warning: after {generation + 1} generations no episode passed M_phi's filter "
+        print(f"shaped-es: {self.run_name}: warning: after {generation + 1} generations no episode passed M_phi's filter "
               f"(filter={mp.filter}, min_return={mp.min_return}): the shaped method runs as Vanilla-ES "
               f"until one does (column shaping_active = 0); --set shaping.inverse_dynamics.filter=none "
               f"keeps every transition", file=sys.stderr)

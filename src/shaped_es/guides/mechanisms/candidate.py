@@ -74,6 +74,14 @@ def paired_win(cand: np.ndarray, mean: np.ndarray, margin: float = 1.0) -> bool:
     return bool(d.mean() > margin * d.std(ddof=1) / np.sqrt(d.size))
 
 
+def flat_win(fitness: np.ndarray, cand: np.ndarray, mean: np.ndarray) -> bool:
+    """Every member of the population returned the same (a plateau; a sparse reward nobody met yet: the ES
+    step has no signal to follow) and the candidate gains over the mean on average: the only way off it.
+    One success among n episodes never passes :func:`paired_win`: x / n is exactly its own standard error."""
+    f = np.asarray(fitness, np.float64)  # (P,)
+    return bool(f.size and np.ptp(f) == 0.0 and np.mean(np.asarray(cand, np.float64) - mean) > 0)
+
+
 class MeanCandidate(Mechanism):
     name = "candidate"
     metric_keys = ("candidate_return", "mean_return", "candidate_gain", "candidate_accepted",
@@ -137,6 +145,8 @@ class MeanCandidate(Mechanism):
 
             def passes(i: int, over: float) -> bool:
                 z = self.cfg.accept_margin
+                if self.cfg.accept_flat and flat_win(fitness, extra_returns[i], extra_returns[-1]):
+                    return True
                 if self.cfg.accept == "paired":
                     return paired_win(extra_returns[i], extra_returns[-1], z)
                 if self.cfg.accept == "best_paired" and not paired_win(extra_returns[i], extra_returns[-1], z):
