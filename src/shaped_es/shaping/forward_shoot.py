@@ -25,9 +25,9 @@ one candidate plan per action, the first step of the best plan as the label:
   controller 9.0); the points, the unicycle and the rover within 0.1 either way
   (``docs/benchmarks/shoot_ahead_v10``). On a timed path the step is one step of the schedule.
 
-With the simulator as its model and aiming at the waypoint, these labels drive Kart-v0 to 5.8 (its controller
-9.0, zero action -1.2), and as the env's controller (``shaping.labels=controller`` on such a Kart) they solve it 10/10 in
-18.8 generations where Vanilla-ES solves 6/10 in 80. Hand-written: no library offers model-predictive
+With the simulator as its model and aiming at the waypoint, these labels drive Kart-v0 to 5.8 (its
+controller 9.0, zero action -1.2), and as the env's controller (``shaping.labels=controller`` on such a
+Kart) they solve it 10/10 in 18.8 generations where Vanilla-ES solves 6/10 in 80. Hand-written: no library offers model-predictive
 labels through a learned waypoint-space model.
 """
 
