@@ -138,8 +138,13 @@ def _run(cfg, store, a, probe=None) -> int:
 
     from shaped_es.trained.video import with_video
 
-    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe,
-                                       callback=with_video(cfg, progress=not a.quiet))
+    from shaped_es.benchmark.summary import env_threshold
+    from shaped_es.monitor.threshold import ThresholdNotice
+
+    thr = env_threshold(cfg)  # (value, where it comes from) or None
+    notice = ThresholdNotice(*thr) if thr is not None else None
+    callbacks = with_video(cfg, [notice] if notice is not None and not a.quiet else None, progress=not a.quiet)
+    resolve(METHODS[cfg.method].train)(cfg, store, progress=not a.quiet, probe=probe, callback=callbacks)
     from shaped_es.report import plot_runs
 
     fig = plot_runs({cfg.method: store.root}, store.figures_dir / "reward.png", title=cfg.env)
@@ -148,6 +153,10 @@ def _run(cfg, store, a, probe=None) -> int:
     out = {"run_dir": str(store.root), "generations": len(rows),
            "test_reward_mean": _num(last.get("test_reward_mean")),
            "train_reward_mean": _num(last.get("train_reward_mean")), "figure": str(fig)}
+    if thr is not None:  # the env's threshold and the first generation whose test reward reached it
+        tests = [_num(r.get("test_reward_mean")) for r in rows]
+        first = next((i + 1 for i, t in enumerate(tests) if t is not None and t >= thr[0]), None)
+        out["threshold"] = {"value": thr[0], "source": thr[1], "first_generation": first}
     shaping = rows_summary(rows)  # candidate runs: what the labels did
     if shaping is not None:
         out["shaping"] = shaping
