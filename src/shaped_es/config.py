@@ -199,6 +199,8 @@ class MeanCloneSettings(_Strict):
     accept_margin: Float = Field(_MEAN.accept_margin, ge=0, le=100, description="candidate, accept paired or "
                                  "best_paired: the candidate's mean paired difference to the mean must exceed this "
                                  "many standard errors of it")
+    accept_fresh: Bool = Field(_MEAN.accept_fresh, description="candidate, accept paired: the paired test runs on "
+                               "the extra episodes only (the best candidate was picked on the common ones)")
     accept_flat: Bool = Field(_MEAN.accept_flat, description="candidate: where every member of the population "
                               "returned the same (the ES step is zero: a plateau, a sparse reward nobody met yet), a "
                               "candidate whose mean gain over the mean on the paired episodes is positive wins")

@@ -54,20 +54,29 @@ def test_sleeps_stop_doubling_while_the_labels_win_their_share():
 
 
 def test_the_back_off_note_is_one_short_line():
-    """The note a new user found ~700 characters long: what happened, what sleeping costs, what to try (the
-    controller's labels only where the env has one), in at most NOTE_MAX characters with a built-in env's id;
-    the longer explanation (shaped_cmaes, a run that outpaced its labels) is README.md's."""
-    b = LabelBudget(patience=8, max_sleep=32, keep_rate=0.2)
-    for accepted in [False] * 3 + [True] + [False] * 8:
-        b.judge(accepted, 0.0)
-    assert b.sleeps == 1
-    with_oracle, without = (f"shaped-es: note: {b.note('CarNav-v0', c)}" for c in (True, False))
-    assert with_oracle == ("shaped-es: note: labels lost 8 judged generations in a row (won 1 of 12): shaping "
+    """The note a new user found ~700 characters long: what happened, what sleeping costs, and what to try
+    only where the labels never won (the controller's labels only where the env has one), in at most NOTE_MAX
+    characters with a built-in env's id; labels that won before get no advice (a new user's arm: the note came
+    in runs that went on to solve where Vanilla-ES never did; one win can be luck: a noise env wins 1 of its
+    first 4). The longer explanation is README.md's."""
+    never = LabelBudget(patience=8, max_sleep=32)
+    for _ in range(8):
+        never.judge(False, 0.0)
+    assert never.sleeps == 1
+    with_oracle, without = (f"shaped-es: note: {never.note('CarNav-v0', c)}" for c in (True, False))
+    assert with_oracle == ("shaped-es: note: labels lost 8 judged generations in a row (won 0 of 8): shaping "
                            "sleeps 4 generations at the ES strategy's price and retries (column shaping_awake); "
                            "try shaped-es check-env CarNav-v0 --labels; compare shaping.labels=controller, "
                            "--method vanilla / cmaes")
     assert without == with_oracle.replace("shaping.labels=controller, ", "")
     assert len(with_oracle) <= NOTE_MAX and len(without) <= 250
+    won = LabelBudget(patience=8, max_sleep=32, keep_rate=0.2)
+    for accepted in [False] * 3 + [True, True] + [False] * 8:
+        won.judge(accepted, 0.0)
+    assert won.sleeps == 1
+    note = won.note("CarNav-v0", True)
+    assert note.startswith("labels lost 8 judged generations in a row (won 2 of 13): shaping sleeps 4 ")
+    assert "they paid before" in note and "check-env" not in note and len(note) <= NOTE_MAX
 
 
 def test_disabled_budget_never_sleeps():

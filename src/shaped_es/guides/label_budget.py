@@ -112,9 +112,12 @@ class LabelBudget:
         """The line a run prints when it first sleeps: what happened, what sleeping costs, what to try (the env's
         controller labels only where ``has_controller``); README.md's back-off ("backs off") says more."""
         oracle = "shaping.labels=controller, " if has_controller else ""
-        return (f"labels lost {self.patience} judged generations in a row (won {self.accepted} of {self.judged}): "
+        head = (f"labels lost {self.patience} judged generations in a row (won {self.accepted} of {self.judged}): "
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (column "
-                f"shaping_awake); try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes")
+                f"shaping_awake)")
+        if self.accepted >= KEEP_MIN_WINS:  # they paid before (one win can be luck): the search outpaced them
+            return head + "; they paid before, and a run past its labels' reach is expected to outpace them"
+        return head + f"; try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes"
 
     def summary(self) -> dict:
         """What shaping did so far (the final JSON's ``shaping``, with ``accepted_then_fell``, is

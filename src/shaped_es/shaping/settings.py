@@ -85,6 +85,8 @@ class MeanCloneConfig:
     #   the paired differences over every episode both ran ("paired"), or both of best and paired
     accept_margin: float = 1.0  # paired / best_paired: the candidate's mean paired difference must exceed this
     #                             many standard errors of it
+    accept_fresh: bool = False  # paired: the test runs on the extra episodes only (the pick of the best candidate saw
+    #                              the common ones: winner's curse)
     accept_flat: bool = True  # candidate: where every member returned the same (no signal for the ES step), a candidate
     #                            whose mean paired gain is positive wins (a sparse reward's one success never passes
     #                            paired: x / n is exactly its own standard error)

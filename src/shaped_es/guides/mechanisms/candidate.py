@@ -148,6 +148,8 @@ class MeanCandidate(Mechanism):
                 if self.cfg.accept_flat and flat_win(fitness, extra_returns[i], extra_returns[-1]):
                     return True
                 if self.cfg.accept == "paired":
+                    if self.cfg.accept_fresh and more is not None:  # the episodes the pick did not see
+                        return paired_win(extra_returns[i, E:], extra_returns[-1, E:], z)
                     return paired_win(extra_returns[i], extra_returns[-1], z)
                 if self.cfg.accept == "best_paired" and not paired_win(extra_returns[i], extra_returns[-1], z):
                     return False
