@@ -105,7 +105,7 @@ def test_a_misspelt_nested_key_is_one_line_with_what_it_may_mean(how, text, tmp_
     out = tmp_path / "r"
     assert main(["train", "--env", "CartPole-v1", "--method", "shaped", *TINY, *given, "--out", str(out)]) == 2
     assert _err_lines(capsys) == ["shaped-es: error: invalid config: shaping.mean_clone.acept: unknown field "
-                                  "(did you mean accept?)"]
+                                  "(did you mean accept or accept_flat?)"]
     assert not out.exists()
 
 
@@ -156,7 +156,8 @@ def test_the_readme_says_how_to_bring_an_own_env_and_its_example_passes_check_en
     # --labels on the user's own env (no batched core: driven episode by episode through Gymnasium)
     assert main(["check-env", "readme_point:ReadmePoint-v0", "--labels"]) == 0
     out = capsys.readouterr().out.strip().splitlines()
-    assert out[-2].startswith("labels: with seed 0 a shaped run picks frame=") and out[-1].startswith("labels: ")
+    assert any(ln.startswith("labels: with seed 0 a shaped run picks frame=") for ln in out)
+    assert out[-1].startswith("labels: ")
     # the module that forgets to register: one line naming gymnasium.register
     assert main(["train", "--env", "readme_noreg:ReadmeNoreg-v0", *TINY, "--out", "r"]) == 2
     assert _err_lines(capsys) == ["shaped-es: error: cannot make env 'readme_noreg:ReadmeNoreg-v0': its module "
@@ -166,26 +167,24 @@ def test_the_readme_says_how_to_bring_an_own_env_and_its_example_passes_check_en
 
 
 def test_the_readmes_quickstart_ranges_are_the_committed_studys():
-    """The Quickstart's figures a newcomer checks are ranges over seeds taken from a committed study, and
-    the seed-0 values it quotes are that study's committed run (README, "What reproduces exactly")."""
+    """The Quickstart's figures a newcomer checks are ranges over seeds taken from a committed study at the
+    default's code, and the seed-0 values it quotes are that study's (README, "What reproduces exactly")."""
     import csv
     import statistics
 
     root = SRC.parent
     readme = " ".join((root / "README.md").read_text().split())
-    study = root / "docs" / "benchmarks" / "suite_waypoints_v6"
-    gens = []  # generations (counted from 1) until the first test reward of 200, seeds 0-9 of the shaped runs
+    study = root / "docs" / "benchmarks" / "accept_flat_v10" / "suite" / "CarNav-v0" / "runs"
+    gens, late = [], []  # generations (counted from 1) to the first test reward of 200; last 10 generations' mean
     for seed in range(10):
-        with open(study / "CarNav-v0" / "runs" / f"shaped_s{seed}" / "metrics.csv") as fh:
-            gens.append(next(int(r["generation"]) + 1 for r in csv.DictReader(fh)
-                             if r["test_reward_mean"] and float(r["test_reward_mean"]) >= 200))
-    task = next(t for t in json.loads((study / "suite.json").read_text())["tasks"] if t["task"] == "CarNav-v0")
-    shaped = task["methods"]["shaped"]
-    assert shaped["solved"] == 10 and shaped["generations_to_threshold"] == pytest.approx(statistics.mean(gens))
+        with open(study / f"shaped_s{seed}" / "metrics.csv") as fh:
+            tests = [float(r["test_reward_mean"]) for r in csv.DictReader(fh)]
+        assert len(tests) == 80
+        gens.append(next(i + 1 for i, t in enumerate(tests) if t >= 200))
+        late.append(statistics.mean(tests[-10:]))
     assert (f"200 is passed after **{min(gens):.0f}-{max(gens):.0f} generations (median "
             f"{statistics.median(gens):.0f})**") in readme
-    lo, hi = shaped["final_iqm_ci"]
-    assert f"IQM (80 generations) is {shaped['final_iqm']:.1f} [{lo:.1f}, {hi:.1f}]" in readme
+    assert f"the last 10 of 80 generations averages {statistics.mean(late):.1f}" in readme
     assert "seed 0 (the Quickstart's) passes 200 at generation 6" in readme and gens[0] == 6
     with open(root / "docs" / "benchmarks" / "labels_babble_walltime" / "runs" / "shaped_s0" / "metrics.csv") as fh:
         rows = list(csv.DictReader(fh))

@@ -17,7 +17,7 @@ from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
 
-LINE_MAX = 250  # characters of the run's printed probe line, for a built-in env's id
+LINE_MAX = 270  # characters of the run's printed probe line, for a built-in env's id and a short run name
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
 
@@ -74,10 +74,10 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
                     "-0.19 vs zero action -1.20; rivals: waypoint frame, servo, shooting (4 steps); see "
                     "label_probe.json, shaped-es check-env CarNav-v0 --labels")
     dropped = f"shaped-es: {replace(res, shoot_on=False).line('CarNav-v0', rivals[:2])}"
-    assert "; shooting rival dropped (4 steps); rivals: waypoint frame, servo; " in dropped
+    assert "; shooting rival dropped (4 steps, not above zero action); rivals: waypoint frame, servo; " in dropped
     # the default kept; the default's labels lost to zero action (no clones: the labels' own return)
     kept = replace(res, query_clip=None, reason="the default: ...").line("CarNav-v0", rivals)
-    assert "query_clip=none (the default): simulated candidate -19.19 vs zero action" in kept
+    assert "query_clip=none (the default choice): simulated candidate -19.19 vs zero action" in kept
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
     assert "(both's labels lost to zero action): labels -0.39 vs zero action" in lost.line("ReacherWay-v0", rivals)
     for text in (line, dropped, f"shaped-es: {kept}", f"shaped-es: {lost.line('ReacherWay-v0', rivals)}"):
@@ -261,8 +261,8 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
-    assert "(actions held 4 steps: no longer horizon's clone is clearly better: 8 steps" in horizon_text(res)
-    assert "; shooting rival dropped (4 steps)" in res.line()
+    assert "(actions held 4 steps: no longer horizon is clearly better: 8 steps" in horizon_text(res)
+    assert "; shooting rival dropped (4 steps, not above zero action)" in res.line()
     seen.clear()
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))

@@ -44,8 +44,9 @@ def test_a_resume_that_had_reached_it_says_nothing(tmp_path):
 
 def test_train_json_says_the_threshold_and_when(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    assert main(["train", "--env", "PointVel-v0", "--method", "vanilla", "--generations", "2", "--out", "r", "--quiet",
-                 "--executor", "inline", "--pairs", "2", "--set", "rollout.episodes=1", "--set", "tensorboard=false"]) == 0
+    assert main(["train", "--env", "PointVel-v0", "--method", "vanilla", "--generations", "2", "--out", "r",
+                 "--quiet", "--executor", "inline", "--pairs", "2", "--set", "rollout.episodes=1",
+                 "--set", "tensorboard=false"]) == 0
     out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert out["threshold"]["value"] == 8.5 and out["threshold"]["source"].startswith("PointVel-v0 reward_threshold")
     with open("r/metrics.csv", newline="") as fh:

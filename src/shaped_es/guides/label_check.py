@@ -69,6 +69,6 @@ def horizon_text(res: ProbeResult) -> str:
     first = next(iter(tried))
     others = ", ".join(f"{k} steps {np.mean(v):.2f}" for k, v in tried.items() if k not in (h, first))
     if h == first:
-        return f"(actions held {h} steps: no longer horizon's clone is clearly better: {others})"
+        return f"(actions held {h} steps: no longer horizon is clearly better: {others})"
     return (f"(actions held {h} steps: its clone beats {first} steps' ({np.mean(tried[first]):.2f}) clearly"
             + (f"; {others})" if others else ")"))

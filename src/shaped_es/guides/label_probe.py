@@ -117,12 +117,13 @@ class ProbeResult:
         ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
         name, h = variant_name(self.frame, self.query_clip), self.shoot_horizon
         default = next(iter(self.returns), name)
-        why = ("the default" if name == default else f"its candidate beat {default}'s"
+        why = ("the default choice" if name == default else f"its candidate beat {default}'s"
                if self.reason.startswith("its") else f"{default}'s labels lost to zero action")
         own, what = (self.clones, "simulated candidate") if self.clones.get(name) else (self.returns, "labels")
         zero, own = self.zero_action, own.get(name)
         score = f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}" if own and zero else ""
-        shoot = (f"; shooting rival {'kept' if self.shoot_on else 'dropped'}{f' ({h} steps)' if h else ''}"
+        lost = "" if self.shoot_on else ", not above zero action"
+        shoot = (f"; shooting rival {'kept' if self.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
                  if self.shoot and not any(n.startswith("shooting") for n in rivals) else "")
         return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)} ({why}){score}{shoot}"
                 + (f"; rivals: {', '.join(rivals)}" if rivals else "")
