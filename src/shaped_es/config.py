@@ -202,8 +202,8 @@ class MeanCloneSettings(_Strict):
     accept_fresh: Bool = Field(_MEAN.accept_fresh, description="candidate, accept paired: the paired test runs on "
                                "the extra episodes only (the best candidate was picked on the common ones)")
     accept_flat: Bool = Field(_MEAN.accept_flat, description="candidate: where every member of the population "
-                              "returned the same (the ES step is zero: a plateau, a sparse reward nobody met yet), a "
-                              "candidate whose mean gain over the mean on the paired episodes is positive wins")
+                              "returned the same (the ES step has no signal: a plateau, a sparse reward nobody met "
+                              "yet), a candidate whose mean gain over the mean on the paired episodes is positive wins")
     warm_start: Bool = Field(_MEAN.warm_start, description="the clone starts from the previous generation's "
                              "clone (a DAgger learner kept across generations) instead of the mean")
     extra_episodes: Int = Field(_MEAN.extra_episodes, ge=0, le=1000, description="candidate: the candidates "

@@ -139,7 +139,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
                                                           shoot_h, shoot_base)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
-            print(f"shaped-es: {self.run_name}: {probe_res.line(cfg.env, rival_names(self.rivals))}", file=sys.stderr)
+            print(f"shaped-es: {self.run_name}: " + probe_res.line(cfg.env, rival_names(self.rivals)), file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
@@ -343,15 +343,16 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         first time."""
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
-            print(f"shaped-es: {self.run_name}: note: {self.budget.note(self.cfg.env, self.has_controller)}", file=sys.stderr)
+            note = self.budget.note(self.cfg.env, self.has_controller)
+            print(f"shaped-es: {self.run_name}: note: {note}", file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
             return
         self._warned = True
         mp = self.sh.inverse_dynamics
-        print(f"shaped-es: {self.run_name}: warning: after {generation + 1} generations no episode passed M_phi's filter "
-              f"(filter={mp.filter}, min_return={mp.min_return}): the shaped method runs as Vanilla-ES "
+        print(f"shaped-es: {self.run_name}: warning: after {generation + 1} generations no episode passed M_phi's "
+              f"filter (filter={mp.filter}, min_return={mp.min_return}): the shaped method runs as Vanilla-ES "
               f"until one does (column shaping_active = 0); --set shaping.inverse_dynamics.filter=none "
               f"keeps every transition", file=sys.stderr)
 

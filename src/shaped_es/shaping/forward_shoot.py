@@ -27,8 +27,8 @@ one candidate plan per action, the first step of the best plan as the label:
 
 With the simulator as its model and aiming at the waypoint, these labels drive Kart-v0 to 5.8 (its
 controller 9.0, zero action -1.2), and as the env's controller (``shaping.labels=controller`` on such a
-Kart) they solve it 10/10 in 18.8 generations where Vanilla-ES solves 6/10 in 80. Hand-written: no library offers model-predictive
-labels through a learned waypoint-space model.
+Kart) they solve it 10/10 in 18.8 generations where Vanilla-ES solves 6/10 in 80. Hand-written: no library
+offers model-predictive labels through a learned waypoint-space model.
 """
 
 from __future__ import annotations
