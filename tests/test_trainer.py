@@ -1,5 +1,6 @@
 """Tiny end-to-end runs on CartPole-v1: learning, executor independence, kill-and-resume."""
 
+import numpy as np
 import pytest
 
 from helpers import CARTPOLE_TINY, kill_after_rows, new_run, popen_cli, run_until_crash, strip_time, train
@@ -117,3 +118,38 @@ def test_cli_existing_run_refused_and_untouched(tmp_path):
     _, err = q.communicate(timeout=60)
     assert q.returncode == 2 and "already holds a run" in err
     assert (tmp_path / "r" / "metrics.csv").read_bytes() == before
+
+
+@pytest.mark.parametrize("method", ["vanilla", "cmaes"])
+def test_test_policy_mean_tests_the_updated_mean(tmp_path, monkeypatch, method):
+    # rollout.test_policy=mean: each generation's test episodes go to the search's mean, the centre of the
+    # population that generation sampled (not its best member)
+    tested, means = [], []
+    submit, step = Trainer._submit_eval, Trainer.step
+
+    def spy_submit(self, item, theta, g, obs_norm):
+        tested.append(np.array(theta))
+        return submit(self, item, theta, g, obs_norm)
+
+    def spy_step(self, g):
+        means.append(np.asarray(self.strategy.mean, np.float32).copy())
+        return step(self, g)
+
+    monkeypatch.setattr(Trainer, "_submit_eval", spy_submit)
+    monkeypatch.setattr(Trainer, "step", spy_step)
+    rows = _train(tmp_path, "mean", method=method, executor="inline", generations=4,
+                  rollout={**TINY["rollout"], "test_policy": "mean"})
+    assert len(tested) == len(means) == 4 and all(r["test_reward_mean"] != "" for r in rows)
+    for t, m in zip(tested, means):
+        np.testing.assert_array_equal(t, m)
+    assert not np.array_equal(tested[-1], tested[0])  # the mean moved
+
+
+def test_test_policy_mean_resumes_exactly(tmp_path, monkeypatch):
+    over = dict(executor="inline", generations=8, checkpoint_every=2,
+                rollout={**TINY["rollout"], "test_policy": "mean"})
+    full, left, resumed = _crash_and_resume(tmp_path, monkeypatch, 4, **over)
+    assert left == [0, 1, 2]
+    assert strip_time(resumed) == strip_time(full)
+    best = [r for r in _train(tmp_path, "best", **{**over, "rollout": TINY["rollout"]})]
+    assert [r["test_reward_mean"] for r in best] != [r["test_reward_mean"] for r in full]  # another policy

@@ -140,14 +140,19 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         both = shoot_base and h != base and cfg.shaping.inverse_dynamics.shoot_keep_base
         ahead = cfg.shaping.inverse_dynamics.shoot_ahead
         track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead)
-        out.append(Rival(SHOOT, f"shooting ({h} steps)" if both else "shooting", track, "shoot/", "shoot/parts"))
+        out.append(Rival(SHOOT, shoot_name(h) if both else "shooting", track, "shoot/", "shoot/parts"))
         if both:
             track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, base, root, cfg.seed, SHOOT_BASE_KEY,
                                 SHOOT_BASE_DIR, ahead)
-            out.append(Rival(SHOOT_BASE, f"shooting ({base} steps)", track, "shoot_base/", "shoot_base/parts"))
+            out.append(Rival(SHOOT_BASE, shoot_name(base), track, "shoot_base/", "shoot_base/parts"))
     return out
+
+
+def shoot_name(horizon: int) -> str:
+    """A shooting rival's name with its horizon: ``shooting (8 steps)``."""
+    return f"shooting ({horizon} steps)"
 
 
 def names(rivals: list[Rival]) -> list[str]:
     """The rivals' names for the probe's line, the shooting labels' with their horizon: ``shooting (8 steps)``."""
-    return [f"{r.name} ({r.track.mphi.horizon} steps)" if r.name == "shooting" else r.name for r in rivals]
+    return [shoot_name(r.track.mphi.horizon) if r.name == "shooting" else r.name for r in rivals]

@@ -1,5 +1,5 @@
 """A generation's metrics row and its test episodes (``eval_overlap``: collected a generation later):
-the row started once the population's returns are known, the best member's test episodes submitted,
+the row started once the population's returns are known, the tested policy's episodes submitted,
 the row finished with the generation's counts and times, and completed rows handed back in order.
 
 :class:`Rows` is :class:`~shaped_es.trainer.Trainer`'s part that does this.
@@ -80,9 +80,11 @@ class Rows:
 
     def _start_row(self, g: int, X: np.ndarray, fitness: np.ndarray, P: int) -> _Row:
         """Generation ``g``'s metrics row (train rewards of the population's ``fitness[:P]``); the test
-        episodes of its best population member start when they are due. Every method tests by this one
-        rule: the guide's extra members (candidates, babblers) are never tested; an accepted candidate
-        becomes the mean and so the centre of the next population."""
+        episodes of its tested policy start when they are due. Every method tests by the one rule the config
+        names (``rollout.test_policy``): ``best``, the population member with the highest training return;
+        ``mean``, the search's mean whose population this generation sampled (before its update). The
+        guide's extra members (candidates, babblers) are never tested; an accepted candidate becomes the
+        mean, and so the next generation's tested policy under ``mean``."""
         pop = fitness[:P]
         item = _Row({"generation": g, "env_steps": 0, "wall_time_s": 0.0, "cpu_time_s": 0.0,
                      "train_reward_mean": float(pop.mean()), "train_reward_max": float(pop.max()),
@@ -90,8 +92,11 @@ class Rows:
                      "test_reward_std": None, "test_reward_best_so_far": None, "test_env_steps": 0})
         cfg = self.cfg
         if cfg.rollout.test_episodes and (g % cfg.rollout.test_every == 0 or g == cfg.generations - 1):
-            # the population's best member, with the normalizer it was trained with
-            self._submit_eval(item, X[int(np.argmax(fitness[:P]))].copy(), g, self.obs_norm())
+            if cfg.rollout.test_policy == "mean":  # the centre of this generation's population
+                theta = np.asarray(self.strategy.mean, np.float32).copy()
+            else:  # the population's best member
+                theta = X[int(np.argmax(fitness[:P]))].copy()
+            self._submit_eval(item, theta, g, self.obs_norm())  # with the normalizer it was trained with
         return item
 
     def _end_row(self, g: int, item: _Row, results: list, old_mean: np.ndarray, extra: dict,
