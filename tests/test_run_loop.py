@@ -12,7 +12,7 @@ from shaped_es.config import build_config
 from shaped_es.run_loop import BASE_COLUMNS, CALLBACK, STOP_AT, run_finished
 from shaped_es.trainer import Trainer
 
-CFG = {**CARTPOLE_TINY, "executor": "inline", "generations": 5}  # test rewards 49, 67, 45, 52, 48
+CFG = {**CARTPOLE_TINY, "executor": "inline", "generations": 5}  # test rewards 28.7, 22.7, 33.3, 73, 65
 
 
 @pytest.fixture(scope="module")
@@ -83,9 +83,9 @@ def test_a_callback_object_and_a_list_of_them(tmp_path):
 
 def test_stop_at_ends_the_run_as_finished(tmp_path, full):
     rows = _rows(full)
-    hit = next(r for r in rows if r["test_reward_mean"] >= 60)  # the first test reward reaching 60
+    hit = next(r for r in rows if r["test_reward_mean"] >= 30)  # the first test reward reaching 30
     assert 0 < hit["generation"] < len(rows) - 2  # ... early enough to stop the run early
-    cfg, store = new_run(tmp_path / "r", {**CFG, "stop_at": 60})
+    cfg, store = new_run(tmp_path / "r", {**CFG, "stop_at": 30})
     Trainer(cfg, store, progress=False).run()
     stopped = store.read_metrics()
     assert len(stopped) == hit["generation"] + 2  # that row, and the next generation's (already run)

@@ -151,5 +151,5 @@ def test_test_policy_mean_resumes_exactly(tmp_path, monkeypatch):
     full, left, resumed = _crash_and_resume(tmp_path, monkeypatch, 4, **over)
     assert left == [0, 1, 2]
     assert strip_time(resumed) == strip_time(full)
-    best = [r for r in _train(tmp_path, "best", **{**over, "rollout": TINY["rollout"]})]
+    best = _train(tmp_path, "best", **{**over, "rollout": {**TINY["rollout"], "test_policy": "best"}})
     assert [r["test_reward_mean"] for r in best] != [r["test_reward_mean"] for r in full]  # another policy

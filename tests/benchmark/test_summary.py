@@ -225,5 +225,7 @@ def test_settings_show_what_each_method_uses_as_plain_values(runs, tmp_path):
     md = (tmp_path / "rep" / "report.md").read_text()
     table = md[md.index("## Settings"):md.index("## Runs")]
     assert "| vanilla | env CartPole-v1; pairs 32; sigma 0.05; lr 0.03; episodes 2; test episodes 15; " \
-           "executor process; workers all cores; other non-defaults none |" in table
+           "tested policy mean; executor process; workers all cores; other non-defaults none |" in table
+    assert settings("vanilla", rollout={"test_policy": "best"})["tested policy"] == "best"
+    assert "tested policy" not in ppo  # PPO tests its own policy
     assert "alpha 0.9; eta 0.01" in table and '"' not in table and "`" not in table

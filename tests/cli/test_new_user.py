@@ -71,13 +71,13 @@ def test_resume_of_a_stop_at_run_as_a_process(tmp_path):
 
 
 def test_the_stop_at_line_quotes_the_row_that_crossed(tmp_path, capsys):
-    """Test rewards 49, 67, ... (tests/test_run_loop.py): --stop-at 45 is crossed at the first row; the
-    second (67, already run) is written too, and the line must quote 49."""
-    cfg, store = new_run(tmp_path / "r", {**CARTPOLE_TINY, "executor": "inline", "generations": 5, "stop_at": 45})
+    """Test rewards 28.7, 22.7, ... (tests/test_run_loop.py): --stop-at 25 is crossed at the first row; the
+    second (22.7, already run) is written too, and the line must quote 28.67, not the last row's."""
+    cfg, store = new_run(tmp_path / "r", {**CARTPOLE_TINY, "executor": "inline", "generations": 5, "stop_at": 25})
     rows = Trainer(cfg, store, progress=True).run()
-    assert [round(r["test_reward_mean"]) for r in rows] == [49, 67]
+    assert [round(r["test_reward_mean"]) for r in rows] == [29, 23]
     line = [x for x in _err_lines(capsys) if "stopped after" in x]
-    assert line == ["[train] stopped after 2 of 5 generations: gen 1's test reward of 48.67 reached --stop-at 45"]
+    assert line == ["[train] stopped after 2 of 5 generations: gen 1's test reward of 28.67 reached --stop-at 25"]
 
 
 def test_preset_on_an_env_without_presets_is_one_line(tmp_path, capsys):
@@ -174,7 +174,7 @@ def test_the_readmes_quickstart_ranges_are_the_committed_studys():
 
     root = SRC.parent
     readme = " ".join((root / "README.md").read_text().split())
-    study = root / "docs" / "benchmarks" / "accept_flat_v10" / "suite" / "CarNav-v0" / "runs"
+    study = root / "docs" / "benchmarks" / "test_policy_v11" / "suite" / "CarNav-v0" / "runs"
     gens, late = [], []  # generations (counted from 1) to the first test reward of 200; last 10 generations' mean
     for seed in range(10):
         with open(study / f"shaped_s{seed}" / "metrics.csv") as fh:

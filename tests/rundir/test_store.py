@@ -72,3 +72,14 @@ def test_save_config_writes_only_a_change(tmp_path):
     assert store.config_path.read_bytes() == before  # the same config: untouched
     store.save_config(build_config({"env": "CartPole-v1", "generations": 60}))
     assert store.read_config().generations == 60
+
+
+def test_a_run_saved_before_test_policy_existed_reads_as_the_rule_it_ran_under(tmp_path):
+    # every saved config.yaml lists every field: one without rollout.test_policy tested the best member
+    store = RunStore(tmp_path / "run")
+    store.create(build_config({"env": "CartPole-v1"}))
+    assert store.read_config().rollout.test_policy == "mean"  # today's default, as written
+    text = store.config_path.read_text()
+    assert "  test_policy: mean\n" in text
+    store.config_path.write_text(text.replace("  test_policy: mean\n", ""))
+    assert store.read_config().rollout.test_policy == "best"

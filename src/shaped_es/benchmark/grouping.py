@@ -141,7 +141,7 @@ def report_env(configs: dict[str, RunConfig]) -> tuple[str, RunConfig | None]:
 # the settings a reader needs to tell the runs apart, each shown for the methods that read it
 KEY_SETTINGS = (("es.pairs", "pairs"), ("es.sigma", "sigma"), ("es.lr", "lr"), ("es.alpha", "alpha"),
                 ("shaping.eta", "eta"))
-SHOWN = {k for k, _ in KEY_SETTINGS} | {"rollout.episodes", "rollout.test_episodes"}
+SHOWN = {k for k, _ in KEY_SETTINGS} | {"rollout.episodes", "rollout.test_episodes", "rollout.test_policy"}
 
 
 def uses(cfg: RunConfig, key: str) -> bool:
@@ -163,6 +163,7 @@ def method_settings(cfg: RunConfig) -> dict:
             out[name] = es[section][field]
     out["episodes"], out["test episodes"] = cfg.rollout.episodes, cfg.rollout.test_episodes
     if METHODS[cfg.method].strategy is not None:  # ES: rollouts on the executor's workers
+        out["tested policy"] = cfg.rollout.test_policy
         out["executor"] = cfg.executor
         if cfg.executor != "inline":  # inline: the rollouts run in the trainer's process, no workers
             out["workers"] = cfg.workers if cfg.workers is not None else "all cores"

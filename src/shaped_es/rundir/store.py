@@ -63,6 +63,10 @@ _RUN_ID_RE = re.compile(r"[0-9a-f]{16,64}")
 # what a start that failed before its config was written leaves: ``train --out`` may start there again
 _START_LEFTOVERS = re.compile(rf"{re.escape(LOCK_NAME)}|{re.escape(ERROR_LOG)}|run\.json|{_TMP_RES['.'].pattern}")
 
+# Fields added after runs were saved, whose default differs from what those runs did. A run's config.yaml
+# lists every field, so one without such a field ran the old way: it is read (resumed, reported) as that.
+SAVED_BEFORE = {("rollout", "test_policy"): "best"}  # the tested policy before rollout.test_policy existed
+
 
 class RunStore(CheckpointFiles, Recovery):
     """The run directory ``root``: its paths, lock, config, metrics and error log here; its checkpoints
@@ -213,7 +217,11 @@ class RunStore(CheckpointFiles, Recovery):
             if not self.root.is_dir():
                 raise StoreError(f"{self.root} is not a run directory (not a directory)")
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
-        return build_config(read_yaml(self.config_path))
+        data = read_yaml(self.config_path)
+        for (section, key), before in SAVED_BEFORE.items():
+            if isinstance(data.get(section), dict) and key not in data[section]:
+                data[section][key] = before
+        return build_config(data)
 
     # -- metrics (metrics_csv.py) ------------------------------------------------------------------
     def read_metrics(self) -> list[dict[str, str]]:
