@@ -36,3 +36,18 @@ def test_generation_axis_uses_every_seed(tmp_path):
     np.testing.assert_allclose(y[np.isfinite(y)], [2.0, 3.0])  # generations 1, 2 (both); 3 has one seed
     plt.close(fig)
     assert plot_reward_bands({"vanilla": [a, b]}, tmp_path / "f.png").stat().st_size > 10_000
+
+
+def test_the_legend_names_the_policy_a_run_tested(tmp_path):
+    from shaped_es.report.plots import tested_policy
+
+    def run(name, text):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "config.yaml").write_text(text)
+        return tmp_path / name
+
+    assert tested_policy(run("mean", "method: vanilla\nrollout:\n  test_policy: mean\n")) == "mean"
+    assert tested_policy(run("best", "method: shaped\nrollout:\n  test_policy: best\n")) == "best member"
+    assert tested_policy(run("old", "method: vanilla\nrollout:\n  episodes: 2\n")) == "best member"  # before the setting
+    assert tested_policy(run("ppo", "method: ppo\nrollout:\n  test_policy: mean\n")) == "policy"
+    assert tested_policy(tmp_path / "missing") == "policy"

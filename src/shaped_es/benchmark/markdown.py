@@ -84,7 +84,8 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
             "resamples, each method's seeds resampled on their own) for the IQM and the probability of "
             "improvement.", ""]
     out += ["## Fig. 4: test reward vs generation, env steps, CPU time and wall time", "",
-            "Mean across seeds of the test reward (ES: the generation's best member over the test episodes; "
+            "Mean across seeds of the test reward (ES: the generation's tested policy over the test episodes, the "
+            "search's mean or its best member by the run's rollout.test_policy; "
             "PPO: the deterministic policy on the same test seeds), band: confidence interval. Each seed's "
             "curve is a step function (held between its evaluations) on a common grid, and the mean is drawn "
             "only where every seed has data: from the last seed's first evaluation on (so one seed alone is "

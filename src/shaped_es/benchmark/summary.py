@@ -4,8 +4,8 @@ Per method, over its seeds:
 
 - ``final_test_reward_mean`` / ``final_test_reward_ci`` ([lo, hi], Student-t) and
   ``final_test_reward_iqm`` / ``final_test_reward_iqm_ci`` (interquartile mean, percentile-bootstrap
-  interval; ``report/aggregate.py``) of each seed's last test evaluation (ES: the generation's best member
-  over the test episodes; PPO: its deterministic policy);
+  interval; ``report/aggregate.py``) of each seed's last test evaluation (ES: the generation's tested policy,
+  ``rollout.test_policy``, over the test episodes; PPO: its deterministic policy);
 - ``success_rate`` / ``successes``: the seeds whose test reward reached the threshold at some evaluation;
 - ``to_threshold``: ``generations``, ``wall_time_s``, ``cpu_time_s``, ``env_steps`` at each seed's first
   evaluation with test reward >= threshold, **censored**: a seed that never reaches it counts as its own

@@ -8,7 +8,8 @@ import json
 from pathlib import Path
 
 RUN_DIR_HELP = "a run directory (the --out of train)"
-POLICY_HELP = "best: the policy with the best test reward so far; mean: the latest (ES: the search mean)"
+POLICY_HELP = ("best: the policy with the best test reward so far (whichever rollout.test_policy tested); "
+               "mean: the latest (ES: the search mean)")
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 REPORT_OUT = "shaped-es-report/report.md"  # report's default: never loose files in the working folder
 

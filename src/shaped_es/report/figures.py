@@ -1,7 +1,8 @@
 """Across-seed figures: the paper's Fig. 4 and Fig. 5 and a performance profile, one colour per method
 (``style.METHOD_COLORS``, the same in every figure).
 
-- Fig. 4: test reward (the best member's mean over the test episodes; PPO: its deterministic policy) vs
+- Fig. 4: test reward (the tested policy's mean over the test episodes, ``rollout.test_policy``: the
+  search's mean or its best member; PPO: its deterministic policy) vs
   generation, vs env steps (the unit of the headline claims), vs CPU time, vs wall time. Each seed's
   curve is held constant between evaluations (a step function on a common grid); the line is the mean
   across seeds and the band its t-interval, drawn only where every seed has data (from the last seed's

@@ -44,6 +44,22 @@ def run_identity(run_dir: str | Path) -> dict:
     return {k: cfg[k] for k in ("method", "env", "seed") if isinstance(cfg, dict) and k in cfg}
 
 
+def tested_policy(run_dir: str | Path) -> str:
+    """What the run's test rewards are of, for a legend: ``mean`` or ``best member`` (its
+    ``rollout.test_policy``; a config without it was written before the setting, under the best-member rule),
+    ``policy`` for PPO or an unreadable config."""
+    from shaped_es.config import ConfigError, read_yaml
+
+    try:
+        cfg = read_yaml(Path(run_dir) / "config.yaml")
+    except ConfigError:
+        return "policy"
+    if not isinstance(cfg, dict) or cfg.get("method") == "ppo":
+        return "policy"
+    rollout = cfg.get("rollout") if isinstance(cfg.get("rollout"), dict) else {}
+    return "mean" if rollout.get("test_policy", "best") == "mean" else "best member"
+
+
 def run_title(run_dir: str | Path, title: str = "") -> str:
     """'<method> on <env>, seed <seed>' from the run's config, after ``title`` unless ``title`` only
     repeats the env or the method."""
@@ -59,7 +75,8 @@ def run_title(run_dir: str | Path, title: str = "") -> str:
 def plot_runs(runs: dict[str, str | Path], out: str | Path, title: str = "") -> Path:
     """One figure, three panels (the paper's Fig. 4 axes); one line per labelled run.
 
-    Solid: test reward of the best member (where evaluated); dotted: mean training reward. A label that
+    Solid: test reward of the tested policy (where evaluated; :func:`tested_policy`); dotted: mean training
+    reward. A label that
     names a method takes its fixed colour. One run: the title names its method, env and seed.
     """
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), sharey=True)
@@ -76,7 +93,7 @@ def plot_runs(runs: dict[str, str | Path], out: str | Path, title: str = "") -> 
             test = m.get("test_reward_mean")
             if test is not None and np.isfinite(test).any():
                 ok = np.isfinite(test)
-                ax.plot(x[ok], test[ok], color=color, label=f"{label} (test, best member)")
+                ax.plot(x[ok], test[ok], color=color, label=f"{label} (test, {tested_policy(run_dir)})")
             ax.plot(x, m["train_reward_mean"], color=color, ls=":", alpha=0.7, label=f"{label} (train mean)")
             ax.set_xlabel(xlabel)
             ax.grid(alpha=0.3)
