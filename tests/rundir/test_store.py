@@ -3,7 +3,7 @@ import json
 import numpy as np
 import pytest
 
-from shaped_es.config import build_config
+from shaped_es.config import ConfigError, build_config
 from shaped_es.rundir.store import RunStore, StoreError
 
 
@@ -83,3 +83,6 @@ def test_a_run_saved_before_test_policy_existed_reads_as_the_rule_it_ran_under(t
     assert "  test_policy: mean\n" in text
     store.config_path.write_text(text.replace("  test_policy: mean\n", ""))
     assert store.read_config().rollout.test_policy == "best"
+    store.config_path.write_text("- a list, not a config\n")
+    with pytest.raises(ConfigError, match="must hold a mapping"):  # its one-line error, not a traceback
+        store.read_config()

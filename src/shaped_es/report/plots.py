@@ -49,12 +49,14 @@ def tested_policy(run_dir: str | Path) -> str:
     ``rollout.test_policy``; a config without it was written before the setting, under the best-member rule),
     ``policy`` for PPO or an unreadable config."""
     from shaped_es.config import ConfigError, read_yaml
+    from shaped_es.methods import METHODS
 
     try:
         cfg = read_yaml(Path(run_dir) / "config.yaml")
     except ConfigError:
         return "policy"
-    if not isinstance(cfg, dict) or cfg.get("method") == "ppo":
+    method = METHODS.get(cfg.get("method", "vanilla")) if isinstance(cfg, dict) else None
+    if method is None or method.strategy is None:  # PPO (its own loop), or an unknown method
         return "policy"
     rollout = cfg.get("rollout") if isinstance(cfg.get("rollout"), dict) else {}
     return "mean" if rollout.get("test_policy", "best") == "mean" else "best member"

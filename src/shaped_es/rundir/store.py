@@ -219,7 +219,7 @@ class RunStore(CheckpointFiles, Recovery):
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         data = read_yaml(self.config_path)
         for (section, key), before in SAVED_BEFORE.items():
-            if isinstance(data.get(section), dict) and key not in data[section]:
+            if isinstance(data, dict) and isinstance(data.get(section), dict) and key not in data[section]:
                 data[section][key] = before
         return build_config(data)
 
