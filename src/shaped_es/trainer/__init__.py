@@ -6,10 +6,11 @@ One generation::
     results = map(rollout, chunks of X)      # returns (P, E) on per-episode seeds from the root seed
     strategy.tell(mean return per member)    # maximize
     guide.after_tell(...)                    # guided / shaped: surrogate subspace for the next ask
-    evaluate the best member on test episodes; append a metrics row; checkpoint atomically
+    evaluate the tested policy (rollout.test_policy: the mean or the best member); append a metrics row;
+    checkpoint atomically
 
-The test episodes of generation g (``eval_overlap``, the default) are submitted as soon as its best
-member is known and collected after generation g+1's rollouts, so they overlap the update, the shaping
+The test episodes of generation g (``eval_overlap``, the default) are submitted as soon as its tested
+policy is known and collected after generation g+1's rollouts, so they overlap the update, the shaping
 work and the next rollouts (the paper's separate evaluation workers; ``eval_workers`` gives them their
 own pool). Rows are still written in generation order and hold exactly what a blocking evaluation
 gives; a checkpoint stores the rows still waiting (and their members), and resume submits their test
