@@ -50,6 +50,7 @@ def tested_policy(run_dir: str | Path) -> str:
     ``policy`` for PPO or an unreadable config."""
     from shaped_es.config import ConfigError, read_yaml
     from shaped_es.methods import METHODS
+    from shaped_es.rundir.store import SAVED_BEFORE
 
     try:
         cfg = read_yaml(Path(run_dir) / "config.yaml")
@@ -59,7 +60,8 @@ def tested_policy(run_dir: str | Path) -> str:
     if method is None or method.strategy is None:  # PPO (its own loop), or an unknown method
         return "policy"
     rollout = cfg.get("rollout") if isinstance(cfg.get("rollout"), dict) else {}
-    return "mean" if rollout.get("test_policy", "best") == "mean" else "best member"
+    rule = rollout.get("test_policy", SAVED_BEFORE[("rollout", "test_policy")])  # a run from before the setting
+    return "mean" if rule == "mean" else "best member"
 
 
 def run_title(run_dir: str | Path, title: str = "") -> str:
@@ -89,13 +91,13 @@ def plot_runs(runs: dict[str, str | Path], out: str | Path, title: str = "") -> 
         m = load_metrics(run_dir)
         if not m:
             continue
-        color = method_color(label, i)
+        color, tested = method_color(label, i), tested_policy(run_dir)
         for ax, (key, xlabel) in zip(axes, xs):
             x = m[key] + (1 if key == "generation" else 0)
             test = m.get("test_reward_mean")
             if test is not None and np.isfinite(test).any():
                 ok = np.isfinite(test)
-                ax.plot(x[ok], test[ok], color=color, label=f"{label} (test, {tested_policy(run_dir)})")
+                ax.plot(x[ok], test[ok], color=color, label=f"{label} (test, {tested})")
             ax.plot(x, m["train_reward_mean"], color=color, ls=":", alpha=0.7, label=f"{label} (train mean)")
             ax.set_xlabel(xlabel)
             ax.grid(alpha=0.3)

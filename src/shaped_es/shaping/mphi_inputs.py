@@ -20,12 +20,17 @@ from shaped_es.shaping.frames import last_step, to_frame
 from shaped_es.shaping.settings import QUERY_SCALES, TARGETS
 
 
+def _run_breaks(tr: Transitions) -> np.ndarray:
+    """``(T-1,)``: row ``t+1`` begins a new contiguous episode run (another episode, or a step not following)."""
+    return ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))
+
+
 def episode_end(tr: Transitions) -> np.ndarray:
     """Row index ``(T,)`` of the last step of each row's episode (rows are contiguous per episode)."""
     T = len(tr)
     if T == 0:
         return np.zeros(0, np.int64)
-    brk = ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))  # (T-1,) new run
+    brk = _run_breaks(tr)  # (T-1,) new run
     last = np.flatnonzero(np.append(brk, True))  # (runs,) last row of each contiguous run
     return last[np.searchsorted(last, np.arange(T))]  # (T,)
 
@@ -39,7 +44,7 @@ def waypoint_before(tr: Transitions) -> np.ndarray:
         return tr.waypoint.copy()
     idx = np.arange(T)
     start = np.ones(T, bool)  # a contiguous episode run begins here
-    start[1:] = ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))
+    start[1:] = _run_breaks(tr)
     change = start.copy()
     change[1:] |= np.any(tr.waypoint[1:] != tr.waypoint[:-1], axis=1)  # (T,) a new waypoint
     since = np.maximum.accumulate(np.where(change, idx, 0))  # (T,) the row its waypoint appeared at
