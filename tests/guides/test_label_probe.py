@@ -122,6 +122,11 @@ def test_the_simulated_candidate_learns_from_good_labels():
     zero, _ = clone_rounds(cfg, spec, x0, data, Head(0.0), seeds, 1)
     assert good.shape == (6,) and n > 0
     assert good.mean() > zero.mean() + 2.0
+    # in lock-step (the probe's: one fit and one batched rollout per round) each variant's numbers are its own
+    from shaped_es.guides.clone_probe import clone_rounds_many
+
+    both = clone_rounds_many(cfg, spec, x0, data, [Head(10.0), Head(0.0)], seeds, [0, 1])
+    assert np.array_equal(both[0][0], good) and np.array_equal(both[1][0], zero) and both[0][1] == n
 
 
 def test_variants_keep_a_clip_the_user_set():
@@ -244,11 +249,20 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     drives = {4: np.full(10, -3.0), 8: np.linspace(5.0, 6.0, 10), 16: np.linspace(5.0, 6.0, 10) - 0.5}
     seen = []
 
-    def fake(cfg, spec, x0, data, pos_dim, mphi_cfg, seeds, key, horizon=None):
-        seen.append((horizon, key))
-        return drives[horizon], 7
+    real = label_probe.clone_rounds_many
 
-    monkeypatch.setattr(label_probe, "shoot_clone", fake)
+    class Shooter:  # stands for a horizon's shooting labels; its simulated candidate drives as ``drives`` says
+        def __init__(self, horizon):
+            self.horizon = horizon
+
+    def rounds(cfg, spec, x0, data, labels, seeds, keys):  # the frame variants' for real, the shooters' faked
+        own = [(lab, k) for lab, k in zip(labels, keys) if not isinstance(lab, Shooter)]
+        out = iter(real(cfg, spec, x0, data, [lab for lab, _ in own], seeds, [k for _, k in own]))
+        seen.extend((lab.horizon, k) for lab, k in zip(labels, keys) if isinstance(lab, Shooter))
+        return [(drives[lab.horizon], 7) if isinstance(lab, Shooter) else next(out) for lab in labels]
+
+    monkeypatch.setattr(label_probe, "shoot_labels", lambda cfg, spec, data, pos, m, h: Shooter(h))
+    monkeypatch.setattr(label_probe, "clone_rounds_many", rounds)
     cfg = build_config(POINT)
     spec = MLPSpec(4, 2, (4,))
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))

@@ -13,7 +13,8 @@ were slower. So the probe also simulates the candidate of the run's first genera
                           drive theta_r on the probe's seeds, recording its steps; D += them (DAgger)
 
 and reports the last round's per-episode returns (the same seeds for every variant, so variants compare
-paired). Written by hand: the clone's Adam steps are the run's compiled kernel (``population_fit``).
+paired). The probe runs every variant's rounds in lock-step (:func:`clone_rounds_many`). Written by hand:
+the clone's Adam steps are the run's compiled kernel (``population_fit``).
 """
 
 from __future__ import annotations
@@ -48,27 +49,55 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
     its rounds took. ``data``: the probe's recorded steps (a member per entry); ``labels``: the variant's
     label source (a row's label depends on its own episode only, so each round labels just the clone's
     new steps); ``key`` tells variants' minibatch streams apart."""
-    mc = cfg.shaping.mean_clone
-    theta = np.asarray(x0, np.float32)[None].copy()  # (1, n)
-    S_all, A_all = _labelled(data, labels)  # (N, obs), (N, act)
-    rets, steps = np.zeros(len(seeds)), 0
+    return clone_rounds_many(cfg, spec, x0, data, [labels], seeds, [key])[0]
+
+
+def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions],
+                      labels: list[LabelSource], seeds: np.ndarray, keys: list[int]) -> list[tuple[np.ndarray, int]]:
+    """:func:`clone_rounds` of several label sources in lock-step, each with its own ``keys[v]``: per round
+    one compiled fit of every variant's clone and one batched rollout of them all (the probe's rollouts
+    are 10 episodes a variant, where a batched env's per-step overhead dominates). Every variant's numbers
+    are its own run's: the fit's rows and the env's episodes do not interact."""
+    mc, V = cfg.shaping.mean_clone, len(labels)
+    theta = np.repeat(np.asarray(x0, np.float32)[None], V, axis=0)  # (V, n)
+    S_all, A_all = zip(*[_labelled(data, lab) for lab in labels])  # per variant (N_v, obs), (N_v, act)
+    S_all, A_all = list(S_all), list(A_all)
+    seeds = np.asarray(seeds, np.int64)  # (E,)
+    rets, steps = np.zeros((V, len(seeds))), np.zeros(V, np.int64)
     for r in range(ROUNDS):
-        if len(S_all) and mc.steps > 0:
-            rng = np.random.default_rng(seeding.derive_seed(cfg.seed, seeding.SHAPING, CLONE_KEY, key, r))
-            idx = rng.integers(0, len(S_all), size=(mc.steps, mc.batch_size))  # (steps, B)
-            S = S_all[idx][:, None]  # (steps, B, obs) -> (steps, 1, B, obs)
-            A = A_all[idx][:, None]  # (steps, 1, B, act)
-            theta = fit_rows(FitTask(spec, theta, S, A, np.ones(1, bool), mc.steps, "adam", mc.lr, 1))[0]
-        res = run_task(RolloutTask(cfg.env, dict(cfg.env_kwargs), spec, theta.astype(np.float32), np.arange(1),
-                                   np.asarray(seeds, np.int64)[None], generation=10_000 + r, record=True,
-                                   max_steps=cfg.rollout.max_steps))  # seeds (E,) -> (1, E)
-        rets = np.asarray(res.returns, np.float64).reshape(-1)  # (1, E) -> (E,)
-        steps += int(res.lengths.sum())
-        s_new, a_new = _labelled(res.transitions, labels)
-        if len(s_new):
-            S_all = np.concatenate([S_all, s_new]) if len(S_all) else s_new  # (N + N', obs)
-            A_all = np.concatenate([A_all, a_new]) if len(A_all) else a_new  # (N + N', act)
-    return rets, steps
+        fit = [v for v in range(V) if len(S_all[v])] if mc.steps > 0 else []
+        if fit:
+            S = np.empty((mc.steps, len(fit), mc.batch_size, spec.obs_dim), np.float32)  # (steps, V', B, obs)
+            A = np.empty((mc.steps, len(fit), mc.batch_size, spec.act_dim), np.float32)  # (steps, V', B, act)
+            for i, v in enumerate(fit):
+                rng = np.random.default_rng(seeding.derive_seed(cfg.seed, seeding.SHAPING, CLONE_KEY, keys[v], r))
+                idx = rng.integers(0, len(S_all[v]), size=(mc.steps, mc.batch_size))  # (steps, B)
+                S[:, i], A[:, i] = S_all[v][idx], A_all[v][idx]
+            theta[fit] = fit_rows(FitTask(spec, theta[fit], S, A, np.ones(len(fit), bool), mc.steps, "adam",
+                                          mc.lr, 1))[0]
+        res = run_task(RolloutTask(cfg.env, dict(cfg.env_kwargs), spec, theta.astype(np.float32), np.arange(V),
+                                   np.repeat(seeds[None], V, axis=0), generation=10_000 + r, record=True,
+                                   max_steps=cfg.rollout.max_steps))  # seeds (E,) -> (V, E)
+        rets = np.asarray(res.returns, np.float64).reshape(V, -1)  # (V, E)
+        steps += np.asarray(res.lengths).reshape(V, -1).sum(axis=1)
+        trs = res.transitions  # one per variant
+        for v in range(V):
+            s_new, a_new = _labelled(trs[v:v + 1], labels[v])
+            if len(s_new):
+                S_all[v] = np.concatenate([S_all[v], s_new]) if len(S_all[v]) else s_new  # (N + N', obs)
+                A_all[v] = np.concatenate([A_all[v], a_new]) if len(A_all[v]) else a_new  # (N + N', act)
+    return [(rets[v], int(steps[v])) for v in range(V)]
+
+
+def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, horizon: int | None = None):
+    """The shooting labels (``shaping/forward_shoot.py``) trained on the label probe's data (``data``: its
+    recorded steps per generation); ``horizon``: the steps an action is held (None: the config's)."""
+    h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
+    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h)
+    for trs in data:
+        m.add(trs)
+        m.train()
+    return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead)
 
 
 def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: int, mphi_cfg, seeds: np.ndarray,
@@ -78,10 +107,5 @@ def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: in
     SwimmerWay-v0 it drives worse than zero action (their gaits and whipping arms are no held action's
     path), where its candidate only adds a lucky row to each generation's pick; on the planar bodies far
     better (``docs/benchmarks/suite_bodies_v7``). ``horizon``: the steps an action is held (None: the config's)."""
-    h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
-    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h)
-    for trs in data:
-        m.add(trs)
-        m.train()
-    labels = ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead)
+    labels = shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, horizon)
     return clone_rounds(cfg, spec, x0, [t for g in data for t in g], labels, seeds, key)

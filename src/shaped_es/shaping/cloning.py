@@ -28,7 +28,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import torch
 
 from shaped_es.policies import MLPSpec, ObsNorm, forward_torch
 from shaped_es.shaping.member_rows import MemberRows
@@ -95,6 +94,7 @@ def _member_indices(mask: np.ndarray, seeds: np.ndarray, steps: int, batch: int)
 def _masked_mse(spec: MLPSpec, params: torch.Tensor, S: torch.Tensor, A: torch.Tensor, M: torch.Tensor,
                 chunk: int = 2048) -> np.ndarray:
     """Per-member MSE over all valid samples, in chunks of time to bound memory; ``(P,)`` (nan: no data)."""
+    import torch
     P, T = M.shape
     sse = torch.zeros(P, dtype=torch.float64)
     with torch.no_grad():
@@ -148,6 +148,9 @@ def clone_population(
     if seeds.shape[0] != P:
         raise ValueError(f"{seeds.shape[0]} seeds for {P} members")
 
+    import torch  # here, not at the top: a shaped run's clones use the compiled kernels, and torch's import
+    # (~2 s) would be every run's start-up
+
     S_t, A_t, M_t = torch.from_numpy(S), torch.from_numpy(A), torch.from_numpy(M)
     params = torch.tensor(th, requires_grad=True)  # (P, n) leaf: row i is member i
     before = _masked_mse(spec, params, S_t, A_t, M_t)
@@ -177,6 +180,8 @@ def clone_population(
 
 def warm_up_cloning() -> None:
     """Import and run torch's optimizer machinery once (its first use imports ``torch._dynamo``)."""
+    import torch
+
     p = torch.zeros(1, requires_grad=True)
     opt = torch.optim.Adam([p], lr=1e-3)
     (p * p).sum().backward()
