@@ -79,6 +79,41 @@ def test_the_back_off_note_is_one_short_line():
     assert "they paid before" in note and "check-env" not in note and len(note) <= NOTE_MAX
 
 
+def test_a_loss_by_more_than_the_population_spread_counts_twice():
+    """heavy: until the labels have won once, a candidate that falls below everything the population returned
+    by more than ``heavy`` spreads is stronger evidence; a close loss, a flat population (spread 0), an unknown
+    gain, heavy=0, or any loss after a first win count once."""
+    b = LabelBudget(patience=4, max_sleep=8, heavy=1.0)
+    assert not b.judge(False, -1.0, spread=2.0)  # within the spread: 1
+    assert not b.judge(False, -5.0, spread=2.0)  # 2.5 spreads below: 2 more, 3 in all
+    assert (b.losses, b.streak) == (3, 2)
+    assert b.judge(False, -2.5, spread=2.0)  # 4 >= patience after 3 judgements: asleep
+    note = b.note("CarNav-v0", False)
+    assert note.startswith("labels lost 3 judged generations in a row, 2 by more than the population's spread "
+                           "(won 0 of 3): shaping sleeps 4 generations") and len(note) <= NOTE_MAX
+    for kw in ({"heavy": 0.0}, {"heavy": 1.0}):
+        c = LabelBudget(patience=4, max_sleep=8, **kw)
+        spread = 0.0 if kw["heavy"] else 2.0  # heavy on, but a flat population: once
+        assert [c.judge(False, -9.0, spread=spread) for _ in range(4)] == [False, False, False, True]
+    d = LabelBudget(patience=4, max_sleep=8, heavy=1.0)
+    assert not d.judge(False, None, spread=2.0) and not d.judge(False, float("nan"), spread=2.0)
+    assert d.losses == 2
+    # a win resets both counts; the state keeps them (resume is exact)
+    b2 = LabelBudget(patience=4, max_sleep=8, heavy=1.0)
+    b2.judge(False, -5.0, spread=1.0)
+    b3 = LabelBudget(patience=4, max_sleep=8, heavy=1.0)
+    b3.load_state_dict(npz_round_trip(b2.state_dict()))
+    assert (b3.losses, b3.streak) == (2, 1)
+    b3.judge(True, 1.0, spread=1.0)
+    assert (b3.losses, b3.streak) == (0, 0)
+    after = LabelBudget(patience=4, max_sleep=8, heavy=1.0)  # once the labels have won, every loss counts once
+    after.judge(True, 1.0, spread=1.0)
+    assert [after.judge(False, -9.0, spread=1.0) for _ in range(4)] == [False, False, False, True]
+    old = LabelBudget(5, 32)  # a checkpoint from before the streak count: the losses were the streak
+    old.load_state_dict({"ints": np.array([2, 4, 0, 0, 0, 0, 7, 1]), "gain_sum": np.array([1.0])})
+    assert old.streak == 2
+
+
 def test_disabled_budget_never_sleeps():
     assert _run(LabelBudget(patience=0, max_sleep=32), [False] * 20) == "1" * 21
 
@@ -176,9 +211,9 @@ def test_the_final_summary_counts_the_jumps_the_budget_saw_fall(tmp_path, monkey
             seen.append(None)
         return awake
 
-    def spy_judge(self, accepted, gain, population=None, reverted=False):
+    def spy_judge(self, accepted, gain, population=None, reverted=False, spread=None):
         seen.append((accepted, population))
-        return judge(self, accepted, gain, population, reverted)
+        return judge(self, accepted, gain, population, reverted, spread)
 
     monkeypatch.setattr(LabelBudget, "begin", spy_begin)
     monkeypatch.setattr(LabelBudget, "judge", spy_judge)

@@ -22,6 +22,15 @@ candidate can beat the old mean on its episodes and still land where the search 
 UR5Reach-v0 (the suite's default study) the population's mean return rose after 37% of accepted jumps
 against 62% after the other judged generations, on the points and CarNav-v0 after 67-81% against 50-57%.
 
+With ``heavy`` (default 1), until the labels have won once, a loss by more than ``heavy`` times the
+population's spread of returns (its best member's return minus its worst's) counts twice toward
+``patience``: a candidate that falls below everything the search sampled around the mean is stronger evidence
+than one that lost a close call. On the committed suite and held-out runs (``docs/benchmarks/backoff_heavy_v12``)
+the swimmer's losing candidates fell below the population by 0.1-60 spreads, while before their first accepted
+candidate the bodies whose labels pay lost by at most 0.81 spreads, bar one Reacher seed's first loss (1.52).
+Counted after a first win as well, the rule cut losing streaks short late in paying runs (the population's
+spread shrinks as the search settles), and one held-out hover seed missed its threshold after such a shift.
+
 So a run whose labels never pay spends, after its first ``patience`` judgements, at most about
 ``(1 + WAKE_JUDGED) / (1 + WAKE_JUDGED + max_sleep)`` of its generations on shaping. State is a few
 integers, saved in the checkpoint (resume is exact).
@@ -40,11 +49,13 @@ class LabelBudget:
     """Counts judgements and acceptances; decides whether a generation is shaped (:attr:`awake`)."""
 
     def __init__(self, patience: int, max_sleep: int, first_sleep: int = FIRST_SLEEP, judge_jumps: bool = False,
-                 keep_rate: float = 0.0):
+                 keep_rate: float = 0.0, heavy: float = 0.0):
         self.patience, self.max_sleep, self.judge_jumps = int(patience), int(max_sleep), bool(judge_jumps)
         self.keep_rate = float(keep_rate)  # a share of accepted judgements at which sleeps stop doubling
+        self.heavy = float(heavy)  # a loss by more than this many population spreads counts twice (0: off)
         self.first_sleep = max(1, min(int(first_sleep), self.max_sleep)) if self.max_sleep else 0
-        self.losses = 0  # judgements in a row without an acceptance
+        self.losses = 0  # judgements in a row without an acceptance, a heavy loss counted twice
+        self.streak = 0  # judgements in a row without an acceptance (each once: the note's count)
         self.sleep = self.first_sleep  # the next sleep's length
         self.asleep_left = 0  # generations of the current sleep still to come
         self.trial = 0  # judgements left in a wake-up trial (0: not in a trial)
@@ -77,10 +88,11 @@ class LabelBudget:
         return True
 
     def judge(self, accepted: bool, gain: float | None, population: float | None = None,
-              reverted: bool = False) -> bool:
+              reverted: bool = False, spread: float | None = None) -> bool:
         """Record one judgement; True when it puts the guide to sleep (from the next generation).
         ``population``: this generation's population mean return (``judge_jumps``); ``reverted``: this
-        generation undid the last one's jump (the candidate's ``revert_margin``), which then counts as lost."""
+        generation undid the last one's jump (the candidate's ``revert_margin``), which then counts as lost;
+        ``spread``: the population's best return minus its worst (``heavy``)."""
         self.judged += 1
         self.accepted += int(accepted)
         if gain is not None and np.isfinite(gain):
@@ -88,13 +100,15 @@ class LabelBudget:
         if reverted or (self.judge_jumps and population is not None and self.prev_accepted
                         and population < self.prev_population):  # the population fell after the last jump
             self.losses = self.streak_before + 1
+            self.streak = self.losses
         self.prev_population = 0.0 if population is None else float(population)
         self.prev_accepted = int(accepted and population is not None)
         if accepted:
             self.streak_before = self.losses
-            self.losses, self.trial, self.sleep = 0, 0, self.first_sleep
+            self.losses, self.streak, self.trial, self.sleep = 0, 0, 0, self.first_sleep
             return False
-        self.losses += 1
+        self.streak += 1
+        self.losses += 2 if self._heavy(gain, spread) else 1
         if not self.enabled:
             return False
         if self.trial:
@@ -108,11 +122,20 @@ class LabelBudget:
             self.sleep = min(2 * self.sleep, self.max_sleep)
         return True
 
+    def _heavy(self, gain: float | None, spread: float | None) -> bool:
+        """The candidate lost by more than ``heavy`` population spreads (a flat population: never), and the
+        labels have never won: once they have, their losses count once (late in a run the population's
+        spread shrinks, and a loss of the same size reads heavier)."""
+        return bool(self.heavy > 0 and self.accepted == 0 and gain is not None and spread is not None
+                    and np.isfinite(gain) and np.isfinite(spread) and spread > 0 and gain < -self.heavy * spread)
+
     def note(self, env: str, has_controller: bool) -> str:
         """The line a run prints when it first sleeps: what happened, what sleeping costs, what to try (the env's
         controller labels only where ``has_controller``); README.md's back-off ("backs off") says more."""
         oracle = "shaping.labels=controller, " if has_controller else ""
-        head = (f"labels lost {self.patience} judged generations in a row (won {self.accepted} of {self.judged}): "
+        n = self.streak or self.patience  # a checkpoint from before the count: the patience
+        far = f", {self.losses - n} by more than the population's spread" if self.losses > n else ""
+        head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged}): "
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (column "
                 f"shaping_awake)")
         if self.accepted >= KEEP_MIN_WINS:  # they paid before (one win can be luck): the search outpaced them
@@ -133,6 +156,7 @@ class LabelBudget:
 
     def state_dict(self) -> dict[str, np.ndarray]:
         return {"ints": np.array([getattr(self, f) for f in self._FIELDS], np.int64),
+                "streak": np.array([self.streak], np.int64),
                 "gain_sum": np.array([self.gain_sum], np.float64),
                 "prev_population": np.array([self.prev_population], np.float64)}
 
@@ -147,6 +171,8 @@ class LabelBudget:
         for f, v in zip(self._FIELDS, np.pad(ints, (0, len(self._FIELDS) - ints.size))):
             setattr(self, f, int(v))
         self.gain_sum = float(np.asarray(state.get("gain_sum", [0.0]), np.float64).reshape(-1)[0])
+        # before heavy losses the streak was the loss count
+        self.streak = int(np.asarray(state.get("streak", [self.losses]), np.int64).reshape(-1)[0])
         self.prev_population = float(np.asarray(state.get("prev_population", [0.0]), np.float64).reshape(-1)[0])
 
 

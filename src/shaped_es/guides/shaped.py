@@ -166,7 +166,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self._babblers = 0  # babbling policies among this generation's extra members (the last rows)
         # labels that keep losing put the shaping work to sleep (guides/label_budget.py)
         self.budget = LabelBudget(self.sh.backoff_after, self.sh.backoff_max,
-                                  judge_jumps=self.sh.backoff_judges_jumps, keep_rate=self.sh.backoff_keep_rate)
+                                  judge_jumps=self.sh.backoff_judges_jumps, keep_rate=self.sh.backoff_keep_rate,
+                                  heavy=self.sh.backoff_heavy)
         self.awake = True  # this generation is shaped (False: asleep, a Vanilla-ES generation)
         self._silent: set[int] = set()  # recent generations slept through: no steps were recorded
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
@@ -306,7 +307,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         def judged(metrics: dict) -> None:  # the judgement is made and the strategy final; the clone follows
             if verdict:
                 return
-            verdict.append(self._verdict(metrics, float(np.mean(fitness))))
+            verdict.append(self._verdict(metrics, fitness))
             if ready is not None and self.placement == "master":
                 t = time.perf_counter()
                 ready(self._next_population_mask(P))
@@ -317,7 +318,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
                                              strategy, map_tasks, judged=judged))
         out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
         if not verdict:  # the mechanism never judged early: judged on its metrics now
-            verdict.append(self._verdict(out, float(np.mean(fitness))))
+            verdict.append(self._verdict(out, fitness))
         if verdict[0]:
             self._sleep()
         self._trim_cache(generation)
@@ -330,13 +331,15 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             return np.zeros(population, bool)
         return self.mechanism.record_mask(population, 0)[:population]
 
-    def _verdict(self, out: dict, population: float) -> bool:
-        """Tell the label budget whether this generation's candidate paid; True: the labels keep losing,
-        the guide sleeps from the next generation (:meth:`_sleep`, once the mechanism's work is done)."""
+    def _verdict(self, out: dict, fitness: np.ndarray) -> bool:
+        """Tell the label budget whether this generation's candidate paid (``fitness``: the population's
+        returns ``(P,)``); True: the labels keep losing, the guide sleeps from the next generation
+        (:meth:`_sleep`, once the mechanism's work is done)."""
         if out.get("candidate_accepted") is None:
             return False
-        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), population,
-                                 reverted=bool(out.get("jump_reverted")))
+        f = np.asarray(fitness, np.float64)  # (P,)
+        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), float(f.mean()),
+                                 reverted=bool(out.get("jump_reverted")), spread=float(f.max() - f.min()))
 
     def _sleep(self) -> None:
         """Asleep from the next generation: the mechanism drops what it prepared, with one warning line the
