@@ -10,7 +10,7 @@ from helpers import new_run, npz_round_trip, run_until_crash, strip_time, train
 from shaped_es.guides.label_budget import FIRST_SLEEP, WAKE_JUDGED, LabelBudget, rows_summary
 from shaped_es.trainer import Trainer
 
-NOTE_MAX = 270  # characters of the printed back-off note, for a built-in env with a controller
+NOTE_MAX = 280  # characters of the printed back-off note, for a built-in env with a controller
 
 
 def _run(budget: LabelBudget, wins: list[bool]) -> str:
@@ -65,10 +65,10 @@ def test_the_back_off_note_is_one_short_line():
     assert never.sleeps == 1
     with_oracle, without = (f"shaped-es: note: {never.note('CarNav-v0', c)}" for c in (True, False))
     assert with_oracle == ("shaped-es: note: labels lost 8 judged generations in a row (won 0 of 8): shaping "
-                           "sleeps 4 generations at the ES strategy's price and retries (column shaping_awake); "
-                           "try shaped-es check-env CarNav-v0 --labels; compare shaping.labels=controller, "
+                           "sleeps 4 generations at the ES strategy's price and retries (metrics.csv shaping_awake); "
+                           "try shaped-es check-env CarNav-v0 --labels; compare --set shaping.labels=controller, "
                            "--method vanilla / cmaes")
-    assert without == with_oracle.replace("shaping.labels=controller, ", "")
+    assert without == with_oracle.replace("--set shaping.labels=controller, ", "")
     assert len(with_oracle) <= NOTE_MAX and len(without) <= 250
     won = LabelBudget(patience=8, max_sleep=32, keep_rate=0.2)
     for accepted in [False] * 3 + [True, True] + [False] * 8:
@@ -89,7 +89,7 @@ def test_a_loss_by_more_than_the_population_spread_counts_twice():
     assert (b.losses, b.streak) == (3, 2)
     assert b.judge(False, -2.5, spread=2.0)  # 4 >= patience after 3 judgements: asleep
     note = b.note("CarNav-v0", False)
-    assert note.startswith("labels lost 3 judged generations in a row, 2 by more than the population's spread "
+    assert note.startswith("labels lost 3 judged generations in a row, 2 heavy (backoff_heavy: counted twice) "
                            "(won 0 of 3): shaping sleeps 4 generations") and len(note) <= NOTE_MAX
     for kw in ({"heavy": 0.0}, {"heavy": 1.0}):
         c = LabelBudget(patience=4, max_sleep=8, **kw)
@@ -112,6 +112,19 @@ def test_a_loss_by_more_than_the_population_spread_counts_twice():
     old = LabelBudget(5, 32)  # a checkpoint from before the streak count: the losses were the streak
     old.load_state_dict({"ints": np.array([2, 4, 0, 0, 0, 0, 7, 1]), "gain_sum": np.array([1.0])})
     assert old.streak == 2
+
+
+def test_a_run_whose_labels_never_won_says_it_took_the_strategys_own_steps():
+    from shaped_es.guides.label_budget import never_accepted
+
+    never = {"candidates_judged": 12, "candidates_accepted": 0}
+    assert never_accepted(never, "shaped") == (
+        "no candidate was accepted in 12 judged generations: the search took vanilla's own steps (--method "
+        "vanilla, same seed: the same policies, without shaping's probe and awake generations)")
+    assert "cmaes's own steps (--method cmaes" in never_accepted(never, "shaped_cmaes")
+    assert never_accepted({"candidates_judged": 12, "candidates_accepted": 1}, "shaped") is None
+    assert never_accepted({"candidates_judged": 0, "candidates_accepted": 0}, "shaped") is None
+    assert never_accepted(None, "shaped") is None
 
 
 def test_disabled_budget_never_sleeps():
@@ -267,7 +280,7 @@ def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("shaped-es: shaped: note: labels lost 3 judged generations in a row (won ") == 1  # the run's
     note = next(ln for ln in err.splitlines() if ln.startswith("shaped-es: shaped: note: "))  # name, then the note
-    assert "shaping sleeps 4 generations at the ES strategy's price and retries (column shaping_awake)" in note
+    assert "shaping sleeps 4 generations at the ES strategy's price and retries (metrics.csv shaping_awake)" in note
     assert "try shaped-es check-env NoisyWaypoints-v0 --labels; compare --method vanilla / cmaes" in note
     assert "shaping.labels=controller" not in err  # and no oracle labels: this env has no controller
     awake = "".join(r["shaping_awake"] for r in rows)
@@ -325,3 +338,29 @@ def test_no_babblers_once_the_budget_has_slept_and_resume_stays_exact(tmp_path, 
     run_until_crash(monkeypatch, c, store, woken[0])
     Trainer(c, store, progress=False).run()
     assert strip_time(store.read_metrics()) == strip_time(full)
+
+
+def test_train_says_when_no_candidate_was_accepted_and_vanilla_gives_the_same_run(tmp_path, monkeypatch, capsys):
+    """Candidates that can never pass (a paired margin of 100 standard errors, no flat wins): the run's last
+    stderr line says the search took Vanilla-ES's own steps, and Vanilla-ES with the same seed ends on the
+    same test and train rewards."""
+    import json
+
+    from shaped_es.cli.commands import main
+
+    monkeypatch.chdir(tmp_path)
+    common = ["--env", "PointVel-v0", "--generations", "5", "--quiet", "--executor", "inline", "--pairs", "4",
+              "--set", "rollout.episodes=1", "--set", "tensorboard=false"]
+    never = ["--set", "shaping.mean_clone.accept_margin=100", "--set", "shaping.mean_clone.accept_flat=false",
+             "--set", "shaping.inverse_dynamics.frame=both"]  # frame set: no label probe
+    assert main(["train", "--method", "shaped", "--out", "s", *common, *never]) == 0
+    cap = capsys.readouterr()
+    shaped = json.loads(cap.out.strip().splitlines()[-1])
+    assert shaped["shaping"]["candidates_judged"] > 0 and shaped["shaping"]["candidates_accepted"] == 0
+    assert "shaped-es: s: no candidate was accepted in " in cap.err and "(--method vanilla, same seed" in cap.err
+    assert main(["train", "--method", "vanilla", "--out", "v", *common]) == 0
+    cap = capsys.readouterr()
+    vanilla = json.loads(cap.out.strip().splitlines()[-1])
+    assert "no candidate was accepted" not in cap.err
+    assert (shaped["test_reward_mean"], shaped["train_reward_mean"]) == (vanilla["test_reward_mean"],
+                                                                         vanilla["train_reward_mean"])

@@ -163,6 +163,10 @@ def _run(cfg, store, a, probe=None) -> int:
     shaping = rows_summary(rows)  # candidate runs: what the labels did
     if shaping is not None:
         out["shaping"] = shaping
+        from shaped_es.guides.label_budget import never_accepted
+
+        if (line := never_accepted(shaping, cfg.method)) is not None:
+            print(f"shaped-es: {store.root.name}: {line}", file=sys.stderr)
     print(json.dumps(out))
     return 0
 
