@@ -17,7 +17,7 @@ from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
 
-LINE_MAX = 270  # characters of the run's printed probe line, for a built-in env's id and a short run name
+LINE_MAX = 275  # characters of the run's printed probe line, for a built-in env's id and a short run name
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
 
@@ -70,7 +70,8 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
                       {"4": eps(5.34), "8": eps(3.42), "16": eps(6.37)})
     rivals = ["waypoint frame", "servo", "shooting (4 steps)"]
     line = f"shaped-es: {res.line('CarNav-v0', rivals)}"
-    assert line == ("shaped-es: labels: frame=both, query_clip=2 (its candidate beat both's): simulated candidate "
+    assert line == ("shaped-es: labels: frame=both, query_clip=2 (beat frame=both's candidate): "
+                    "simulated candidate "
                     "-0.19 vs zero action -1.20; rivals: waypoint frame, servo, shooting (4 steps); see "
                     "label_probe.json, shaped-es check-env CarNav-v0 --labels")
     dropped = f"shaped-es: {replace(res, shoot_on=False).line('CarNav-v0', rivals[:2])}"
@@ -79,7 +80,8 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     kept = replace(res, query_clip=None, reason="the default: ...").line("CarNav-v0", rivals)
     assert "query_clip=none (the default choice): simulated candidate -19.19 vs zero action" in kept
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
-    assert "(both's labels lost to zero action): labels -0.39 vs zero action" in lost.line("ReacherWay-v0", rivals)
+    assert "(frame=both's labels lost to zero action): labels -0.39 vs zero action" in lost.line(
+        "ReacherWay-v0", rivals)
     for text in (line, dropped, f"shaped-es: {kept}", f"shaped-es: {lost.line('ReacherWay-v0', rivals)}"):
         assert len(text) <= LINE_MAX and "\n" not in text
 

@@ -122,8 +122,8 @@ class ProbeResult:
         ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
         name, h = variant_name(self.frame, self.query_clip), self.shoot_horizon
         default = next(iter(self.returns), name)
-        why = ("the default choice" if name == default else f"its candidate beat {default}'s"
-               if self.reason.startswith("its") else f"{default}'s labels lost to zero action")
+        why = ("the default choice" if name == default else f"beat frame={default}'s candidate"
+               if self.reason.startswith("its") else f"frame={default}'s labels lost to zero action")
         own, what = (self.clones, "simulated candidate") if self.clones.get(name) else (self.returns, "labels")
         zero, own = self.zero_action, own.get(name)
         score = f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}" if own and zero else ""
