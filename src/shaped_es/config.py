@@ -283,12 +283,11 @@ class ShapingConfig(_Strict):
         "bodies: about the same generations to the threshold, 5-43% more awake ones (docs/benchmarks/"
         "backoff_keep_v9)")
     backoff_heavy: Float = Field(
-        0.0, ge=0, le=1e6, description="candidate: until the labels have won once, a judged generation whose "
-        "candidate lost to the mean by more than this many times the population's spread of returns (best member's "
-        "minus worst's) counts as two losses toward backoff_after (guides/label_budget.py); 0: every loss counts "
-        "once. Measured at 1: the swimmer (labels never pay) slept 2.7 judgements sooner (17% fewer awake "
-        "generations), and one Reacher seed whose first loss was heavy slept one judgement sooner and reached its "
-        "threshold 21 generations later; off (docs/benchmarks/backoff_heavy_v12)")
+        1.0, ge=0, le=1e6, description="candidate: a run whose labels have never won sleeps before "
+        "backoff_after once at least 4 judged generations in a row lost by a median of more than this many times "
+        "the population's spread of returns (best member's minus worst's): candidates typically worse than "
+        "everything the search sampled (guides/label_budget.py); 0: off. A replay of the committed suite and "
+        "held-out runs finds it changes only the swimmer's never-paying runs (docs/benchmarks/backoff_heavy_v12)")
     backoff_judges_jumps: Bool = Field(False, description="candidate: an accepted candidate after which the "
                                        "next population's mean return falls below the one before the jump counts "
                                        "as a lost judgement for the back-off (guides/label_budget.py)")
