@@ -38,10 +38,10 @@ class Method:
     # ES methods: "module:attr" of the strategy class, built as ``cls(x0, **strategy_args(cfg, seed))``.
     strategy: str | None = None
     strategy_args: Callable[[Any, int], dict[str, Any]] = _no_args
-    # ES methods: "module:attr" of the guide class, built as ``cls(**guide_args(cfg, spec, store, probe))``
-    # (``probe``: the run's ``rollout.EnvProbe``).
+    # ES methods: "module:attr" of the guide class, built as ``cls(**guide_args(cfg, spec, store, probe,
+    # executor))`` (``probe``: the run's ``rollout.EnvProbe``; ``executor``: the run's, for start-up rollouts).
     guide: str = "shaped_es.guides:NoGuide"
-    guide_args: Callable[[Any, Any, Any, Any], dict[str, Any]] = _no_args
+    guide_args: Callable[[Any, Any, Any, Any, Any], dict[str, Any]] = _no_args
     # The guide reads the env's reset info: the run's one env probe also resets it (``EnvProbe.reset_info``).
     probe_reset: bool = False
     # The fields of the method-specific sections (``es``, ``shaping``, ``ppo``) it reads: "es.sigma" is a
@@ -104,7 +104,7 @@ METHODS: dict[str, Method] = {
     "vanilla": Method(strategy=VANILLA_ES, strategy_args=_es_args, reads=ES_READS,
                       about="antithetic ES with rank-shaped returns and Adam (Vanilla-ES)"),
     "guided": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides:PastUpdateGuide",
-                     guide_args=lambda cfg, spec, store, probe: {"k": cfg.es.guided_k},
+                     guide_args=lambda cfg, spec, store, probe, executor: {"k": cfg.es.guided_k},
                      reads=ES_READS + ("es.alpha", "es.guided_k"),
                      about="Guided ES, the last ES updates as surrogate gradients (no waypoints)"),
     "cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
@@ -112,8 +112,8 @@ METHODS: dict[str, Method] = {
                            "es.cmaes_diagonal_above", "es.obs_norm"), state_bytes=_cmaes_state_bytes,
                     about="CMA-ES (pycma; separable above a size)"),
     "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
-                     guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
-                                                                 "probe": probe},
+                     guide_args=lambda cfg, spec, store, probe, executor: {
+                         "cfg": cfg, "spec": spec, "store": store, "probe": probe, "executor": executor},
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
                      checks=("shaped_es.preflight:check_es", "shaped_es.preflight:check_waypoints",
                              "shaped_es.guides.shaped_setup:check_shaped"),
@@ -124,8 +124,8 @@ METHODS: dict[str, Method] = {
                            "and info['waypoint'])"),
     "shaped_cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
                            guide="shaped_es.guides.shaped:ShapedGuide",
-                           guide_args=lambda cfg, spec, store, probe: {"cfg": cfg, "spec": spec, "store": store,
-                                                                       "probe": probe},
+                           guide_args=lambda cfg, spec, store, probe, executor: {
+                               "cfg": cfg, "spec": spec, "store": store, "probe": probe, "executor": executor},
                            probe_reset=True, state_bytes=_cmaes_state_bytes,
                            reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
                                   "es.cmaes_diagonal_above", "es.obs_norm", "shaping"),

@@ -130,6 +130,26 @@ def test_the_simulated_candidate_learns_from_good_labels():
     both = clone_rounds_many(cfg, spec, x0, data, [Head(10.0), Head(0.0)], seeds, [0, 1])
     assert np.array_equal(both[0][0], good) and np.array_equal(both[1][0], zero) and both[0][1] == n
 
+    class Split:  # an executor of 3 workers, in this process: the members split into tasks, the results merged
+        workers = 3
+
+        def __init__(self):
+            self.tasks = []
+
+        def map(self, fn, tasks):
+            self.tasks.append(len(tasks))
+            return [fn(t) for t in tasks]
+
+    ex = Split()
+    split = clone_rounds_many(cfg, spec, x0, data, [Head(10.0), Head(0.0)], seeds, [0, 1], executor=ex)
+    assert ex.tasks == [2, 2, 2]  # a round's 2 variants, one task each
+    assert all(np.array_equal(a[0], b[0]) and a[1] == b[1] for a, b in zip(split, both))
+    from shaped_es.guides.label_probe import collect
+
+    one, many = collect(cfg, spec, x0), collect(cfg, spec, x0, Split())
+    assert one[1] == many[1] and all(np.array_equal(a.state, b.state) for g, h in zip(one[0], many[0])
+                                     for a, b in zip(g, h))
+
 
 def test_variants_keep_a_clip_the_user_set():
     assert variants(None) == [("both", None), ("both", 2.0), ("world", None), ("world", 2.0)]
@@ -257,9 +277,9 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
         def __init__(self, horizon):
             self.horizon = horizon
 
-    def rounds(cfg, spec, x0, data, labels, seeds, keys):  # the frame variants' for real, the shooters' faked
+    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None):  # the frame variants' real, shooters' fake
         own = [(lab, k) for lab, k in zip(labels, keys) if not isinstance(lab, Shooter)]
-        out = iter(real(cfg, spec, x0, data, [lab for lab, _ in own], seeds, [k for _, k in own]))
+        out = iter(real(cfg, spec, x0, data, [lab for lab, _ in own], seeds, [k for _, k in own], executor))
         seen.extend((lab.horizon, k) for lab, k in zip(labels, keys) if isinstance(lab, Shooter))
         return [(drives[lab.horizon], 7) if isinstance(lab, Shooter) else next(out) for lab in labels]
 

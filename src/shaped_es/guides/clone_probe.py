@@ -25,7 +25,8 @@ from shaped_es import seeding
 from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import RolloutTask, run_task
+from shaped_es.rollout import run_task
+from shaped_es.rollout.task import population_tasks
 from shaped_es.shaping.forward_shoot import ShootLabels, shoot_model
 from shaped_es.shaping.labels import LabelSource
 from shaped_es.shaping.population_fit import FitTask, fit_rows
@@ -43,6 +44,21 @@ def _labelled(trs: list[Transitions], labels: LabelSource) -> tuple[np.ndarray, 
     return big.state.astype(np.float32), np.asarray(labels(big.state, labels.inputs(big)), np.float32)
 
 
+def roll_out(cfg: RunConfig, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray, generation: int,
+             executor=None) -> tuple[np.ndarray, np.ndarray, list[Transitions]]:
+    """``params`` ``(m, n)`` on episode seeds ``(m, E)``, recorded: ``(returns (m, E), lengths (m, E), one
+    Transitions per member)``, in member order. With the run's ``executor``, as its training rollouts are (one
+    task of consecutive members per worker); else in this process. A member's numbers do not depend on
+    which task it ran in."""
+    workers = executor.workers if executor is not None else 1
+    tasks = population_tasks(cfg.env, dict(cfg.env_kwargs), spec, np.asarray(params, np.float32),
+                             np.asarray(seeds, np.int64), workers, generation, True, cfg.rollout.max_steps)
+    results = executor.map(run_task, tasks) if executor is not None else [run_task(t) for t in tasks]
+    returns = np.concatenate([np.asarray(r.returns, np.float64) for r in results])  # (m, E)
+    lengths = np.concatenate([np.asarray(r.lengths) for r in results])  # (m, E)
+    return returns, lengths, [t for r in results for t in r.transitions]
+
+
 def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions], labels: LabelSource,
                  seeds: np.ndarray, key: int) -> tuple[np.ndarray, int]:
     """The last round's returns ``(E,)`` of the simulated candidate (module docstring) and the env steps
@@ -53,11 +69,13 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
 
 
 def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions],
-                      labels: list[LabelSource], seeds: np.ndarray, keys: list[int]) -> list[tuple[np.ndarray, int]]:
+                      labels: list[LabelSource], seeds: np.ndarray, keys: list[int],
+                      executor=None) -> list[tuple[np.ndarray, int]]:
     """:func:`clone_rounds` of several label sources in lock-step, each with its own ``keys[v]``: per round
     one compiled fit of every variant's clone and one batched rollout of them all (the probe's rollouts
-    are 10 episodes a variant, where a batched env's per-step overhead dominates). Every variant's numbers
-    are its own run's: the fit's rows and the env's episodes do not interact."""
+    are 10 episodes a variant, where a batched env's per-step overhead dominates), on the run's
+    ``executor``'s workers if given (:func:`roll_out`). Every variant's numbers are its own run's: the fit's
+    rows and the env's episodes do not interact."""
     mc, V = cfg.shaping.mean_clone, len(labels)
     theta = np.repeat(np.asarray(x0, np.float32)[None], V, axis=0)  # (V, n)
     S_all, A_all = zip(*[_labelled(data, lab) for lab in labels])  # per variant (N_v, obs), (N_v, act)
@@ -75,12 +93,9 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
                 S[:, i], A[:, i] = S_all[v][idx], A_all[v][idx]
             theta[fit] = fit_rows(FitTask(spec, theta[fit], S, A, np.ones(len(fit), bool), mc.steps, "adam",
                                           mc.lr, 1))[0]
-        res = run_task(RolloutTask(cfg.env, dict(cfg.env_kwargs), spec, theta.astype(np.float32), np.arange(V),
-                                   np.repeat(seeds[None], V, axis=0), generation=10_000 + r, record=True,
-                                   max_steps=cfg.rollout.max_steps))  # seeds (E,) -> (V, E)
-        rets = np.asarray(res.returns, np.float64).reshape(V, -1)  # (V, E)
-        steps += np.asarray(res.lengths).reshape(V, -1).sum(axis=1)
-        trs = res.transitions  # one per variant
+        rets, lengths, trs = roll_out(cfg, spec, theta, np.repeat(seeds[None], V, axis=0), 10_000 + r,
+                                      executor)  # seeds (E,) -> (V, E); (V, E), (V, E), one per variant
+        steps += lengths.sum(axis=1)
         for v in range(V):
             s_new, a_new = _labelled(trs[v:v + 1], labels[v])
             if len(s_new):

@@ -40,7 +40,9 @@ candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_hori
 that beats the default's by the frame's test (``ProbeResult.shoot_horizon``; a drone steered by its tilt rate
 moves toward the waypoint only after 8-16 steps; ``docs/benchmarks/shoot_horizon_v8``).
 
-The simulated candidates of every variant and horizon run in lock-step (``clone_probe.clone_rounds_many``:
+The recorded rollouts (the probe's data and the simulated candidates) run on the run's executor's workers, as
+its training rollouts do; the label-driven episodes and the models' training run here. The simulated
+candidates of every variant and horizon run in lock-step (``clone_probe.clone_rounds_many``:
 one fit and one batched rollout per DAgger round, each variant's numbers its own run's), which made the
 probe 25-40% faster on the cheap bodies than one variant after another (the same results to the last digit
 on the suite and two held-out bodies). The probe is seeded by the run's seed, takes 0.8-3 s on the built-in
@@ -68,10 +70,10 @@ from shaped_es import seeding
 from shaped_es.config import ConfigError, RunConfig
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import RolloutTask, run_task, to_space
+from shaped_es.rollout import to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
-from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, shoot_labels
+from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, roll_out, shoot_labels
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.mphi_inputs import mixed_query
@@ -149,9 +151,9 @@ def variants(user_clip: float | None) -> list[tuple[str, float | None]]:
     return [(f, c) for f in ("both", "world") for c in clips]
 
 
-def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray):
-    """The probe's recorded rollouts: per generation, members around ``x0`` and babblers; returns
-    ``(transitions per generation, env steps)``."""
+def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None):
+    """The probe's recorded rollouts: per generation, members around ``x0`` and babblers (on the run's
+    ``executor``'s workers if given); returns ``(transitions per generation, env steps)``."""
     sigma_b = cfg.shaping.inverse_dynamics.babble_sigma
     out, steps = [], 0
     for g in range(GENERATIONS):
@@ -160,10 +162,9 @@ def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray):
         bab = sigma_b * rng.standard_normal((BABBLERS, spec.num_params))  # (BABBLERS, n)
         P = np.concatenate([near, bab]).astype(np.float32)  # (m, n)
         seeds = rng.integers(0, 2**31 - 1, size=(P.shape[0], cfg.rollout.episodes))  # (m, E)
-        res = run_task(RolloutTask(cfg.env, dict(cfg.env_kwargs), spec, P, np.arange(P.shape[0]), seeds,
-                                   generation=g, record=True, max_steps=cfg.rollout.max_steps))
-        out.append(res.transitions)
-        steps += int(res.lengths.sum())
+        _, lengths, trs = roll_out(cfg, spec, P, seeds, g, executor)
+        out.append(trs)
+        steps += int(lengths.sum())
     return out, steps
 
 
@@ -296,11 +297,13 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
                   f"default's labels by {best_gain:.2f} (> 2 paired standard errors)")
 
 
-def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig) -> ProbeResult:
-    """Run the probe (module docstring) and return what it chose."""
+def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
+          executor=None) -> ProbeResult:
+    """Run the probe (module docstring) and return what it chose; its recorded rollouts (the data and the
+    simulated candidates) run on ``executor``'s workers if given, the label-driven episodes here."""
     t0 = time.perf_counter()
     x0 = spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
-    data, steps = collect(cfg, spec, x0)
+    data, steps = collect(cfg, spec, x0, executor)
     seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
     vs = variants(cfg.shaping.inverse_dynamics.query_clip)
     returns: dict[str, list[float]] = {}
@@ -330,7 +333,8 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     # the shooting rival is kept only where its clone drives, at the horizon that drives best
     horizons = list(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else []
     shooters = [shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, h) for h in horizons]
-    sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, list(range(len(vs) + len(horizons))))
+    sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, list(range(len(vs) + len(horizons))),
+                             executor)
     for (frame, clip), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
@@ -382,7 +386,7 @@ def parse(raw: bytes) -> ProbeResult:
 
 
 def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
-                  mphi_cfg: InverseDynamicsConfig) -> tuple[ProbeResult, bool]:
+                  mphi_cfg: InverseDynamicsConfig, executor=None) -> tuple[ProbeResult, bool]:
     """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path``."""
     if path.exists() or path.is_symlink():
         try:
@@ -391,6 +395,6 @@ def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
             raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to probe "
                               f"again (the new probe's env steps then count in the next generation)") from None
         return res, False
-    res = probe(cfg, spec, pos_dim, mphi_cfg)
+    res = probe(cfg, spec, pos_dim, mphi_cfg, executor)
     atomic_write_text(path, json.dumps(asdict(res), indent=1))
     return res, True

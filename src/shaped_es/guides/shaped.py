@@ -100,7 +100,7 @@ WARN_AFTER = 5  # generations without M_phi data before the console says so (onc
 class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
     record = True
 
-    def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None):
+    def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None, executor=None):
         check_obs_norm(cfg)  # es.obs_norm: mechanism candidate only (preflight says so first)
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
         self.traj_root = run_root(self.sh.trajectory_root, str(store.trajectories_dir), store.run_id())
@@ -119,7 +119,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
-            res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg)
+            res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor)
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
             self.query_clip = res.query_clip
             # counted in generation 0's row, also by a run that restarts it with the probe on file

@@ -110,7 +110,7 @@ class Trainer(CheckpointState, Rows, RunLoop):
         warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
         x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
         self.strategy = build_strategy(cfg, x0)
-        self.guide = build_guide(cfg, self.spec, store, probe)
+        self.guide = build_guide(cfg, self.spec, store, probe, self.executor)
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
         # es.obs_norm: the running statistics (None: off) and the normalizer best_params was tested with
         self.obs_stats = ObsStats.empty(self.spec.obs_dim) if cfg.es.obs_norm else None

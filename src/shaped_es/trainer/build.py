@@ -34,10 +34,11 @@ def check_obs_norm(cfg: RunConfig) -> None:
                           f"set es.obs_norm=false")
 
 
-def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe | None = None):
-    """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`); ``probe``: the run's env probe."""
+def build_guide(cfg: RunConfig, spec: MLPSpec, store: RunStore, probe: EnvProbe | None = None, executor=None):
+    """The guide of ``cfg.method`` (its entry in :data:`methods.METHODS`); ``probe``: the run's env probe;
+    ``executor``: the run's (the shaped guide's label probe rolls out on its workers; None: in this process)."""
     method = METHODS[cfg.method]
-    return resolve(method.guide)(**method.guide_args(cfg, spec, store, probe))
+    return resolve(method.guide)(**method.guide_args(cfg, spec, store, probe, executor))
 
 
 def startup_notice(cfg: RunConfig, progress: bool, label: str) -> bool:
