@@ -27,6 +27,11 @@ def _no_args(*_) -> dict[str, Any]:
     return {}
 
 
+def _shaped_guide_args(cfg, spec, store, probe, executor) -> dict[str, Any]:
+    """The shaped guide's (``guides/shaped.py``), for every method that runs it."""
+    return {"cfg": cfg, "spec": spec, "store": store, "probe": probe, "executor": executor}
+
+
 @dataclass(frozen=True)
 class Method:
     """How one method is built; see the module docstring."""
@@ -71,6 +76,9 @@ class Method:
     # Its guide runs the compiled shaping kernels (shaping/kernels.py): a run says so in one line when they
     # are about to compile (shaping/kernel_notice.py).
     kernels: bool = False
+    # The method whose steps a run of this one takes when its guide changes nothing (a shaped run that never
+    # accepted a candidate: the same seed gives the same policies); the run says so at its end.
+    base: str | None = None
 
 
 def _es_args(cfg, seed: int) -> dict[str, Any]:
@@ -112,8 +120,7 @@ METHODS: dict[str, Method] = {
                            "es.cmaes_diagonal_above", "es.obs_norm"), state_bytes=_cmaes_state_bytes,
                     about="CMA-ES (pycma; separable above a size)"),
     "shaped": Method(strategy=GUIDED_ES, strategy_args=_guided_args, guide="shaped_es.guides.shaped:ShapedGuide",
-                     guide_args=lambda cfg, spec, store, probe, executor: {
-                         "cfg": cfg, "spec": spec, "store": store, "probe": probe, "executor": executor},
+                     guide_args=_shaped_guide_args, base="vanilla",
                      probe_reset=True, reads=ES_READS + ("es.alpha", "shaping"),
                      checks=("shaped_es.preflight:check_es", "shaped_es.preflight:check_waypoints",
                              "shaped_es.guides.shaped_setup:check_shaped"),
@@ -124,8 +131,7 @@ METHODS: dict[str, Method] = {
                            "and info['waypoint'])"),
     "shaped_cmaes": Method(strategy="shaped_es.strategies.cmaes:CMAES", strategy_args=_cmaes_args,
                            guide="shaped_es.guides.shaped:ShapedGuide",
-                           guide_args=lambda cfg, spec, store, probe, executor: {
-                               "cfg": cfg, "spec": spec, "store": store, "probe": probe, "executor": executor},
+                           guide_args=_shaped_guide_args, base="cmaes",
                            probe_reset=True, state_bytes=_cmaes_state_bytes,
                            reads=("es.pairs", "es.sigma", "es.cmaes_mu", "es.cmaes_weight_decay",
                                   "es.cmaes_diagonal_above", "es.obs_norm", "shaping"),

@@ -116,13 +116,17 @@ def test_a_run_whose_labels_never_won_says_it_took_the_strategys_own_steps():
     from shaped_es.guides.label_budget import never_accepted
 
     never = {"candidates_judged": 12, "candidates_accepted": 0}
-    assert never_accepted(never, "shaped") == (
+    from shaped_es.methods import METHODS
+
+    assert never_accepted(never, METHODS["shaped"].base) == (
         "no candidate was accepted in 12 judged generations: the search took vanilla's own steps (--method "
         "vanilla, same seed: the same policies, without shaping's probe and awake generations)")
-    assert "cmaes's own steps (--method cmaes" in never_accepted(never, "shaped_cmaes")
-    assert never_accepted({"candidates_judged": 12, "candidates_accepted": 1}, "shaped") is None
-    assert never_accepted({"candidates_judged": 0, "candidates_accepted": 0}, "shaped") is None
-    assert never_accepted(None, "shaped") is None
+    assert "cmaes's own steps (--method cmaes" in never_accepted(never, METHODS["shaped_cmaes"].base)
+    assert never_accepted(never, None) == ("no candidate was accepted in 12 judged generations: the search took "
+                                           "its ES strategy's own steps")
+    assert never_accepted({"candidates_judged": 12, "candidates_accepted": 1}, "vanilla") is None
+    assert never_accepted({"candidates_judged": 0, "candidates_accepted": 0}, "vanilla") is None
+    assert never_accepted(None, "vanilla") is None
 
 
 def test_disabled_budget_never_sleeps():

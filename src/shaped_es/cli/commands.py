@@ -165,7 +165,7 @@ def _run(cfg, store, a, probe=None) -> int:
         out["shaping"] = shaping
         from shaped_es.guides.label_budget import never_accepted
 
-        if (line := never_accepted(shaping, cfg.method)) is not None:
+        if (line := never_accepted(shaping, METHODS[cfg.method].base)) is not None:
             print(f"shaped-es: {store.root.name}: {line}", file=sys.stderr)
     print(json.dumps(out))
     return 0

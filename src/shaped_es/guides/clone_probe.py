@@ -113,14 +113,3 @@ def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, ho
         m.add(trs)
         m.train()
     return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead)
-
-
-def shoot_clone(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data, pos_dim: int, mphi_cfg, seeds: np.ndarray,
-                key: int, horizon: int | None = None) -> tuple[np.ndarray, int]:
-    """The shooting labels' simulated candidate (:func:`clone_rounds`) on the label probe's data (``data``:
-    its recorded steps per generation): its returns ``(E,)`` and env steps. On ReacherWay-v0 and
-    SwimmerWay-v0 it drives worse than zero action (their gaits and whipping arms are no held action's
-    path), where its candidate only adds a lucky row to each generation's pick; on the planar bodies far
-    better (``docs/benchmarks/suite_bodies_v7``). ``horizon``: the steps an action is held (None: the config's)."""
-    labels = shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, horizon)
-    return clone_rounds(cfg, spec, x0, [t for g in data for t in g], labels, seeds, key)

@@ -109,8 +109,8 @@ class LabelBudget:
             self.losses, self.trial, self.sleep, self.spreads = 0, 0, self.first_sleep, []
             return False
         self.losses += 1
-        if (self.heavy > 0 and self.accepted == 0 and self.sleeps == 0 and gain is not None and spread is not None
-                and np.isfinite(gain) and np.isfinite(spread) and spread > 0):  # only the first streak's count
+        if (self._first_streak() and gain is not None and spread is not None and np.isfinite(gain)
+                and np.isfinite(spread) and spread > 0):
             self.spreads.append(-float(gain) / float(spread))
         if not self.enabled:
             return False
@@ -125,10 +125,14 @@ class LabelBudget:
             self.sleep = min(2 * self.sleep, self.max_sleep)
         return True
 
+    def _first_streak(self) -> bool:
+        """The heavy rule applies: on, the labels never won, the guide never slept."""
+        return self.heavy > 0 and self.accepted == 0 and self.sleeps == 0
+
     def heavy_streak(self) -> bool:
         """A never-winning guide's first streak lost by a median of more than ``heavy`` spreads (module
         docstring): it sleeps without waiting for ``patience``."""
-        return bool(self.heavy > 0 and self.accepted == 0 and self.sleeps == 0 and len(self.spreads) >= HEAVY_MIN
+        return bool(self._first_streak() and len(self.spreads) >= HEAVY_MIN
                     and float(np.median(self.spreads)) > self.heavy)
 
     def note(self, env: str, has_controller: bool) -> str:
@@ -178,16 +182,13 @@ class LabelBudget:
         self.prev_population = float(np.asarray(state.get("prev_population", [0.0]), np.float64).reshape(-1)[0])
 
 
-BASE = {"shaped": "vanilla", "shaped_cmaes": "cmaes"}  # the ES method each candidate method runs on
-
-
-def never_accepted(summary: dict | None, method: str) -> str | None:
+def never_accepted(summary: dict | None, base: str | None) -> str | None:
     """The line a run prints at its end when its labels never paid (``summary``: :func:`rows_summary`'s): no
-    candidate accepted, so the search took its ES strategy's own steps; None when one was, or none judged."""
+    candidate accepted, so the search took its ES strategy's own steps, those of the method ``base`` (the
+    run method's ``methods.Method.base``); None when one was, or none judged."""
     if not summary or not summary["candidates_judged"] or summary["candidates_accepted"]:
         return None
     head = f"no candidate was accepted in {summary['candidates_judged']} judged generations: the search took "
-    base = BASE.get(method)
     if base is None:
         return head + "its ES strategy's own steps"
     return head + (f"{base}'s own steps (--method {base}, same seed: the same policies, without shaping's "
