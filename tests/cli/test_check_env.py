@@ -16,6 +16,8 @@ class Point(gym.Env):
 
     def __init__(self, flaw: str = "none"):
         self.flaw = flaw
+        if flaw == "unbounded_obs":  # two distinct warnings of Gymnasium's checker (the Box's -inf and inf)
+            self.observation_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
         if flaw == "unbounded":
             self.action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
         self.calls = 0
@@ -37,7 +39,7 @@ class Point(gym.Env):
         return self.x.copy(), reward, False, False, self._info()
 
 
-for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded"):
+for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "unbounded_obs"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 
@@ -61,6 +63,15 @@ def test_the_builtin_envs_meet_the_waypoint_contract(env_id):
     checks = check_env(env_id, episodes=1, max_steps=50)
     assert FAIL not in _status(checks).values() and "shaped" in trains_with(checks)
     assert _status(checks)["controller"] == OK  # both offer the oracle labels' scripted controller
+
+
+def test_each_of_gymnasiums_warnings_gets_its_own_line():
+    """A new user's env had two of the checker's warnings and saw only the first, with "(+1 more)"."""
+    checks = check_env("CheckPoint-unbounded_obs-v0")
+    api = [c for c in checks if c.name == "gymnasium API"]
+    assert len(api) == 2 and {c.status for c in api} == {WARN}, api
+    assert "minimum" in api[0].detail and "maximum" in api[1].detail and "more" not in api[1].detail
+    assert "shaped" in trains_with(checks)  # warnings, not failures
 
 
 ES_AND_PPO = ["vanilla", "guided", "cmaes", "ppo"]

@@ -59,7 +59,7 @@ def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, ma
 
     env = make_env(env_id, env_kwargs)
     try:
-        checks = [_gym_api(env_id, env_kwargs), _spaces(env)]
+        checks = [*_gym_api(env_id, env_kwargs), _spaces(env)]
         if checks[-1].status == FAIL:
             return checks
         checks.append(_time_limit(env))
@@ -70,8 +70,12 @@ def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, ma
         close_env(env)
 
 
-def _gym_api(env_id: str, env_kwargs: dict | None) -> Check:
-    """Gymnasium's ``env_checker.check_env`` on a fresh env (it steps and reseeds the env it gets)."""
+API_LINES = 4  # the checker's warnings shown a line each (a new user's env had two; the rest are counted)
+
+
+def _gym_api(env_id: str, env_kwargs: dict | None) -> list[Check]:
+    """Gymnasium's ``env_checker.check_env`` on a fresh env (it steps and reseeds the env it gets): one line
+    per distinct warning (at most :data:`API_LINES`)."""
     from gymnasium.utils.env_checker import check_env as gym_check
 
     env = make_env(env_id, env_kwargs)
@@ -81,14 +85,16 @@ def _gym_api(env_id: str, env_kwargs: dict | None) -> Check:
             try:
                 gym_check(env.unwrapped, skip_render_check=True, skip_close_check=True)
             except Exception as exc:  # noqa: BLE001 - its verdict (what training needs is checked below)
-                return Check("gymnasium API", WARN, _line(f"its checker fails: {type(exc).__name__}: {exc}"))
+                return [Check("gymnasium API", WARN, _line(f"its checker fails: {type(exc).__name__}: {exc}"))]
     finally:
         close_env(env)
     notes = list(dict.fromkeys(_line(str(w.message)).removeprefix("WARN: ") for w in caught))
     if not notes:
-        return Check("gymnasium API", OK, "gymnasium.utils.env_checker.check_env passes")
-    more = f" (+{len(notes) - 1} more)" if len(notes) > 1 else ""
-    return Check("gymnasium API", WARN, f"{notes[0]}{more}")
+        return [Check("gymnasium API", OK, "gymnasium.utils.env_checker.check_env passes")]
+    shown = notes[:API_LINES]
+    if len(notes) > API_LINES:
+        shown[-1] += f" (+{len(notes) - API_LINES} more: gymnasium.utils.env_checker.check_env lists them)"
+    return [Check("gymnasium API", WARN, n) for n in shown]
 
 
 def _spaces(env: gym.Env) -> Check:
