@@ -50,10 +50,10 @@ def _status(checks):
 
 def test_an_env_that_meets_everything_trains_with_every_method():
     checks = check_env("CheckPoint-none-v0")
-    assert [c.name for c in checks] == ["gymnasium API", "spaces", "time limit", "steps", "seeding", "waypoints",
-                                        "controller"]
-    assert set(_status(checks).values()) == {OK, NO}  # the controller is optional
-    assert _status(checks)["controller"] == NO
+    assert [c.name for c in checks] == ["gymnasium API", "spaces", "time limit", "threshold", "steps", "seeding",
+                                        "waypoints", "controller"]
+    assert set(_status(checks).values()) == {OK, NO}  # the controller and the threshold are optional
+    assert _status(checks)["controller"] == NO and _status(checks)["threshold"] == NO
     assert trains_with(checks) == ["vanilla", "guided", "cmaes", "shaped", "shaped_cmaes", "ppo"]
     assert "(2-d)" in checks[-2].detail
 
@@ -63,6 +63,8 @@ def test_the_builtin_envs_meet_the_waypoint_contract(env_id):
     checks = check_env(env_id, episodes=1, max_steps=50)
     assert FAIL not in _status(checks).values() and "shaped" in trains_with(checks)
     assert _status(checks)["controller"] == OK  # both offer the oracle labels' scripted controller
+    threshold = next(c for c in checks if c.name == "threshold")
+    assert threshold.status == OK and threshold.detail.startswith({"CarNav-v0": "200, ", "UR5Reach-v0": "40, "}[env_id])
 
 
 def test_each_of_gymnasiums_warnings_gets_its_own_line():

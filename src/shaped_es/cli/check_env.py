@@ -8,7 +8,7 @@ flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is
 ``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
 the members of a generation face the same episodes), finiteness and fixed shapes of observations and
 rewards (a run stops at the first that is not), a time limit (PPO's budget needs one; without it an
-episode that never ends never returns), and the waypoint contract of ``--method shaped``
+episode that never ends never returns), the success threshold ``benchmark`` uses (optional), and the waypoint contract of ``--method shaped``
 (``info["position"]`` and ``info["waypoint"]``, equal ``(d,)`` shapes, finite, from ``reset`` and every
 ``step``). A check's ``status`` is ``ok``, ``no`` (an optional capability the env lacks: only ``shaped``
 needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL`` (it cannot train).
@@ -62,7 +62,7 @@ def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, ma
         checks = [*_gym_api(env_id, env_kwargs), _spaces(env)]
         if checks[-1].status == FAIL:
             return checks
-        checks.append(_time_limit(env))
+        checks += [_time_limit(env), _threshold(env_id)]
         checks += _episodes(env, env_id, env_kwargs, episodes, max_steps, seed)
         checks.append(_controller(env))
         return checks
@@ -120,6 +120,18 @@ def _time_limit(env: gym.Env) -> Check:
         return Check("time limit", OK, f"episodes end after at most {limit} steps")
     return Check("time limit", WARN, "no time limit: PPO needs one (or rollout.max_steps), and an episode that "
                                      "never ends never returns; set rollout.max_steps")
+
+
+def _threshold(env_id: str) -> Check:
+    """The success threshold ``benchmark`` and ``report`` use by default (a new user's was missing and
+    nothing said so)."""
+    from shaped_es.benchmark.summary import builtin_threshold, spec_threshold
+
+    thr = builtin_threshold(env_id) or spec_threshold(env_id)
+    if thr is not None:
+        return Check("threshold", OK, f"{thr[0]:g}, benchmark's and report's success threshold: {thr[1]}")
+    return Check("threshold", NO, "no reward_threshold registered (optional: benchmark then measures success "
+                                  "at the best baseline's final reward; register one, or pass --threshold)")
 
 
 def _episodes(env, env_id, env_kwargs, episodes: int, max_steps: int, seed: int) -> list[Check]:

@@ -124,11 +124,19 @@ class ProbeResult:
         ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
         name, h = variant_name(self.frame, self.query_clip), self.shoot_horizon
         default = next(iter(self.returns), name)
-        why = ("the default choice" if name == default else f"beat frame={default}'s candidate"
-               if self.reason.startswith("its") else f"frame={default}'s labels lost to zero action")
-        own, what = (self.clones, "simulated candidate") if self.clones.get(name) else (self.returns, "labels")
+        d_frame, _, d_clip = default.partition("+clip")
+        differs = ", ".join(([f"frame={d_frame}"] if d_frame != self.frame else [])  # the default, by what differs
+                            + ([f"query_clip={d_clip or 'none'}"] if d_clip != (clip_text(self.query_clip)
+                                                                             if self.query_clip else "") else []))
+        why = ("the default choice" if name == default else f"beat the default, {differs}"
+               if self.reason.startswith("its") else f"the default's labels, {differs}, lost to zero action")
+        own, what = (self.clones, "candidate") if self.clones.get(name) else (self.returns, "labels")
         zero, own = self.zero_action, own.get(name)
-        score = f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}" if own and zero else ""
+        score = ""
+        if own and zero:
+            below = beats(np.array(zero), np.array(own))[0]  # by two paired standard errors
+            score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}: candidates may rarely "
+                     f"win" if below else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
         lost = "" if self.shoot_on else ", not above zero action"
         shoot = (f"; shooting rival {'kept' if self.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
                  if self.shoot and not any(n.startswith("shooting") for n in rivals) else "")
