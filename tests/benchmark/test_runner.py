@@ -207,3 +207,25 @@ def test_a_sweep_is_one_benchmark(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert list(s["methods"]) == ["vanilla-sigma0.05", "vanilla-sigma0.1"]
     assert "sigma: 0.05" in (out / "runs" / "vanilla-sigma0.05_s0" / "config.yaml").read_text()
+
+
+def test_a_runs_line_says_when_its_labels_never_paid(tmp_path):
+    """A new user's benchmark printed nothing per run about candidates never accepted (only the report did)."""
+    from types import SimpleNamespace
+
+    from shaped_es.benchmark.runner import _never_paid
+
+    def run(name, accepted):
+        root = tmp_path / name
+        root.mkdir()
+        rows = ["generation,shaping_awake,candidate_accepted,candidate_gain"]
+        rows += [f"{g},1,{a},{-1.0 if a == 0 else 1.0}" for g, a in enumerate(accepted)]
+        (root / "metrics.csv").write_text("\n".join(rows) + "\n")
+        return root
+
+    shaped = SimpleNamespace(method="shaped")
+    assert _never_paid(shaped, run("never", [0, 0, 0])) == ("; no candidate accepted in 3 judged generations: "
+                                                            "vanilla's own steps")
+    assert _never_paid(SimpleNamespace(method="shaped_cmaes"), run("never_cma", [0])).endswith("cmaes's own steps")
+    assert _never_paid(shaped, run("paid", [0, 1, 0])) == ""
+    assert _never_paid(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""
