@@ -284,10 +284,11 @@ class ShapingConfig(_Strict):
         "backoff_keep_v9)")
     backoff_heavy: Float = Field(
         1.0, ge=0, le=1e6, description="candidate: a run whose labels have never won sleeps before "
-        "backoff_after once at least 4 judged generations in a row lost by a median of more than this many times "
+        "backoff_after once at least 3 judged generations in a row lost by a median of more than this many times "
         "the population's spread of returns (best member's minus worst's): candidates typically worse than "
-        "everything the search sampled (guides/label_budget.py); 0: off. A replay of the committed suite and "
-        "held-out runs finds it changes only the swimmer's never-paying runs (docs/benchmarks/backoff_heavy_v12)")
+        "everything the search sampled (guides/label_budget.py), for twice the first sleep; 0: off. A replay of the "
+        "committed suite and held-out runs finds it changes only the swimmer's never-paying runs "
+        "(docs/benchmarks/backoff_heavy_v13)")
     backoff_judges_jumps: Bool = Field(False, description="candidate: an accepted candidate after which the "
                                        "next population's mean return falls below the one before the jump counts "
                                        "as a lost judgement for the back-off (guides/label_budget.py)")

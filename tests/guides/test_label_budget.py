@@ -80,17 +80,24 @@ def test_the_back_off_note_is_one_short_line():
 
 
 def test_a_never_winning_streak_lost_by_a_median_of_more_than_the_spread_sleeps_early():
-    """heavy: before the first sleep and any win, 4 losses in a row whose median is more than ``heavy`` of the
-    population's spreads sleep without waiting for the patience; one bad first loss among close ones does not
-    (the median), nor do flat populations, heavy=0, a streak after a win, or the wake-up trials."""
+    """heavy: before the first sleep and any win, 3 losses in a row whose median is more than ``heavy`` of the
+    population's spreads sleep without waiting for the patience, for twice the first sleep (as after a failed
+    wake-up trial); one bad first loss among close ones does not (the median), nor do flat populations, heavy=0,
+    a streak after a win, or the wake-up trials."""
     from shaped_es.guides.label_budget import HEAVY_MIN
 
     b = LabelBudget(patience=8, max_sleep=8, heavy=1.0)
-    assert HEAVY_MIN == 4
-    assert [b.judge(False, g, spread=2.0) for g in (-1.0, -3.0, -5.0, -2.5)] == [False, False, False, True]
+    assert HEAVY_MIN == 3
+    assert [b.judge(False, g, spread=2.0) for g in (-1.0, -3.0, -5.0)] == [False, False, True]
     note = b.note("CarNav-v0", False)
-    assert note.startswith("labels lost 4 judged generations in a row by a median of 1.4 population spreads "
-                           "(won 0 of 4): shaping sleeps 4 generations") and len(note) <= NOTE_MAX
+    assert note.startswith("labels lost 3 judged generations in a row by a median of 1.5 population spreads "
+                           "(won 0 of 3): shaping sleeps 8 generations") and len(note) <= NOTE_MAX
+    # its wake-up trials are the patience's: two judgements, then a sleep twice as long (max_sleep: 8)
+    assert [b.begin() for _ in range(9)] == [False] * 8 + [True]
+    assert [b.judge(False, -5.0, spread=2.0) for _ in range(2)] == [False, True] and b.asleep_left == 8
+    # a streak that reaches the patience sleeps the first sleep, heavy or not
+    p = LabelBudget(patience=3, max_sleep=8, heavy=1.0)
+    assert [p.judge(False, -5.0, spread=1.0) for _ in range(3)] == [False, False, True] and p.asleep_left == 4
     # one heavy first loss, then close calls (the Reacher's seed 13): the patience decides
     r = LabelBudget(patience=8, max_sleep=8, heavy=1.0)
     assert [r.judge(False, g, spread=1.0) for g in (-1.5, -0.1, -0.2, -0.1, -0.1, -0.1, -0.2, -0.2)] == [False] * 7 + [True]
@@ -102,11 +109,11 @@ def test_a_never_winning_streak_lost_by_a_median_of_more_than_the_spread_sleeps_
     assert not any(won.judge(False, -9.0, spread=1.0) for _ in range(7)) and won.judge(False, -9.0, spread=1.0)
     # the streak's count survives a checkpoint (resume is exact); an older checkpoint has none
     a = LabelBudget(patience=8, max_sleep=8, heavy=1.0)
-    for g in (-3.0, -3.0, -3.0):
+    for g in (-3.0, -3.0):
         a.judge(False, g, spread=1.0)
     b2 = LabelBudget(patience=8, max_sleep=8, heavy=1.0)
     b2.load_state_dict(npz_round_trip(a.state_dict()))
-    assert b2.spreads == [3.0, 3.0, 3.0] and b2.judge(False, -3.0, spread=1.0) == a.judge(False, -3.0, spread=1.0) is True
+    assert b2.spreads == [3.0, 3.0] and b2.judge(False, -3.0, spread=1.0) == a.judge(False, -3.0, spread=1.0) is True
     old = LabelBudget(5, 32, heavy=1.0)
     old.load_state_dict({"ints": np.array([2, 4, 0, 0, 0, 0, 7, 1]), "gain_sum": np.array([1.0])})
     assert old.spreads == []

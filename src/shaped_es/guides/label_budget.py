@@ -27,9 +27,10 @@ With ``heavy`` (H), a run whose labels have never won sleeps early, before ``pat
 (its best member's return minus its worst's): its candidates are typically worse than everything the search
 sampled around the mean, which no close-call loss is. The median spares a run whose first candidate, cloned
 toward freshly trained labels, lost badly and whose later ones lose narrowly (the Reacher's seed 13). Only the
-first sleep comes early; the wake-up trials are as above. Measured (``docs/benchmarks/backoff_heavy_v12``): a
+first sleep comes early, and it is twice the first sleep: such a streak is the evidence a lost wake-up trial is;
+the wake-up trials are as above. Measured (``docs/benchmarks/backoff_heavy_v12``, ``backoff_heavy_v13``): a
 replay of the 160 committed suite and held-out runs' judgements finds it changes only the swimmer's never-paying
-runs; counting each heavy loss twice instead (the first versions) also changed that Reacher seed (21 generations
+runs (with 4 losses or 3, a first sleep of 4 or 8); counting each heavy loss twice instead (the first versions) also changed that Reacher seed (21 generations
 slower) or, counted after a first win too, late streaks of paying runs.
 
 So a run whose labels never pay spends, after its first ``patience`` judgements, at most about
@@ -42,7 +43,7 @@ from __future__ import annotations
 import numpy as np
 
 WAKE_JUDGED = 2  # judgements a woken guide gets to show a win before it sleeps again
-HEAVY_MIN = 4  # losses in a row before their median can put a never-winning guide to sleep early (heavy)
+HEAVY_MIN = 3  # losses in a row before their median can put a never-winning guide to sleep early (heavy)
 FIRST_SLEEP = 4  # generations of the first sleep
 KEEP_MIN_WINS = 2  # acceptances before keep_rate holds the sleep (one can be luck: a noise env wins 1 of its first 4)
 
@@ -114,12 +115,15 @@ class LabelBudget:
             self.spreads.append(-float(gain) / float(spread))
         if not self.enabled:
             return False
+        early = not self.trial and self.losses < self.patience  # only the heavy rule sleeps it now
         if self.trial:
             self.trial -= 1
             if self.trial:
                 return False
-        elif self.losses < self.patience and not self.heavy_streak():
+        elif early and not self.heavy_streak():
             return False
+        if early:  # a heavy streak is the evidence a failed wake-up trial is: its first sleep starts doubled
+            self.sleep = min(2 * self.sleep, self.max_sleep)
         self.asleep_left, self.trial, self.sleeps = self.sleep, 0, self.sleeps + 1
         if not (self.keep_rate and self.accepted >= max(KEEP_MIN_WINS, self.keep_rate * self.judged)):
             self.sleep = min(2 * self.sleep, self.max_sleep)
