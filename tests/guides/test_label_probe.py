@@ -79,8 +79,8 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     assert "; shooting rival dropped (4 steps, not above zero action); rivals: waypoint frame, servo; " in dropped
     # the default kept; the default's labels lost to zero action (no clones: the labels' own return)
     kept = replace(res, query_clip=None, reason="the default: ...").line("CarNav-v0", rivals)
-    assert ("query_clip=none (the default choice): candidate -19.19, below zero action's -1.20: "
-            "candidates may rarely win; " in kept)  # a new user's cheetah: the numbers alone did not say it
+    assert ("query_clip=none (the default choice): candidate -19.19, below zero action's -1.20; "
+            in kept)  # a new user's cheetah: the numbers alone did not say it
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
     assert "(the default's labels, frame=both, lost to zero action): labels -0.39 vs zero action" in lost.line(
         "ReacherWay-v0", rivals)

@@ -135,8 +135,9 @@ class ProbeResult:
         score = ""
         if own and zero:
             below = beats(np.array(zero), np.array(own))[0]  # by two paired standard errors
-            score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}: candidates may rarely "
-                     f"win" if below else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
+            # below zero action is said, not read as a verdict: the Reacher's and the kart's paying runs start so
+            score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}" if below
+                     else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
         lost = "" if self.shoot_on else ", not above zero action"
         shoot = (f"; shooting rival {'kept' if self.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
                  if self.shoot and not any(n.startswith("shooting") for n in rivals) else "")
