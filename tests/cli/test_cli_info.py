@@ -96,12 +96,16 @@ def test_envs_and_check_env_on_an_own_env(tmp_path):
     res = _cli(tmp_path, "check-env", "infopoint:InfoPoint-v0")
     assert res.returncode == 0, res.stderr
     lines = res.stdout.strip().splitlines()
-    assert [line.split()[0] for line in lines[:-1]] == ["ok"] * 6 + ["no"]  # no controller (optional)
+    # no threshold registered, no controller (both optional)
+    assert [line.split()[0] for line in lines[:-1]] == ["ok"] * 3 + ["no"] + ["ok"] * 3 + ["no"]
     assert lines[-1] == "infopoint:InfoPoint-v0 trains with: vanilla, guided, cmaes, shaped, shaped_cmaes, ppo"
     res = _cli(tmp_path, "check-env", "infopoint:InfoPointNaN-v0", "--json")
     assert res.returncode == 1  # a FAIL: exit code 1
     out = json.loads(res.stdout)
     assert out["trains_with"] == [] and any(c["status"] == "FAIL" and c["name"] == "steps" for c in out["checks"])
+    res = _cli(tmp_path, "check-env", "infopoint:InfoPointNaN-v0", "--labels")  # not "no waypoint contract"
+    assert res.returncode == 1 and res.stdout.strip().splitlines()[-1] == (
+        "labels: not probed: the env cannot train here (the FAIL line above)")
     res = _cli(tmp_path, "check-env", "NoSuchEnv-v0")
     assert res.returncode == 2 and res.stderr.startswith("shaped-es: error: cannot make env")
 

@@ -388,3 +388,19 @@ def test_a_probe_file_whose_horizon_differs_from_the_checkpoints_names_the_probe
     with pytest.raises(StoreError, match="holds no checkpoint, but .* generations 0-2"):
         Trainer(cfg, store, progress=False).run()
     assert store.metrics_path.read_bytes() == rows
+
+
+def test_check_labels_names_a_kept_shooting_rival_when_the_labels_lose_to_zero_action(monkeypatch):
+    """A new user's body whose labels lost to zero action while the shooting rival drove above it was told its
+    candidates "may rarely win" and to compare Vanilla-ES; 3 of its 4 accepted candidates were the rival's."""
+    from shaped_es.guides import label_check
+
+    def eps(m):
+        return [m + 0.01 * (k - 4.5) for k in range(10)]
+    for shoot_on, says in ((True, "; the shooting rival drives above it, and a run keeps it"),
+                           (False, ": its candidates may rarely win")):
+        res = ProbeResult("world", None, {"both": eps(-5.0), "world": eps(-4.0)}, 100, 0.1, "the default", eps(0.0),
+                          {"both": eps(-6.0), "world": eps(-3.0)}, eps(6.5), shoot_on, 4, {})
+        monkeypatch.setattr(label_check, "probe", lambda *a, **k: res)
+        verdict = label_check.check_labels("PointVel-v0")["verdict"]
+        assert verdict.startswith("world's labels drive the body worse than zero action (by 4.00 return)" + says)

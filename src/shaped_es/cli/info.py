@@ -274,6 +274,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
 
         say_if_compiling("check-env")  # the probe compiles the shaping kernels on a cold cache
         labels = check_labels(a.env_id, parse_set(a.set))
+    elif a.labels and failed:  # the waypoint contract was not reached: nothing trains until the FAIL is fixed
+        labels = {"env": a.env_id, "verdict": "not probed: the env cannot train here (the FAIL line above)"}
     elif a.labels:
         labels = {"env": a.env_id, "verdict": "no waypoint contract, so no labels to probe (only --method shaped "
                                               "needs them)"}

@@ -29,12 +29,16 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
                    f"enough: a run's candidate must beat the ES mean, which soon beats zero action too)")
     elif -gain > 2 * se:
-        verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return): its "
-                   f"candidates may rarely win (a run then backs off); compare "
-                   f"{'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla / cmaes")
+        verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return)"
+                   + ("; the shooting rival drives above it, and a run keeps it" if res.shoot_on else
+                      f": its candidates may rarely win (a run then backs off; the Reacher's paid all the same); "
+                      f"compare {'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla "
+                      f"/ cmaes"))
     else:
         verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
-                   f"2 standard errors {2 * se:.2f}): its candidates may rarely win (a run then backs off)")
+                   f"2 standard errors {2 * se:.2f})"
+                   + ("; the shooting rival drives above it, and a run keeps it" if res.shoot_on else
+                      ": its candidates may rarely win (a run then backs off)"))
     details = []  # one line each, before the verdict
     if res.clones.get(best):  # the frame was chosen on this, not on the labels' own return
         details.append(f"{best}'s simulated candidate (what the frame was chosen on) "
