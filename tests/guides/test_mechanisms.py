@@ -132,6 +132,9 @@ class _Host:
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
 
+    def dagger_rows(self, generation, labels=None):  # one recorded row: the clone (mocked) runs
+        return type("Rows", (), {"lengths": lambda self: np.ones(1, np.int64)})()
+
 
 @pytest.mark.parametrize("accept", ["best", "mean", "mean+keep_step"])
 def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, accept):
@@ -143,7 +146,7 @@ def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, 
     keep = accept.endswith("+keep_step")
     mech = MeanCandidate(_Host(n, accept.removesuffix("+keep_step"), keep_step=keep))
     theta_star = np.arange(1.0, n + 1)
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + theta_star, {"label_std": 0.1}))
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, **kw: (mu + theta_star, {"label_std": 0.1}))
     es.ask()
     es.tell(np.array([1.0, 2.0, 3.0, 4.0]))
     mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
@@ -179,7 +182,7 @@ def test_confirm_jumps_only_to_a_winner_that_beats_the_mean_again(monkeypatch):
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
     mech = MeanCandidate(host)
     step = np.ones(n)
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + step, {"label_std": 0.1}))
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, **kw: (mu + step, {"label_std": 0.1}))
     es.ask(); es.tell(np.zeros(P))
     mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
     c0 = mech.extra_members(1)[0].copy()
@@ -205,7 +208,7 @@ def test_extra_episodes_make_a_winner_beat_the_mean_where_nobody_was_chosen(monk
     from shaped_es.guides.mechanisms import candidate as cand_mod
 
     n, P = 3, 4
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + 1.0, {"label_std": 0.1}))
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, **kw: (mu + 1.0, {"label_std": 0.1}))
     for extra, accepted in (([[5.0, 1.0], [5.0, 1.0], [0.0, 2.0]], 0), ([[5.0, 3.0], [5.0, 3.0], [0.0, 2.0]], 1)):
         host = _Host(n, "best", extra_episodes=1)
         es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
@@ -225,7 +228,7 @@ def test_keep_step_repeat_decides_the_step_of_a_jump_right_after_a_jump(monkeypa
     from shaped_es.guides.mechanisms import candidate as cand_mod
 
     n, P = 3, 4
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg: (mu + 1.0, {"label_std": 0.1}))
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, **kw: (mu + 1.0, {"label_std": 0.1}))
     mech = MeanCandidate(_Host(n, "mean", scales=(1.0,), keep_step=True, keep_step_repeat=repeat))
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
     es.ask(); es.tell(np.zeros(P))

@@ -24,6 +24,9 @@ class _Host:
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
 
+    def dagger_rows(self, generation, labels=None):  # one recorded row: the clones (mocked) run
+        return type("Rows", (), {"lengths": lambda self: np.ones(1, np.int64)})()
+
 
 def test_population_fell_needs_the_margin():
     before = (10.0, 4.0, 16)  # mean, variance, size: a standard error of 0.5 alone
@@ -48,7 +51,7 @@ def test_a_jump_the_next_population_disproves_is_undone(monkeypatch, next_popula
     mech = MeanCandidate(_Host(n))
     assert "jump_reverted" in mech.metric_keys and "jump_reverted" not in MeanCandidate(_Host(n, 0.0)).metric_keys
     d = np.ones(n)
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0: (mu + d, {"x": 1}))
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0, rows=None: (mu + d, {"x": 1}))
     spread = np.linspace(-1, 1, P)  # (P,) the populations' returns around their means
     _generation(es, mech, 0, spread, np.zeros((0, 1)))
     out = _generation(es, mech, 1, spread, [[5.0], [1.0]])  # the candidate beats the mean: a jump

@@ -94,6 +94,9 @@ class _Host:
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
 
+    def dagger_rows(self, generation, labels=None):  # one recorded row: the clones (mocked) run
+        return type("Rows", (), {"lengths": lambda self: np.ones(1, np.int64)})()
+
 
 def test_the_rival_row_wins_and_becomes_the_mean(monkeypatch):
     from shaped_es.guides.mechanisms import candidate as cand_mod
@@ -104,7 +107,7 @@ def test_the_rival_row_wins_and_becomes_the_mean(monkeypatch):
     assert {"candidate_rival", "rival_gain", "servo_gain"} <= set(mech.metric_keys)
     d_main, d_rival, d_servo = np.ones(n), -2.0 * np.ones(n), 3.0 * np.ones(n)
     d = {None: d_main, "rival labels 1": d_rival, "rival labels 2": d_servo}
-    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0: (
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0, rows=None: (
         mu + d[labels], {"label_std": 0.1}))
     es.ask()
     es.tell(np.arange(P, dtype=float))

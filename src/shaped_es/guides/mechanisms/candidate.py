@@ -29,6 +29,9 @@ direction ``theta* - mu_g`` against the ES update).
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from shaped_es import seeding
@@ -42,6 +45,21 @@ GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base
 #                                                              candidate's gain over the mean
 SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
 REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
+
+
+_POOL: ThreadPoolExecutor | None = None  # the clones' threads, made at the first generation with two or more
+
+
+def _concurrently(calls: list) -> list:
+    """Each of ``calls`` (no arguments) run, results in order: on up to one thread per core when there are
+    several (a NumPy/Numba clone spends its time in kernels that release the GIL, and the run's workers wait
+    for it), else here. Written by hand: a shared pool, so no generation pays for starting threads."""
+    global _POOL
+    if len(calls) < 2 or (os.cpu_count() or 1) < 2:
+        return [c() for c in calls]
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1), thread_name_prefix="shaped-clone")
+    return list(_POOL.map(lambda c: c(), calls))
 
 
 def population_fell(now: np.ndarray, before: tuple[float, float, int], margin: float) -> bool:
@@ -185,13 +203,8 @@ class MeanCandidate(Mechanism):
         if judged is not None:  # the strategy is final: the next population may roll out during the clone
             judged(out)
         mean = mu = np.asarray(strategy.mean, np.float64)  # (n,) mu_{g+1}
-        start = mu if not self.cfg.warm_start or self.learner is None else self.learner
-        theta_star, info = clone_mean(self.host, generation, start, self.cfg) if self.host.labels.ready \
-            else (mu, {})
-        if info and self.cfg.warm_start:
-            self.learner = theta_star.copy()
+        theta_star, info, clones = self._clones(generation, mu)
         out.update(info)
-        clones = self._rival_clones(generation, mu) if info else []
         if info:
             d = theta_star - mu  # (n,) the label direction
             rows = [mu + s * d for s in self.cfg.scales] + [c for _, c in clones] \
@@ -200,29 +213,42 @@ class MeanCandidate(Mechanism):
             self.rivals = [v for v, _ in clones]
         return out
 
-    def _rival_clones(self, generation: int, mu: np.ndarray) -> list[tuple[int, np.ndarray]]:
-        """``(variant, the mean cloned toward its labels)`` for each rival that has trained
-        (``guides/rival.py``)."""
-        out = []
-        for rival in getattr(self.host, "rivals", []):
-            if not rival.ready:
+    def _clones(self, generation: int, mu: np.ndarray) -> tuple[np.ndarray, dict, list[tuple[int, np.ndarray]]]:
+        """``(theta*, its metrics, [(variant, clone)] of the rivals)``: the mean cloned toward the run's labels
+        and toward each rival's that has trained (``guides/rival.py``; none when the run's own clone had no
+        data). Each clone's rows are read here, in turn; the clones then run concurrently
+        (:func:`_concurrently`: their kernels release the GIL; each is the same computation as alone)."""
+        cfg = self.cfg
+        start = mu if not cfg.warm_start or self.learner is None else self.learner
+        if not self.host.labels.ready:
+            return mu, {}, []
+        rows = self.host.dagger_rows(generation)
+        jobs = [dict(theta=start, rows=rows)]  # clone_mean's keyword arguments, the run's own first
+        if int(rows.lengths().sum()) and cfg.steps:  # else no clone, and no rival's
+            for rival in getattr(self.host, "rivals", []):
+                if not rival.ready:
+                    continue
+                v, learner = rival.variant, self.rival_learners.get(rival.variant)
+                r = self.host.dagger_rows(generation, rival.labels)
+                if cap := getattr(rival.labels, "max_rows", 0):  # a label source that costs per row (the
+                    rng = np.random.default_rng(seeding.derive_seed(  # shooting labels): a random share of the rows
+                        self.host.cfg.seed, seeding.SHAPING, generation, rival_clone_key(v), SUBSAMPLE_KEY))
+                    r = r.subsample(cap, rng)
+                jobs.append(dict(theta=mu if not cfg.warm_start or learner is None else learner, rows=r,
+                                 labels=rival.labels, key=rival_clone_key(v), variant=v))
+        done = _concurrently([lambda j=j: clone_mean(self.host, generation, j["theta"], cfg, rows=j["rows"],
+                                                     labels=j.get("labels"), key=j.get("key", CLONE_KEY))
+                              for j in jobs])
+        (theta_star, info), clones = done[0], []
+        if info and cfg.warm_start:
+            self.learner = theta_star.copy()
+        for j, (theta, rinfo) in zip(jobs[1:], done[1:]):
+            if not rinfo:
                 continue
-            v = rival.variant
-            learner = self.rival_learners.get(v)
-            start = mu if not self.cfg.warm_start or learner is None else learner
-            kw, cap = {}, getattr(rival.labels, "max_rows", 0)
-            if cap:  # a label source that costs per row (the shooting labels): a random share of the rows
-                rng = np.random.default_rng(seeding.derive_seed(self.host.cfg.seed, seeding.SHAPING, generation,
-                                                                rival_clone_key(v), SUBSAMPLE_KEY))
-                kw["rows"] = self.host.dagger_rows(generation, rival.labels).subsample(cap, rng)
-            theta, info = clone_mean(self.host, generation, start, self.cfg, labels=rival.labels,
-                                     key=rival_clone_key(v), **kw)
-            if not info:
-                continue
-            if self.cfg.warm_start:
-                self.rival_learners[v] = theta.copy()
-            out.append((v, theta))
-        return out
+            if cfg.warm_start:
+                self.rival_learners[j["variant"]] = theta.copy()
+            clones.append((j["variant"], theta))
+        return (theta_star, info, clones) if info else (mu, {}, [])
 
     def sleep(self) -> None:
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
