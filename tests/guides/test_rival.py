@@ -148,3 +148,17 @@ def test_a_checkpoint_of_the_single_rival_format_loads():
     assert mech.rivals == [FRAME] and set(mech.rival_learners) == {FRAME}
     with pytest.raises(ValueError, match="rival"):  # a row of a variant this run does not have
         mech.load_state_dict({"extras": rows, "pending": np.array(0), "rival_rows": np.array([7])})
+
+
+def test_the_clones_on_threads_give_the_run_they_give_one_after_another(tmp_path, monkeypatch):
+    """candidate._concurrently runs the mean's and the rivals' clones on threads; with one core they run in
+    turn: the same metrics rows either way."""
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    if (cand_mod.os.cpu_count() or 1) < 2:
+        pytest.skip("one core: the clones run in turn anyway")
+    threaded = strip_time(train(tmp_path / "threads", _rival()).read_metrics())
+    monkeypatch.setattr(cand_mod.os, "cpu_count", lambda: 1)
+    in_turn = strip_time(train(tmp_path / "in_turn", _rival()).read_metrics())
+    assert cand_mod._POOL is not None  # the first run used the threads
+    assert threaded == in_turn and any(r.get("candidate_rival") not in (None, "") for r in threaded)
