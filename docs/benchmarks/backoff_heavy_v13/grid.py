@@ -1,0 +1,48 @@
+"""Which committed runs would the heavy rule change, for each of its numbers? A grid over the losses it waits
+for (``label_budget.HEAVY_MIN``: 3, 4) and its threshold H (1, 0.5, 0.3 population spreads), replaying every
+committed suite and held-out run's judgements (``../test_policy_v11``, made with the rule off) as
+``../backoff_heavy_v12/replay.py`` does. A run changes at its first early sleep, whatever the sleep's length.
+
+    python docs/benchmarks/backoff_heavy_v13/grid.py
+"""
+
+import csv
+import itertools
+from pathlib import Path
+
+import shaped_es.guides.label_budget as lb
+from shaped_es.guides.label_budget import LabelBudget
+
+ROOT = Path(__file__).resolve().parent.parent / "test_policy_v11"
+
+
+def replay(rows: list[dict], heavy: float, hmin: int) -> list[int]:
+    lb.HEAVY_MIN, saved = hmin, lb.HEAVY_MIN
+    try:
+        budget, awake = LabelBudget(8, 32, heavy=heavy), []
+        for r in rows:
+            awake.append(int(budget.begin()))
+            if awake[-1] and r.get("candidate_accepted") not in (None, ""):
+                spread = float(r["train_reward_max"]) - float(r["train_reward_min"])
+                budget.judge(r["candidate_accepted"] in ("1", "1.0"), float(r["candidate_gain"]),
+                             float(r["train_reward_mean"]), spread=spread)
+        return awake
+    finally:
+        lb.HEAVY_MIN = saved
+
+
+def main() -> None:
+    runs = [(p, list(csv.DictReader(p.open(newline="")))) for p in sorted(ROOT.glob("*/*/runs/shaped_s*/metrics.csv"))
+            if p.parts[-5] in ("suite", "suite_10_19", "heldout")]
+    for hmin, heavy in itertools.product((3, 4), (1.0, 0.5, 0.3)):
+        changed = []
+        for p, rows in runs:
+            if replay(rows, heavy, hmin) != [int(r["shaping_awake"]) for r in rows]:
+                accepted = sum(r["candidate_accepted"] in ("1", "1.0") for r in rows)
+                changed.append(f"{p.parts[-4]}/{p.parts[-2]} ({accepted} accepted)")
+        paying = [c for c in changed if not c.endswith("(0 accepted)")]
+        print(f"losses {hmin}, H {heavy}: {len(changed)} of {len(runs)} runs change; paying ones: {paying or 'none'}")
+
+
+if __name__ == "__main__":
+    main()
