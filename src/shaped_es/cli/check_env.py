@@ -8,10 +8,11 @@ flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is
 ``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
 the members of a generation face the same episodes), finiteness and fixed shapes of observations and
 rewards (a run stops at the first that is not), a time limit (PPO's budget needs one; without it an
-episode that never ends never returns), the success threshold ``benchmark`` uses (optional), and the waypoint contract of ``--method shaped``
-(``info["position"]`` and ``info["waypoint"]``, equal ``(d,)`` shapes, finite, from ``reset`` and every
-``step``). A check's ``status`` is ``ok``, ``no`` (an optional capability the env lacks: only ``shaped``
-needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL`` (it cannot train).
+episode that never ends never returns), the success threshold ``benchmark`` uses (optional), and the
+waypoint contract of ``--method shaped`` (``info["position"]`` and ``info["waypoint"]``, equal ``(d,)``
+shapes, finite, from ``reset`` and every ``step``). A check's ``status`` is ``ok``, ``no`` (an optional
+capability the env lacks: only ``shaped`` needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL``
+(it cannot train).
 
 :func:`describe_env` is the short form ``shaped-es envs`` lists for every registered id.
 """

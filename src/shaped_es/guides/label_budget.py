@@ -30,8 +30,9 @@ toward freshly trained labels, lost badly and whose later ones lose narrowly (th
 first sleep comes early, and it is twice the first sleep: such a streak is the evidence a lost wake-up trial is;
 the wake-up trials are as above. Measured (``docs/benchmarks/backoff_heavy_v12``, ``backoff_heavy_v13``): a
 replay of the 160 committed suite and held-out runs' judgements finds it changes only the swimmer's never-paying
-runs (with 4 losses or 3, a first sleep of 4 or 8); counting each heavy loss twice instead (the first versions) also changed that Reacher seed (21 generations
-slower) or, counted after a first win too, late streaks of paying runs.
+runs (with 4 losses or 3, a first sleep of 4 or 8); counting each heavy loss twice instead (the first versions)
+also changed that Reacher seed (21 generations slower) or, counted after a first win too, late streaks of paying
+runs.
 
 So a run whose labels never pay spends, after its first ``patience`` judgements, at most about
 ``(1 + WAKE_JUDGED) / (1 + WAKE_JUDGED + max_sleep)`` of its generations on shaping. State is a few
@@ -115,7 +116,7 @@ class LabelBudget:
             self.spreads.append(-float(gain) / float(spread))
         if not self.enabled:
             return False
-        early = not self.trial and self.losses < self.patience  # only the heavy rule sleeps it now
+        early = not self.trial and self.losses < self.patience  # before the patience: only the heavy rule sleeps
         if self.trial:
             self.trial -= 1
             if self.trial:

@@ -31,9 +31,9 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     elif -gain > 2 * se:
         verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return)"
                    + ("; the shooting rival drives above it, and a run keeps it" if res.shoot_on else
-                      f": its candidates may rarely win (a run then backs off; the Reacher's paid all the same); "
-                      f"compare {'shaping.labels=controller, ' if env_probe.controller else ''}--method vanilla "
-                      f"/ cmaes"))
+                      f": its candidates may rarely win (a run then backs off; on the Reacher such labels paid "
+                      f"all the same); compare {'shaping.labels=controller, ' if env_probe.controller else ''}"
+                      f"--method vanilla / cmaes"))
     else:
         verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
                    f"2 standard errors {2 * se:.2f})"
