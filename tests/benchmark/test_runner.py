@@ -213,19 +213,19 @@ def test_a_runs_line_says_when_its_labels_never_paid(tmp_path):
     """A new user's benchmark printed nothing per run about candidates never accepted (only the report did)."""
     from types import SimpleNamespace
 
-    from shaped_es.benchmark.runner import _never_paid
+    from shaped_es.benchmark.runner import _outcome
 
     def run(name, accepted):
         root = tmp_path / name
         root.mkdir()
-        rows = ["generation,shaping_awake,candidate_accepted,candidate_gain"]
-        rows += [f"{g},1,{a},{-1.0 if a == 0 else 1.0}" for g, a in enumerate(accepted)]
+        rows = ["generation,test_reward_mean,shaping_awake,candidate_accepted,candidate_gain"]
+        rows += [f"{g},{g + 0.5},1,{a},{-1.0 if a == 0 else 1.0}" for g, a in enumerate(accepted)]
         (root / "metrics.csv").write_text("\n".join(rows) + "\n")
         return root
 
     shaped = SimpleNamespace(method="shaped")
-    assert _never_paid(shaped, run("never", [0, 0, 0])) == ("; no candidate accepted in 3 judged generations: "
-                                                            "vanilla's own steps")
-    assert _never_paid(SimpleNamespace(method="shaped_cmaes"), run("never_cma", [0])).endswith("cmaes's own steps")
-    assert _never_paid(shaped, run("paid", [0, 1, 0])) == ""
-    assert _never_paid(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""
+    assert _outcome(shaped, run("never", [0, 0, 0])) == (", test 2.50; no candidate accepted in 3 judged "
+                                                         "generations: vanilla's own steps")
+    assert _outcome(SimpleNamespace(method="shaped_cmaes"), run("never_cma", [0])).endswith("cmaes's own steps")
+    assert _outcome(shaped, run("paid", [0, 1, 0])) == ", test 2.50"
+    assert _outcome(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""

@@ -251,20 +251,27 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
                          f"directory is the {what}'s own: name a new or empty folder")
 
 
-def _never_paid(cfg: RunConfig, root: Path) -> str:
-    """``; no candidate accepted ...`` for a candidate run whose labels never paid (``train`` prints the long
-    form at a run's end; a new user's benchmark showed it nowhere until its report), else ``""``."""
+def _outcome(cfg: RunConfig, root: Path) -> str:
+    """``, test 8.67`` (the run's last test reward), and ``; no candidate accepted ...`` for a candidate run
+    whose labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed
+    neither until the report. ``""`` where the run has no rows."""
     from shaped_es.guides.label_budget import rows_summary
 
     try:
-        summary = rows_summary(RunStore(root).read_metrics())
+        rows = RunStore(root).read_metrics()
     except (OSError, StoreError, ValueError):
         return ""
+    last = rows[-1].get("test_reward_mean") if rows else None
+    try:
+        out = f", test {float(last):.2f}" if last not in (None, "") else ""
+    except (TypeError, ValueError):
+        out = ""
+    summary = rows_summary(rows)
     if not summary or not summary["candidates_judged"] or summary["candidates_accepted"]:
-        return ""
+        return out
     base = METHODS[cfg.method].base
     who = f"{base}'s" if base else "the ES strategy's"
-    return f"; no candidate accepted in {summary['candidates_judged']} judged generations: {who} own steps"
+    return out + f"; no candidate accepted in {summary['candidates_judged']} judged generations: {who} own steps"
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
@@ -302,7 +309,7 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
         t0 = time.perf_counter()
         s = run_one(cfg, out / "runs" / name, progress=progress, action=action)
         status[name] = {"status": s, "seconds": round(time.perf_counter() - t0, 3)}
-        log(f"[benchmark] {name}: {s} ({status[name]['seconds']:.1f} s){_never_paid(cfg, out / 'runs' / name)}")
+        log(f"[benchmark] {name}: {s} ({status[name]['seconds']:.1f} s){_outcome(cfg, out / 'runs' / name)}")
     groups = {m: [out / "runs" / run_name(m, s) for s in spec.seeds] for m in spec.methods}
     configs = {m: cfgs[run_name(m, spec.seeds[0])] for m in spec.methods}
     extra = {"benchmark": record, "this_invocation": status}

@@ -35,7 +35,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
                       f"all the same); compare {'shaping.labels=controller, ' if env_probe.controller else ''}"
                       f"--method vanilla / cmaes"))
     else:
-        verdict = (f"{best}'s labels are not clearly better or worse than zero action ({gain:+.2f} return, "
+        verdict = (f"{best}'s labels, driving the body step by step, are not clearly better or worse than zero "
+                   f"action ({gain:+.2f} return, "
                    f"2 standard errors {2 * se:.2f})"
                    + ("; the shooting rival drives above it, and a run keeps it" if res.shoot_on else
                       ": its candidates may rarely win (a run then backs off)"))
@@ -56,10 +57,12 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
 
 
 def _against_zero(returns: list[float], zero: list[float]) -> str:
-    """``scores 9.05 against zero action's -1.00 (2 paired standard errors 0.35)``, over the same episodes."""
-    _, se = paired(returns, zero)
-    return (f"scores {np.mean(returns):.2f} against zero action's {np.mean(zero):.2f} (2 paired standard errors "
-            f"{2 * se:.2f})")
+    """``scores 9.05 against zero action's -1.00 (above it: 2 paired standard errors 0.35)``, over the same
+    episodes ("above it", "below it" or "not clearly different" by 2 paired standard errors)."""
+    gain, se = paired(returns, zero)
+    side = "above it" if gain > 2 * se else "below it" if -gain > 2 * se else "not clearly different"
+    return (f"scores {np.mean(returns):.2f} against zero action's {np.mean(zero):.2f} ({side}: 2 paired standard "
+            f"errors {2 * se:.2f})")
 
 
 def horizon_text(res: ProbeResult) -> str:

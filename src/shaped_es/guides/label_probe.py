@@ -154,6 +154,12 @@ def variant_name(frame: str, query_clip: float | None) -> str:
     return frame if query_clip is None else f"{frame}+clip{query_clip:g}"
 
 
+def variant_text(name: str) -> str:
+    """A variant's name as its settings: ``both+clip2`` -> ``frame=both, query_clip=2``."""
+    frame, _, clip = name.partition("+clip")
+    return f"frame={frame}, query_clip={clip or 'none'}"
+
+
 def variants(user_clip: float | None) -> list[tuple[str, float | None]]:
     """The probed ``(frame, query_clip)`` pairs, the incumbent first; a clip the user set is kept."""
     clips = [user_clip] if user_clip is not None else [None, CLIP]
@@ -291,8 +297,8 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
         best, gain = _best_beating(clones, incumbent, lambda a, b: clone_beats(a, b, scale))
         if best != incumbent:
             return best, (f"its simulated candidate (the initial mean cloned toward its labels, {ROUNDS} DAgger "
-                          f"rounds) beats the default {incumbent}'s by {gain:.2f} return (signed-rank "
-                          f"p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
+                          f"rounds) beats the default's ({variant_text(incumbent)}) by {gain:.2f} return "
+                          f"(signed-rank p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
     worse, by = beats(zero, returns[incumbent])
     if not worse:
         return incumbent, ("the default: no variant's simulated candidate clearly beats its own, and zero action "
@@ -302,8 +308,8 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
         return best, (f"the default: no variant's simulated candidate clearly beats its own; zero action beats "
                       f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
                       f"standard errors")
-    return best, (f"zero action beats the default {incumbent}'s labels by {by:.2f} return; {best} beats the "
-                  f"default's labels by {best_gain:.2f} (> 2 paired standard errors)")
+    return best, (f"zero action beats the default's labels ({variant_text(incumbent)}) by {by:.2f} return; "
+                  f"{variant_text(best)} beats them by {best_gain:.2f} (> 2 paired standard errors)")
 
 
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
