@@ -74,11 +74,15 @@ def test_benchmark_writes_runs_summary_and_report(bench):
                                                         "Gymnasium spec)"}
     assert s["budget_generations"] == 2
     assert set(s["probability_of_improvement"]["ppo"]) == {"vanilla", "cmaes"}
+    # CartPole's 475 is reached by nobody in 2 generations: every ratio of censored means is 3 / 3
+    ratio = s["ratios_to_threshold"]["vanilla"]["cmaes"]["generations"]
+    assert ratio["ratio"] == 1.0 and set(s["ratios_to_threshold"]["ppo"]) == {"vanilla", "cmaes"}
     assert {v["status"] for v in s["this_invocation"].values()} == {"new"}
     assert s["benchmark"]["seeds"] == [0, 1] and s["settings"]["ppo"]["pairs"] == 4
     md = (bench / "report.md").read_text()
     assert "![Fig. 4](figures/fig4_test_reward.png)" in md and "_Not drawn" in md
     assert all(f"| {m} | 2 |" in md for m in ("vanilla", "cmaes", "ppo"))
+    assert "| vanilla / cmaes | 1.00x" in md and "| cmaes / vanilla |" not in md  # each pair once, in order
     assert (bench / "figures" / "fig4_test_reward.png").stat().st_size > 10_000
     assert (bench / "figures" / "profile_final_reward.png").stat().st_size > 10_000
     assert (bench / "benchmark.yaml").is_file()

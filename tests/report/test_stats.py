@@ -119,3 +119,14 @@ def test_profile_figure_is_written(tmp_path):
                                     "mystery": [5.0]}, tmp_path / "f" / "profile.png", threshold=200.0,
                                    title="CarNav-v0: final test reward profile (3 seeds per method)")
     assert out == tmp_path / "f" / "profile.png" and out.stat().st_size > 10_000
+
+
+def test_ratio_of_means_and_its_interval():
+    """A benchmark's "shaped / vanilla" generations to the threshold: mean over mean, bootstrap interval around it."""
+    from shaped_es.report.aggregate import ratio_of_means
+
+    x, y = np.array([4.0, 6.0, 5.0, 7.0, 3.0]), np.array([20.0, 30.0, 25.0, 26.0, 24.0])
+    r = ratio_of_means(x, y)
+    assert r["ratio"] == pytest.approx(0.2) and r["ci"][0] < 0.2 < r["ci"][1] < 1.0
+    assert ratio_of_means(x[:1], y)["ci"] is None  # one seed: no interval
+    assert np.isnan(ratio_of_means(x, np.zeros(3))["ratio"])  # nothing to divide by

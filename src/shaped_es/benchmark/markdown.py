@@ -73,6 +73,21 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
             *["| " + " | ".join(r) + " |" for r in rows]]
 
 
+def _ratio_rows(ratios: dict, level: float) -> list[str]:
+    """The success section's ratio table: each method's censored mean generations and wall time to the
+    threshold over each other method's, with bootstrap intervals (``summary.ratios_to_threshold``)."""
+    order = list(ratios)
+    pairs = [(x, y, r) for x, per in ratios.items() for y, r in per.items() if order.index(x) < order.index(y)]
+    if not pairs:
+        return []
+    def cell(d: dict) -> str:
+        return f"{_num(d['ratio'])}x {_interval(d['ci'])}" if d.get("ratio") is not None else "n/a"
+    rows = [[f"{x} / {y}", cell(r["generations"]), cell(r["wall_time_s"])] for x, y, r in pairs]
+    return [f"Ratios of the censored means above, with percentile-bootstrap {level:.0%} intervals (each method's "
+            "seeds resampled on their own; below 1: the first method needs less):", "",
+            *_table(["methods", "generations to threshold", "wall time to threshold"], rows), ""]
+
+
 def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[str, list[str]],
                     settings: dict[str, dict], title: str) -> str:
     level, thr, methods = summary["ci_level"], summary["threshold"], summary["methods"]
@@ -121,6 +136,7 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
              _censored(s["to_threshold"]["generations"]), _censored(s["to_threshold"]["wall_time_s"]),
              _censored(s["to_threshold"]["env_steps"], 0)] for k, s in methods.items()]
     out += [*_table(header, rows), ""]
+    out += _ratio_rows(summary.get("ratios_to_threshold") or {}, level)
     out += ["## Final test reward and cost per run", "",
             "IQM: interquartile mean of the seeds' final test rewards (mean of the middle 50%), robust to a "
             "stray seed; mean ± the Student-t half width. Best test reward: each seed's best, mean over seeds. "

@@ -48,7 +48,7 @@ from shaped_es.benchmark.grouping import (  # noqa: F401
 )
 from shaped_es.benchmark.shaping_summary import shaping_summary
 from shaped_es.config import RunConfig
-from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement
+from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement, ratio_of_means
 from shaped_es.report.plots import load_metrics
 from shaped_es.report.stats import t_interval
 
@@ -253,10 +253,14 @@ def summarize(groups: dict[str, list[Metrics]], level: float = 0.95, reference: 
     per_seed = {k: final_rewards(runs) for k, runs in groups.items()}
     poi = {x: {y: probability_of_improvement(per_seed[x], per_seed[y], level, resamples)
                for y in groups if y != x} for x in groups}
+    # each method's censored generations and wall time to the threshold over each other's (the studies' ratios)
+    costs = {k: m["to_threshold"] for k, m in methods.items()}
+    ratios = {x: {y: {c: ratio_of_means(costs[x][c]["per_seed"], costs[y][c]["per_seed"], level, resamples)
+                      for c in ("generations", "wall_time_s")} for y in groups if y != x} for x in groups}
     return clean_json({"ci_level": level, "threshold": thr, "budget_generations": budget,
                        "bootstrap": {"method": "percentile, each method's seeds resampled on their own",
                                      "resamples": resamples},
-                       "methods": methods, "probability_of_improvement": poi})
+                       "methods": methods, "probability_of_improvement": poi, "ratios_to_threshold": ratios})
 
 
 def clean_json(v):

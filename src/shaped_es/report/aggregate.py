@@ -89,6 +89,22 @@ def probability_of_improvement(x, y, level: float = 0.95, resamples: int = RESAM
     return {"p": p, "ci": list(ci) if ci else None, "p_value": float(u.pvalue)}
 
 
+def _ratio_of_means(x: np.ndarray, y: np.ndarray, axis: int = -1) -> np.ndarray:
+    """mean(x) / mean(y) along ``axis``; x (..., n), y (..., m) -> (...)."""
+    return np.mean(x, axis=axis) / np.mean(y, axis=axis)
+
+
+def ratio_of_means(x, y, level: float = 0.95, resamples: int = RESAMPLES) -> dict:
+    """{"ratio", "ci"}: mean(X) / mean(Y) of two methods' per-seed costs (e.g. censored generations to a
+    threshold) and its percentile-bootstrap interval, each method's seeds resampled on their own (None for
+    fewer than 2 seeds a side); nan where Y's mean is not positive."""
+    x, y = _finite(x), _finite(y)
+    if not x.size or not y.size or y.mean() <= 0:
+        return {"ratio": math.nan, "ci": None}
+    ci = bootstrap_ci([x, y], _ratio_of_means, level, resamples) if (y > 0).all() else None
+    return {"ratio": float(x.mean() / y.mean()), "ci": list(ci) if ci else None}
+
+
 def performance_profile(values, taus) -> np.ndarray:
     """Fraction of the finite ``values`` strictly above each tau: (T,)."""
     v = _finite(values)
