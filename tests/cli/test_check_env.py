@@ -16,6 +16,8 @@ class Point(gym.Env):
 
     def __init__(self, flaw: str = "none"):
         self.flaw = flaw
+        if flaw == "wide_actions":  # torques in [-2, 2], as Pusher-v5's: the policy's [-1, 1] is rescaled
+            self.action_space = gym.spaces.Box(-2, 2, (2,), np.float32)
         if flaw == "unbounded":
             self.action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
         self.calls = 0
@@ -39,7 +41,7 @@ class Point(gym.Env):
         return obs, reward, False, False, self._info()
 
 
-for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step"):
+for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step", "wide_actions"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 
@@ -73,7 +75,9 @@ def test_each_of_gymnasiums_warnings_gets_its_own_line():
     api = [c for c in checks if c.name == "gymnasium API"]
     assert len(api) == 2 and {c.status for c in api} == {WARN}, api
     assert "dtype" in api[0].detail and "not within" in api[1].detail and "more" not in api[1].detail
-    # infinite observation bounds (Gymnasium's MuJoCo envs, the built-in ones) are not worth a warning here
+    # infinite observation bounds (Gymnasium's MuJoCo envs, the built-in ones) and an action Box other than
+    # [-1, 1] (the policy's output is rescaled to it) are not worth a warning here
+    assert _status(check_env("CheckPoint-wide_actions-v0"))["gymnasium API"] == OK
     assert [c.status for c in check_env("CarNav-v0", episodes=1, max_steps=20) if c.name == "gymnasium API"] == [OK]
     assert "shaped" in trains_with(checks)  # warnings, not failures
 

@@ -151,7 +151,7 @@ class LabelBudget:
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (metrics.csv "
                 f"shaping_awake)")
         if self.accepted >= KEEP_MIN_WINS:  # they paid before (one win can be luck): the search outpaced them
-            return head + "; they paid before, and a run past its labels' reach is expected to outpace them"
+            return head + "; they paid before: the search may now outpace them, and shaping retries after the sleep"
         return head + f"; try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes"
 
     def summary(self) -> dict:
