@@ -109,3 +109,9 @@ def test_describe_env():
     assert d["presets"] == ["default", "paper"] and d["waypoints"] == 2 and d["time_limit"] == 250
     assert describe_env("CartPole-v1")["waypoints"] is None
     assert describe_env("Blackjack-v1")["error"]  # a Tuple observation: no MLP input
+
+
+def test_the_threshold_line_is_benchmarks_at_the_kwargs_reward_scale():
+    """A built-in env with a rescaled reward has no default threshold in benchmark; check-env says the same."""
+    checks = check_env("CarNav-v0", {"step_penalty": 0.5}, episodes=1, max_steps=20)
+    assert _status(checks)["threshold"] == NO

@@ -255,7 +255,7 @@ def _outcome(cfg: RunConfig, root: Path) -> str:
     """``, test 8.67`` (the run's last test reward), and ``; no candidate accepted ...`` for a candidate run
     whose labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed
     neither until the report. ``""`` where the run has no rows."""
-    from shaped_es.guides.label_budget import rows_summary
+    from shaped_es.guides.label_budget import never_accepted, rows_summary
 
     try:
         rows = RunStore(root).read_metrics()
@@ -266,12 +266,8 @@ def _outcome(cfg: RunConfig, root: Path) -> str:
         out = f", test {float(last):.2f}" if last not in (None, "") else ""
     except (TypeError, ValueError):
         out = ""
-    summary = rows_summary(rows)
-    if not summary or not summary["candidates_judged"] or summary["candidates_accepted"]:
-        return out
-    base = METHODS[cfg.method].base
-    who = f"{base}'s" if base else "the ES strategy's"
-    return out + f"; no candidate accepted in {summary['candidates_judged']} judged generations: {who} own steps"
+    never = never_accepted(rows_summary(rows), METHODS[cfg.method].base, short=True)
+    return out + (f"; {never}" if never else "")
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,

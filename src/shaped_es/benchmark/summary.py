@@ -178,18 +178,22 @@ def pick_target(finals: dict[str, float], reference: str = REFERENCE) -> dict:
 
 
 def env_threshold(cfg: RunConfig | None) -> tuple[float, str] | None:
-    """The env's default success threshold, if it has one at this config's reward scale: a built-in env's
-    (:func:`builtin_threshold`), else the ``reward_threshold`` of any other env's Gymnasium spec."""
-    if cfg is None:
-        return None
-    env = cfg.env.rsplit(":", 1)[-1]
+    """The env's default success threshold at this config's reward scale (:func:`threshold_of`)."""
+    return None if cfg is None else threshold_of(cfg.env, cfg.env_kwargs)
+
+
+def threshold_of(env_id: str, env_kwargs: dict | None = None) -> tuple[float, str] | None:
+    """The default success threshold of ``env_id`` made with ``env_kwargs``, if it has one at that reward
+    scale: a built-in env's (:func:`builtin_threshold`), else the ``reward_threshold`` of any other env's
+    Gymnasium spec."""
+    env = env_id.rsplit(":", 1)[-1]
     from shaped_es.envs import BUILTIN
 
     if env in BUILTIN:
-        kwargs = cfg.env_kwargs or {}
+        kwargs = env_kwargs or {}
         rescaled = [k for k in REWARD_SCALE_KEYS if k in kwargs and not (k == "preset" and kwargs[k] == "default")]
         return None if rescaled else builtin_threshold(env)
-    return spec_threshold(cfg.env)
+    return spec_threshold(env_id)
 
 
 def spec_threshold(env_id: str) -> tuple[float, str] | None:

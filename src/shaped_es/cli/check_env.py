@@ -63,7 +63,7 @@ def check_env(env_id: str, env_kwargs: dict | None = None, episodes: int = 2, ma
         checks = [*_gym_api(env_id, env_kwargs), _spaces(env)]
         if checks[-1].status == FAIL:
             return checks
-        checks += [_time_limit(env), _threshold(env_id)]
+        checks += [_time_limit(env), _threshold(env_id, env_kwargs)]
         checks += _episodes(env, env_id, env_kwargs, episodes, max_steps, seed)
         checks.append(_controller(env))
         return checks
@@ -128,16 +128,17 @@ def _time_limit(env: gym.Env) -> Check:
                                      "never ends never returns; set rollout.max_steps")
 
 
-def _threshold(env_id: str) -> Check:
-    """The success threshold ``benchmark`` and ``report`` use by default (a new user's was missing and
-    nothing said so)."""
-    from shaped_es.benchmark.summary import builtin_threshold, spec_threshold
+def _threshold(env_id: str, env_kwargs: dict | None) -> Check:
+    """The success threshold ``benchmark`` and ``report`` use by default, at these kwargs' reward scale (a new
+    user's was missing and nothing said so)."""
+    from shaped_es.benchmark.summary import threshold_of
 
-    thr = builtin_threshold(env_id) or spec_threshold(env_id)
+    thr = threshold_of(env_id, env_kwargs)
     if thr is not None:
         return Check("threshold", OK, f"{thr[0]:g}, benchmark's and report's success threshold: {thr[1]}")
-    return Check("threshold", NO, "no reward_threshold registered (optional: benchmark then measures success "
-                                  "at the best baseline's final reward; register one, or pass --threshold)")
+    return Check("threshold", NO, "no reward_threshold registered at this reward scale (optional: benchmark then "
+                                  "measures success at the best baseline's final reward; register one, or pass "
+                                  "--threshold)")
 
 
 def _episodes(env, env_id, env_kwargs, episodes: int, max_steps: int, seed: int) -> list[Check]:

@@ -187,12 +187,16 @@ class LabelBudget:
         self.prev_population = float(np.asarray(state.get("prev_population", [0.0]), np.float64).reshape(-1)[0])
 
 
-def never_accepted(summary: dict | None, base: str | None) -> str | None:
+def never_accepted(summary: dict | None, base: str | None, short: bool = False) -> str | None:
     """The line a run prints at its end when its labels never paid (``summary``: :func:`rows_summary`'s): no
     candidate accepted, so the search took its ES strategy's own steps, those of the method ``base`` (the
-    run method's ``methods.Method.base``); None when one was, or none judged."""
+    run method's ``methods.Method.base``); None when one was, or none judged. ``short``: the few words a
+    benchmark's line for the run ends with."""
     if not summary or not summary["candidates_judged"] or summary["candidates_accepted"]:
         return None
+    if short:
+        who = f"{base}'s" if base else "the ES strategy's"
+        return f"no candidate accepted in {summary['candidates_judged']} judged generations: {who} own steps"
     head = f"no candidate was accepted in {summary['candidates_judged']} judged generations: the search took "
     if base is None:
         return head + "its ES strategy's own steps"
