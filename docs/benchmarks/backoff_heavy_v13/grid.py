@@ -8,25 +8,21 @@ committed suite and held-out run's judgements (``../test_policy_v11``, made with
 
 import csv
 import itertools
+import sys
 from pathlib import Path
 
 import shaped_es.guides.label_budget as lb
-from shaped_es.guides.label_budget import LabelBudget
 
-ROOT = Path(__file__).resolve().parent.parent / "test_policy_v11"
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "backoff_heavy_v12"))
+from replay import ROOT, replay as replay_v12  # noqa: E402 - the fourteenth session's replay, one rule's
 
 
 def replay(rows: list[dict], heavy: float, hmin: int) -> list[int]:
+    """``replay_v12`` with ``label_budget.HEAVY_MIN`` set to ``hmin`` for the call."""
     lb.HEAVY_MIN, saved = hmin, lb.HEAVY_MIN
     try:
-        budget, awake = LabelBudget(8, 32, heavy=heavy), []
-        for r in rows:
-            awake.append(int(budget.begin()))
-            if awake[-1] and r.get("candidate_accepted") not in (None, ""):
-                spread = float(r["train_reward_max"]) - float(r["train_reward_min"])
-                budget.judge(r["candidate_accepted"] in ("1", "1.0"), float(r["candidate_gain"]),
-                             float(r["train_reward_mean"]), spread=spread)
-        return awake
+        return replay_v12(rows, heavy)
     finally:
         lb.HEAVY_MIN = saved
 

@@ -25,21 +25,20 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip)
     gain, se = paired(res.returns[best], res.zero_action)
+    kept = "; the shooting rival drives above it, and a run keeps it"  # then the labels' own verdict matters less
     if gain > 2 * se:
         verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
                    f"enough: a run's candidate must beat the ES mean, which soon beats zero action too)")
     elif -gain > 2 * se:
         verdict = (f"{best}'s labels drive the body worse than zero action (by {-gain:.2f} return)"
-                   + ("; the shooting rival drives above it, and a run keeps it" if res.shoot_on else
+                   + (kept if res.shoot_on else
                       f": its candidates may rarely win (a run then backs off; on the Reacher such labels paid "
                       f"all the same); compare {'shaping.labels=controller, ' if env_probe.controller else ''}"
                       f"--method vanilla / cmaes"))
     else:
         verdict = (f"{best}'s labels, driving the body step by step, are not clearly better or worse than zero "
-                   f"action ({gain:+.2f} return, "
-                   f"2 standard errors {2 * se:.2f})"
-                   + ("; the shooting rival drives above it, and a run keeps it" if res.shoot_on else
-                      ": its candidates may rarely win (a run then backs off)"))
+                   f"action ({gain:+.2f} return, 2 standard errors {2 * se:.2f})"
+                   + (kept if res.shoot_on else ": its candidates may rarely win (a run then backs off)"))
     details = []  # one line each, before the verdict
     if res.clones.get(best):  # the frame was chosen on this, not on the labels' own return
         details.append(f"{best}'s simulated candidate (what the frame was chosen on) "
