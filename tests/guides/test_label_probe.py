@@ -11,7 +11,7 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe
-from shaped_es.guides.label_check import horizon_text
+from shaped_es.guides.label_check import horizon_text, probe_line
 from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
@@ -69,22 +69,22 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     res = ProbeResult("both", 2.0, returns, 38446, 2.0, reason, zero, clones, eps(5.34), True, 4,
                       {"4": eps(5.34), "8": eps(3.42), "16": eps(6.37)})
     rivals = ["waypoint frame", "servo", "shooting (4 steps)"]
-    line = f"shaped-es: {res.line('CarNav-v0', rivals)}"
+    line = f"shaped-es: {probe_line(res, 'CarNav-v0', rivals)}"
     assert line == ("shaped-es: labels: frame=both, query_clip=2 (beat the default, "
                     "query_clip=none): "
                     "candidate "
                     "-0.19 vs zero action -1.20; rivals: waypoint frame, servo, shooting (4 steps); see "
                     "label_probe.json, shaped-es check-env CarNav-v0 --labels")
-    dropped = f"shaped-es: {replace(res, shoot_on=False).line('CarNav-v0', rivals[:2])}"
+    dropped = f"shaped-es: {probe_line(replace(res, shoot_on=False), 'CarNav-v0', rivals[:2])}"
     assert "; shooting rival dropped (4 steps, not above zero action); rivals: waypoint frame, servo; " in dropped
     # the default kept; the default's labels lost to zero action (no clones: the labels' own return)
-    kept = replace(res, query_clip=None, reason="the default: ...").line("CarNav-v0", rivals)
+    kept = probe_line(replace(res, query_clip=None, reason="the default: ..."), "CarNav-v0", rivals)
     assert ("query_clip=none (the default choice): candidate -19.19, below zero action's -1.20; "
             in kept)  # a new user's cheetah: the numbers alone did not say it
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
-    assert "(the default's labels, frame=both, lost to zero action): labels -0.39 vs zero action" in lost.line(
-        "ReacherWay-v0", rivals)
-    for text in (line, dropped, f"shaped-es: {kept}", f"shaped-es: {lost.line('ReacherWay-v0', rivals)}"):
+    assert "(the default's labels, frame=both, lost to zero action): labels -0.39 vs zero action" in probe_line(
+        lost, "ReacherWay-v0", rivals)
+    for text in (line, dropped, f"shaped-es: {kept}", f"shaped-es: {probe_line(lost, 'ReacherWay-v0', rivals)}"):
         assert len(text) <= LINE_MAX and "\n" not in text
 
 
@@ -294,13 +294,13 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     assert res.shoot_horizon == 8 and res.shoot == list(drives[8]) and res.shoot_on is True
     assert set(res.shoot_tried) == {"4", "8", "16"}
     assert "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in horizon_text(res)
-    assert "; shooting rival kept (8 steps)" in res.line()  # the run's line: the verdict and the horizon
+    assert "; shooting rival kept (8 steps)" in probe_line(res)  # the run's line: the verdict and the horizon
     drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
     assert "(actions held 4 steps: no longer horizon is clearly better: 8 steps" in horizon_text(res)
-    assert "; shooting rival dropped (4 steps, not above zero action)" in res.line()
+    assert "; shooting rival dropped (4 steps, not above zero action)" in probe_line(res)
     seen.clear()
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))

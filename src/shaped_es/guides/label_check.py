@@ -1,11 +1,39 @@
-"""``shaped-es check-env ID --labels``: the label probe a shaped run with ``frame: auto`` would run
-(``guides/label_probe.py``), with a verdict a user can act on."""
+"""What the label probe (``guides/label_probe.py``) tells a user: the run's one line on it (:func:`probe_line`)
+and ``shaped-es check-env ID --labels``, the probe a shaped run with ``frame: auto`` would run, with a verdict
+a user can act on."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import EPISODES, ProbeResult, paired, probe, variant_name
+from shaped_es.guides.label_probe import EPISODES, FILE, ProbeResult, beats, clip_text, paired, probe, variant_name
+
+
+def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> str:
+    """The run's one line on the probe ``res`` (every number: label_probe.json; tables: ``check-env --labels``);
+    ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
+    name, h = variant_name(res.frame, res.query_clip), res.shoot_horizon
+    default = next(iter(res.returns), name)
+    d_frame, _, d_clip = default.partition("+clip")
+    differs = ", ".join(([f"frame={d_frame}"] if d_frame != res.frame else [])  # the default, by what differs
+                        + ([f"query_clip={d_clip or 'none'}"] if d_clip != (clip_text(res.query_clip)
+                                                                         if res.query_clip else "") else []))
+    why = ("the default choice" if name == default else f"beat the default, {differs}"
+           if res.reason.startswith("its") else f"the default's labels, {differs}, lost to zero action")
+    own, what = (res.clones, "candidate") if res.clones.get(name) else (res.returns, "labels")
+    zero, own = res.zero_action, own.get(name)
+    score = ""
+    if own and zero:
+        below = beats(np.array(zero), np.array(own))[0]  # by two paired standard errors
+        # below zero action is said, not read as a verdict: the Reacher's and the kart's paying runs start so
+        score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}" if below
+                 else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
+    lost = "" if res.shoot_on else ", not above zero action"
+    shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
+             if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
+    return (f"labels: frame={res.frame}, query_clip={clip_text(res.query_clip)} ({why}){score}{shoot}"
+            + (f"; rivals: {', '.join(rivals)}" if rivals else "")
+            + f"; see {FILE}, shaped-es check-env {env} --labels")
 
 
 def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:

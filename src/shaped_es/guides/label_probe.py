@@ -119,32 +119,6 @@ class ProbeResult:
         return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
 
-    def line(self, env: str = "ENV", rivals: list[str] = ()) -> str:
-        """The run's one line on the probe (every number: label_probe.json; tables: ``check-env --labels``);
-        ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
-        name, h = variant_name(self.frame, self.query_clip), self.shoot_horizon
-        default = next(iter(self.returns), name)
-        d_frame, _, d_clip = default.partition("+clip")
-        differs = ", ".join(([f"frame={d_frame}"] if d_frame != self.frame else [])  # the default, by what differs
-                            + ([f"query_clip={d_clip or 'none'}"] if d_clip != (clip_text(self.query_clip)
-                                                                             if self.query_clip else "") else []))
-        why = ("the default choice" if name == default else f"beat the default, {differs}"
-               if self.reason.startswith("its") else f"the default's labels, {differs}, lost to zero action")
-        own, what = (self.clones, "candidate") if self.clones.get(name) else (self.returns, "labels")
-        zero, own = self.zero_action, own.get(name)
-        score = ""
-        if own and zero:
-            below = beats(np.array(zero), np.array(own))[0]  # by two paired standard errors
-            # below zero action is said, not read as a verdict: the Reacher's and the kart's paying runs start so
-            score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}" if below
-                     else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
-        lost = "" if self.shoot_on else ", not above zero action"
-        shoot = (f"; shooting rival {'kept' if self.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
-                 if self.shoot and not any(n.startswith("shooting") for n in rivals) else "")
-        return (f"labels: frame={self.frame}, query_clip={clip_text(self.query_clip)} ({why}){score}{shoot}"
-                + (f"; rivals: {', '.join(rivals)}" if rivals else "")
-                + f"; see {FILE}, shaped-es check-env {env} --labels")
-
 
 def clip_text(query_clip: float | None) -> str:
     return "none" if query_clip is None else f"{query_clip:g}"

@@ -80,6 +80,7 @@ from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.shaping.trajectories import delete_generations, run_root, write_shard
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
+from shaped_es.guides.label_check import probe_line
 from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
@@ -139,7 +140,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
                                                           shoot_h, shoot_base)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
-            print(f"shaped-es: {self.run_name}: " + probe_res.line(cfg.env, rival_names(self.rivals)), file=sys.stderr)
+            print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
+                  file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
