@@ -64,9 +64,10 @@ def exception_line(exc: BaseException) -> str:
 
 
 def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
-    """``gymnasium.make`` with one clear error for unknown ids (``module:Env-v0`` ids import the module)."""
+    """``gymnasium.make`` with one clear error for unknown ids (``module:Env-v0`` ids import the module), its
+    observations flattened where they are not one vector (:func:`flat_observations`)."""
     try:
-        return gym.make(env_id, **(env_kwargs or {}))
+        return flat_observations(gym.make(env_id, **(env_kwargs or {})))
     except (gym.error.Error, ModuleNotFoundError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
@@ -93,6 +94,29 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
                        traceback.format_exc()) from None
 
 
+def flat_observations(env: gym.Env) -> gym.Env:
+    """``env``, or ``env`` under Gymnasium's ``FlattenObservation`` when its observation space is not a flat Box
+    but Gymnasium can flatten it (a ``Dict`` such as a goal-conditioned env's ``observation`` /
+    ``achieved_goal`` / ``desired_goal``, a ``Tuple``, an n-d ``Box``, a ``Discrete`` one-hot): the MLP reads
+    one vector, in ``gymnasium.spaces.flatten``'s order (a ``Dict``'s keys sorted). Every env a run, ``evaluate``,
+    ``render``, PPO and ``load_policy`` makes goes through here, so each sees the same vector; a space Gymnasium
+    cannot flatten (``Sequence``, ``Graph``, ``Text``) is left for :func:`env_dims` to refuse."""
+    space = env.observation_space
+    if isinstance(space, gym.spaces.Box) and len(space.shape) == 1:
+        return env
+    try:
+        if not space.is_np_flattenable:
+            return env
+    except (AttributeError, NotImplementedError):
+        return env
+    return gym.wrappers.FlattenObservation(env)
+
+
+def flattened_from(env: gym.Env) -> gym.Space | None:
+    """The env's own observation space where :func:`flat_observations` flattened it, else None."""
+    return env.env.observation_space if isinstance(env, gym.wrappers.FlattenObservation) else None
+
+
 def _registered_as(name: str) -> bool:
     """Some version of ``name`` (``MyEnv-v0``: ``MyEnv-v*``) is in Gymnasium's registry."""
     base = name.rsplit("-v", 1)[0]
@@ -115,10 +139,12 @@ def _missing_module(module: str, exc: ModuleNotFoundError) -> str | None:
 
 
 def env_dims(env: gym.Env) -> tuple[int, int]:
-    """(obs_dim, act_dim) of a flat-Box-observation env with a Box or Discrete action space."""
+    """(obs_dim, act_dim) of a flat-Box-observation env (:func:`make_env` flattens the others Gymnasium can)
+    with a Box or Discrete action space."""
     obs_space, act_space = env.observation_space, env.action_space
     if not isinstance(obs_space, gym.spaces.Box) or len(obs_space.shape) != 1:
-        raise EnvSpecError(f"observation space must be a flat Box, got {obs_space}")
+        raise EnvSpecError(f"observation space must be a Box, or a space Gymnasium can flatten into one (Dict, "
+                           f"Tuple, Discrete, MultiBinary, MultiDiscrete), got {obs_space}")
     if isinstance(act_space, gym.spaces.Box) and len(act_space.shape) == 1:
         return int(obs_space.shape[0]), int(act_space.shape[0])
     if isinstance(act_space, gym.spaces.Discrete):

@@ -108,7 +108,8 @@ def test_describe_env():
     d = describe_env("CarNav-v0")
     assert d["presets"] == ["default", "paper"] and d["waypoints"] == 2 and d["time_limit"] == 250
     assert describe_env("CartPole-v1")["waypoints"] is None
-    assert describe_env("Blackjack-v1")["error"]  # a Tuple observation: no MLP input
+    blackjack = describe_env("Blackjack-v1")  # a Tuple of Discretes: flattened to one one-hot vector
+    assert blackjack["error"] is None and blackjack["obs"] == 32 + 11 + 2 and blackjack["act"] == 2
 
 
 def test_the_threshold_line_is_benchmarks_at_the_kwargs_reward_scale():

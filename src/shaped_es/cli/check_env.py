@@ -29,7 +29,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
-from shaped_es.rollout import close_env, make_env
+from shaped_es.rollout import close_env, flattened_from, make_env
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
@@ -106,15 +106,19 @@ def _gym_api(env_id: str, env_kwargs: dict | None) -> list[Check]:
 def _spaces(env: gym.Env) -> Check:
     obs, act = env.observation_space, env.action_space
     if not isinstance(obs, gym.spaces.Box) or len(obs.shape) != 1:
-        return Check("spaces", FAIL, f"the observation space must be a flat Box (the MLP's input), got {obs}")
+        return Check("spaces", FAIL, f"the observation space must be a Box, or one Gymnasium can flatten into one "
+                                     f"(the MLP's input), got {obs}")
+    own = flattened_from(env)
+    floats = f"{obs.shape[0]} floats" + ("" if own is None else f" (its {type(own).__name__} observations "
+                                                                   f"flattened, gymnasium.spaces.flatten's order)")
     if isinstance(act, gym.spaces.Discrete):
-        return Check("spaces", OK, f"observations {obs.shape[0]} floats; actions Discrete({act.n}) (argmax)")
+        return Check("spaces", OK, f"observations {floats}; actions Discrete({act.n}) (argmax)")
     if not isinstance(act, gym.spaces.Box) or len(act.shape) != 1:
         return Check("spaces", FAIL, f"the action space must be a flat Box or Discrete, got {act}")
     if not (np.isfinite(act.low).all() and np.isfinite(act.high).all()):
         return Check("spaces", FAIL, f"the action Box needs finite bounds (the policy's [-1, 1] output is "
                                      f"rescaled to them), got low {act.low}, high {act.high}")
-    return Check("spaces", OK, f"observations {obs.shape[0]} floats; actions Box({act.shape[0]}) in "
+    return Check("spaces", OK, f"observations {floats}; actions Box({act.shape[0]}) in "
                                f"[{_num(act.low.min())}, {_num(act.high.max())}] (the policy's [-1, 1] rescaled)")
 
 

@@ -62,7 +62,6 @@ import time
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
-import gymnasium as gym
 import numpy as np
 from scipy.stats import wilcoxon  # at import, with the guide (~0.8 s): a start-up cost, not the probe's work
 
@@ -70,7 +69,7 @@ from shaped_es import seeding
 from shaped_es.config import ConfigError, RunConfig
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import to_space
+from shaped_es.rollout import make_env, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, roll_out, shoot_labels
@@ -178,7 +177,7 @@ def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: fl
 def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0) -> tuple[np.ndarray, int]:
     """Returns ``(E,)`` of episodes driven by ``label(obs (B, obs), query) -> (B, act)`` and their steps;
     batched through the env's core when it has one, else one Gymnasium env episode by episode."""
-    env = gym.make(cfg.env, **cfg.env_kwargs)
+    env = make_env(cfg.env, cfg.env_kwargs)  # observations as the run's rollouts see them (flattened)
     try:
         core = get_batch_core(env)
         if core is not None:

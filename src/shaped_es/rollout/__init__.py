@@ -46,6 +46,8 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
     env_dims,
     env_time_limit,
     exception_line,
+    flat_observations,
+    flattened_from,
     make_env,
     policy_spec,
     probe_dims,

@@ -71,10 +71,12 @@ class Policy:
 
     def make_env(self, **kwargs) -> gym.Env:
         """``gymnasium.make`` of the run's env with its ``env_kwargs`` (``kwargs`` override them), capped
-        at the run's ``rollout.max_steps`` if it sets one: the episodes ``evaluate`` runs."""
+        at the run's ``rollout.max_steps`` if it sets one: the episodes ``evaluate`` runs. A ``Dict`` (or other
+        non-vector) observation comes flattened, as the run's policy read it (``rollout.flat_observations``)."""
         import shaped_es  # noqa: F401 - registers the built-in envs
+        from shaped_es.rollout import flat_observations
 
-        env = gym.make(self.env_id, **{**self.env_kwargs, **kwargs})
+        env = flat_observations(gym.make(self.env_id, **{**self.env_kwargs, **kwargs}))  # as the run saw them
         return env if self.max_steps is None else gym.wrappers.TimeLimit(env, self.max_steps)
 
     def evaluation_seeds(self, episodes: int = 15, seed: int = 12345) -> list[int]:
