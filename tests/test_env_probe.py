@@ -81,6 +81,8 @@ def test_a_shaped_run_on_a_dict_env_and_its_policy_read_the_same_vector(tmp_path
     obs, _ = env.reset(seed=0)
     assert obs.shape == (6,) and policy.observation_space.shape == (6,)
     assert np.asarray(policy.predict(obs)).shape == (2,)
+    # one observation as the env itself gives it (a dict) is flattened the same way
+    np.testing.assert_array_equal(policy.predict(env.unwrapped._obs()), policy.predict(obs))
     # evaluate's episodes (its own rollouts) and the loaded policy driving policy.make_env() agree
     result = evaluate_run(store.root, episodes=1, which="mean", seed=5, executor="inline")
     obs, _ = env.reset(seed=int(result["episode_seeds"][0]))

@@ -64,6 +64,9 @@ class Policy:
     spec: Any = None  # ES: policies.MLPSpec
     obs_norm: Any = None  # ES with es.obs_norm: the policies.ObsNorm applied to observations before the MLP
     sb3_policy: Any = field(default=None, repr=False)  # PPO: the SB3 ActorCriticPolicy
+    # the env's own observation space where it is not a flat Box (a Dict, ...): the run flattened it, and
+    # ``predict`` flattens one such observation the same way (rollout.flat_observations)
+    source_observation_space: gym.Space | None = None
 
     @property
     def obs_dim(self) -> int:
@@ -86,7 +89,10 @@ class Policy:
         return evaluation_seeds(episodes, seed)
 
     def predict(self, obs) -> np.ndarray | int:
-        """Deterministic action(s) for one observation ``(obs_dim,)`` or a batch ``(B, obs_dim)``."""
+        """Deterministic action(s) for one observation ``(obs_dim,)`` or a batch ``(B, obs_dim)``; for an env
+        with a Dict (or other non-vector) observation, also one observation as that env gives it."""
+        if self.source_observation_space is not None and not isinstance(obs, np.ndarray):
+            obs = gym.spaces.flatten(self.source_observation_space, obs)  # (obs_dim,) as the run read it
         x = np.asarray(obs, dtype=np.float32)
         single = x.ndim == 1
         if x.shape[-1] != self.obs_dim or x.ndim not in (1, 2):
@@ -124,7 +130,7 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
     if which not in WHICH:
         raise ValueError(f"which must be one of {WHICH}, got {which!r}")
     import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import close_env, env_dims, make_env
+    from shaped_es.rollout import close_env, env_dims, flattened_from, make_env
 
     store = RunStore(run_dir)
     cfg = store.read_config()
@@ -132,13 +138,13 @@ def load_policy(run_dir: str | Path, which: str = "best") -> Policy:
     env = make_env(cfg.env, cfg.env_kwargs)
     try:
         obs_dim, act_dim = env_dims(env)
-        obs_space, act_space = env.observation_space, env.action_space
+        obs_space, act_space, source = env.observation_space, env.action_space, flattened_from(env)
     finally:
         close_env(env)
     common = dict(run_dir=Path(run_dir), method=cfg.method, which=which,
                   generation=policy_generation(store, meta, which), checkpoint_generation=int(meta["generation"]),
                   env_id=cfg.env, env_kwargs=dict(cfg.env_kwargs), max_steps=cfg.rollout.max_steps,
-                  observation_space=obs_space, action_space=act_space)
+                  observation_space=obs_space, action_space=act_space, source_observation_space=source)
     from shaped_es.methods import METHODS, resolve
 
     fields = resolve(METHODS[cfg.method].policy_fields)(cfg, arrays, which, run_dir, obs_dim, act_dim)
