@@ -3,7 +3,7 @@ the habit of Stable-Baselines3's ``check_env``).
 
 :func:`check_env` makes the env and runs a few episodes of random actions, reporting one :class:`Check`
 per requirement: Gymnasium's own API checker (a warning at most: training needs only what the checks
-below test), the spaces the policy needs (a flat ``Box`` observation; a
+below test), the spaces the policy needs (a flat ``Box`` observation, or one Gymnasium flattens into it, a ``Dict`` say; a
 flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is rescaled to, or
 ``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
 the members of a generation face the same episodes), finiteness and fixed shapes of observations and
