@@ -213,7 +213,7 @@ def test_a_sweep_is_one_benchmark(tmp_path):
     assert "sigma: 0.05" in (out / "runs" / "vanilla-sigma0.05_s0" / "config.yaml").read_text()
 
 
-def test_a_runs_line_says_when_its_labels_never_paid(tmp_path):
+def test_a_runs_line_says_what_its_labels_did(tmp_path):
     """A new user's benchmark printed nothing per run about candidates never accepted (only the report did)."""
     from types import SimpleNamespace
 
@@ -231,5 +231,5 @@ def test_a_runs_line_says_when_its_labels_never_paid(tmp_path):
     assert _outcome(shaped, run("never", [0, 0, 0])) == (", test 2.50; no candidate accepted in 3 judged "
                                                          "generations: vanilla's own steps")
     assert _outcome(SimpleNamespace(method="shaped_cmaes"), run("never_cma", [0])).endswith("cmaes's own steps")
-    assert _outcome(shaped, run("paid", [0, 1, 0])) == ", test 2.50"
+    assert _outcome(shaped, run("paid", [0, 1, 0])) == ", test 2.50; candidates accepted 1 of 3 judged"
     assert _outcome(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""

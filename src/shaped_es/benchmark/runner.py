@@ -252,8 +252,8 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
 
 
 def _outcome(cfg: RunConfig, root: Path) -> str:
-    """``, test 8.67`` (the run's last test reward), and ``; no candidate accepted ...`` for a candidate run
-    whose labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed
+    """``, test 8.67`` (the run's last test reward), and for a candidate run ``; candidates accepted 3 of 23
+    judged``, or ``; no candidate accepted ...`` where its labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed
     neither until the report. ``""`` where the run has no rows."""
     from shaped_es.guides.label_budget import never_accepted, rows_summary
 
@@ -266,8 +266,13 @@ def _outcome(cfg: RunConfig, root: Path) -> str:
         out = f", test {float(last):.2f}" if last not in (None, "") else ""
     except (TypeError, ValueError):
         out = ""
-    never = never_accepted(rows_summary(rows), METHODS[cfg.method].base, short=True)
-    return out + (f"; {never}" if never else "")
+    summary = rows_summary(rows)
+    never = never_accepted(summary, METHODS[cfg.method].base, short=True)
+    if never:
+        return out + f"; {never}"
+    if summary and summary["candidates_judged"]:  # what shaping did, as the progress bar's "labels A/J"
+        out += f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
+    return out
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
