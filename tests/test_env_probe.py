@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from shaped_es.cli.check_env import OK, check_env, trains_with
-from shaped_es.rollout import EnvSpecError, env_dims, flattened_from, make_env, probe_env
+from shaped_es.rollout import EnvError, EnvSpecError, env_dims, flattened_from, make_env, probe_env
 from tests.helpers import train
 
 
@@ -42,7 +42,13 @@ class Sequenced(GoalPoint):
     observation_space = gym.spaces.Sequence(gym.spaces.Box(-5, 5, (2,), np.float64))
 
 
+class MissingKey(GoalPoint):
+    def _obs(self):
+        return {"observation": self.x.copy(), "desired_goal": self.g.copy()}  # achieved_goal left out
+
+
 gym.register("GoalPointDict-v0", entry_point=GoalPoint, max_episode_steps=20)
+gym.register("MissingKeyPoint-v0", entry_point=MissingKey, max_episode_steps=20)
 gym.register("SequencedPoint-v0", entry_point=Sequenced, max_episode_steps=20)
 
 
@@ -61,6 +67,19 @@ def test_a_space_gymnasium_cannot_flatten_is_one_line():
     with pytest.raises(EnvSpecError) as err:
         probe_env("SequencedPoint-v0")
     assert "\n" not in str(err.value) and "Gymnasium can flatten" in str(err.value) and "Sequence" in str(err.value)
+
+
+def test_a_reset_that_breaks_its_own_space_is_the_envs_error_in_one_line():
+    """A new user's Dict env without one of its keys: Gymnasium's checker asserts in reset, which a shaped run's
+    pre-run check reported as an internal error."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.shaped_setup import waypoint_dim
+
+    cfg = build_config({"env": "MissingKeyPoint-v0", "method": "shaped"})
+    with pytest.raises(EnvError) as err:
+        waypoint_dim(cfg)
+    assert "\n" not in str(err.value) and str(err.value).startswith("env 'MissingKeyPoint-v0' raised AssertionError")
+    assert str(err.value).endswith("in reset(seed=0)") and "achieved_goal" in str(err.value)
 
 
 def test_check_env_passes_a_dict_env_and_says_it_flattened_it():

@@ -200,8 +200,9 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
         if reset:
             try:
                 _, info = env.reset(seed=0)
-            except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info
-                error = exc
+            except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info, as one line
+                error = EnvError(f"env {env_id!r} raised {exception_line(exc)} in reset(seed=0)",
+                                 traceback.format_exc())
         return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
                         unbounded_action=unbounded, controller=has_controller(env))
     finally:
