@@ -43,6 +43,23 @@ def test_the_same_runs_redraw_their_page_and_other_runs_are_refused(tmp_path, tw
     assert len([p for g in json.loads((page.parent / "summary.json").read_text())["runs"].values() for p in g]) == 1
 
 
+def test_runs_named_from_the_working_folder_redraw_their_page(tmp_path, two_runs, monkeypatch):
+    """A new user's `report bench/runs... --out combined/report.md`, run twice from the same folder: the second
+    was refused as "the report of other runs" (the page kept the runs' paths as the command named them)."""
+    import shutil
+
+    for i, r in enumerate(two_runs):
+        shutil.copytree(r, tmp_path / "bench" / "runs" / f"r{i}")
+    monkeypatch.chdir(tmp_path)
+    runs = ["bench/runs/r0", "bench/runs/r1"]
+    assert main(["report", *runs, "--out", "combined/report.md"]) == 0
+    assert main(["report", *runs, "--out", "combined/report.md"]) == 0
+    stored = json.loads((tmp_path / "combined" / "summary.json").read_text())["runs"]
+    assert sorted(p for g in stored.values() for p in g) == ["../bench/runs/r0", "../bench/runs/r1"]  # from the page
+    monkeypatch.chdir(tmp_path / "combined")  # and from another folder
+    assert main(["report", "../bench/runs/r0", "../bench/runs/r1", "--out", "report.md"]) == 0
+
+
 def test_existing_pictures_are_refused(tmp_path, two_runs, capsys):
     photo = tmp_path / "photo.png"
     photo.write_bytes(b"mine")

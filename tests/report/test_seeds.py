@@ -42,14 +42,16 @@ def test_report_counts_a_seed_once_and_censors_each_run_at_its_own_budget(tmp_pa
     assert f"{dirs[1]}, {dirs[2]} as {dirs[0]} (seed 0)" in err[0]
     s = json.loads((out.parent / "summary.json").read_text())
     shaped, vanilla = s["methods"]["shaped"], s["methods"]["vanilla"]
-    assert shaped["seeds"] == 2 and s["runs"]["shaped"] == [str(dirs[0]), str(dirs[3])]
+    assert shaped["seeds"] == 2 and s["runs"]["shaped"] == ["../quickstart", "../seed1"]  # from the page
     assert shaped["to_threshold"]["generations"]["per_seed"] == [6.0, 3.0]  # seed 0 censored at 5 + 1
     # the 3-generation run is censored at 3 + 1, not at the 8-generation run's 9
     assert vanilla["to_threshold"]["generations"]["per_seed"] == [4.0, 9.0]
     assert vanilla["to_threshold"]["budgets"] == [3, 8] and s["budget_generations"] == 8
     md = " ".join(out.read_text().split())
     assert (f"Runs that never reached the threshold in fewer generations than the longest run (8), each censored "
-            f"at its own budget + 1, not at 9: `{dirs[0]}` (5 generations), `{dirs[4]}` (3 generations).") in md
+            f"at its own budget + 1, not at 9: `../quickstart` (5 generations), `../vshort` (3 generations).") in md
+    assert ("Runs of different lengths: shaped 5 generations, vanilla 3-8: the final rewards below are each run's "
+            "last at its own length.") in md
 
 
 def test_report_of_copies_as_a_process(tmp_path):

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 
 from shaped_es.benchmark.grouping import method_settings, plain, report_env
@@ -56,10 +57,16 @@ def _short_runs(methods: dict, runs: dict[str, list[str]], budget: int) -> list[
     short = [f"`{name}` ({n} generations)" for k, s in methods.items()
              for name, n, hit in zip(runs.get(k, []), s["to_threshold"].get("budgets", []), s["to_threshold"]["reached"])
              if n < budget and not hit]
-    if not short:
-        return []
-    return ["", f"Runs that never reached the threshold in fewer generations than the longest run ({budget}), each "
-            f"censored at its own budget + 1, not at {budget + 1}: " + ", ".join(short) + "."]
+    out = [] if not short else [
+        "", f"Runs that never reached the threshold in fewer generations than the longest run ({budget}), each "
+        f"censored at its own budget + 1, not at {budget + 1}: " + ", ".join(short) + "."]
+    lengths = {k: s["to_threshold"].get("budgets") or [] for k, s in methods.items()}
+    if len({n for v in lengths.values() for n in v}) > 1:  # a new user's shaped at 30 beside vanilla at 80
+        each = [f"{k} {min(v)}" + (f"-{max(v)}" if max(v) > min(v) else "") + (" generations" if i == 0 else "")
+                for i, (k, v) in enumerate((k, v) for k, v in lengths.items() if v)]
+        out += ["", f"Runs of different lengths: {', '.join(each)}: the final rewards below are each run's last at "
+                    f"its own length."]
+    return out
 
 
 def beats(poi: dict, alpha: float = 0.05) -> bool:
@@ -237,7 +244,10 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
 
 
 def _rel(d: Path, root: Path) -> str:
+    """A run's path from the page's folder (``../bench/runs/vanilla_s0`` for runs outside it), so the page's
+    links and a later redraw (``cli/overwrite.py``) find it wherever the command ran; absolute where no
+    relative path exists (another drive)."""
     try:
-        return Path(d).resolve().relative_to(root.resolve()).as_posix()
+        return Path(os.path.relpath(Path(d).resolve(), root.resolve())).as_posix()
     except ValueError:
-        return str(d)
+        return Path(d).resolve().as_posix()

@@ -10,13 +10,15 @@ from shaped_es.benchmark.markdown import FIG4, FIG5, PROFILE, REPORT_MARK
 from shaped_es.config import ConfigError
 
 
-def _report_runs(out: Path) -> set[Path] | None:
-    """The runs an existing report page at ``out`` shows (its ``summary.json``); None: not a report's."""
+def _report_runs(out: Path) -> tuple[set[Path], set[Path]] | None:
+    """The runs an existing report page at ``out`` shows (its ``summary.json``), read from the page's folder
+    and from the working one (pages before 2026-12 kept runs outside their folder as the command named them);
+    None: not a report's."""
     try:
         page = out.read_text(errors="replace")
         summary = json.loads((out.parent / "summary.json").read_text())
-        runs = summary["runs"]
-        paths = {(out.parent / p).resolve() for group in runs.values() for p in group}
+        runs = [p for group in summary["runs"].values() for p in group]
+        paths = {(out.parent / p).resolve() for p in runs}, {Path(p).resolve() for p in runs}
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
     old_page = page.startswith("# ") and "## Fig. 4" in page  # a page from before the mark
@@ -38,8 +40,8 @@ def check_report_page(out: Path, run_dirs: list[Path], force: bool) -> None:
         raise ConfigError(f"--out {out} exists and is not a report page shaped-es wrote (with its summary.json "
                           f"beside it); choose another path, or pass --force to write over it")
     new = {Path(d).resolve() for d in run_dirs}
-    if shown != new:
-        n = len(shown)
+    if new not in shown:
+        shown, n = shown[0], len(shown[0])
         raise ConfigError(f"--out {out} is the report of other runs ({n} run{'s' * (n != 1)}, {len(shown & new)} "
                           f"of them among these {len(new)}); choose another path, or pass --force to replace it")
 
