@@ -75,6 +75,17 @@ def test_rerun_with_one_methods_settings_changed_reuses_the_others(tmp_path):
     assert len(_metrics(out, "cmaes_s0").strip().splitlines()) == 3
 
 
+def test_a_rerun_with_fewer_methods_says_its_page_leaves_runs_out(tmp_path, capsys):
+    """A new user extended vanilla and cmaes only; the page then lacked the shaped runs, and nothing said so."""
+    out = tmp_path / "b"
+    assert _cli(*TINY, "--methods", "vanilla,cmaes", "--generations", 1, "--out", out) == 0
+    assert "also holds" not in capsys.readouterr().err
+    assert _cli(*TINY, "--methods", "vanilla", "--generations", 2, "--out", out) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "also holds" in ln]
+    assert lines == [f"[benchmark] report.md shows this invocation's methods and seeds; {out / 'runs'} also holds "
+                     f"cmaes_s0 (1): shaped-es report {out} --out DIR/report.md draws them all"]
+
+
 def test_a_changed_run_without_checkpoint_restarts(tmp_path):
     out = tmp_path / "b"
     cfg = build_config({"env": "CartPole-v1", "method": "vanilla", "es": {"pairs": 7}})

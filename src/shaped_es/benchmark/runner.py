@@ -316,4 +316,10 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     extra = {"benchmark": record, "this_invocation": status}
     paths = write_report(out / "report.md", groups, configs, generations=spec.generations,
                          title=f"Benchmark on {spec.env}", extra=extra, threshold=spec.threshold)
+    shown = {d.name for dirs in groups.values() for d in dirs}
+    left = sorted(p.name for p in (out / "runs").iterdir() if p.is_dir() and p.name not in shown)
+    if left:  # a rerun with fewer methods or seeds: its page shows this invocation's runs only
+        log(f"[benchmark] report.md shows this invocation's methods and seeds; {out / 'runs'} also holds "
+            f"{', '.join(left[:4])}{' ...' if len(left) > 4 else ''} ({len(left)}): shaped-es report {out} "
+            f"--out DIR/report.md draws them all")
     return {**paths, "runs": status}
