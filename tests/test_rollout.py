@@ -38,6 +38,8 @@ def test_unknown_env_one_line():
         with pytest.raises(EnvSpecError) as e:
             make_env(bad)
         assert "\n" not in str(e.value)
+    with pytest.raises(EnvSpecError, match=r"an own env is named module:Id, e.g. --env mymodule:NoSuchEnv-v0"):
+        make_env("NoSuchEnv-v0")
 
 
 def test_a_record_mask_keeps_those_members_and_the_rest_is_unchanged():

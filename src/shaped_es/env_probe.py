@@ -72,6 +72,9 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
             msg = _missing_module(env_id.split(":", 1)[0], exc) or msg
+        elif ":" not in env_id and "doesn't exist" in msg and "Did you mean" not in msg:  # an own env, no module
+            msg += (f" (an own env is named module:Id, e.g. --env mymodule:{env_id}, and its module registers it: "
+                    f"README, \"Your own env\")")
         elif ":" in env_id and not _registered_as(env_id.split(":", 1)[1]):  # no version of it either
             module, name = env_id.split(":", 1)
             msg = (f"its module {module!r} imports but registers no {name!r}: call gymnasium.register"

@@ -98,6 +98,12 @@ def test_each_flaw_is_named_on_its_line(flaw, name, status, methods):
     assert trains_with(checks) == methods
 
 
+def test_the_waypoint_lines_name_the_call_and_the_shapes():
+    """A new user's env lacked the keys at reset only, and another gave a 3-d waypoint to a 2-d position."""
+    waypoints = next(c for c in check_env("CheckPoint-some_waypoints-v0") if c.name == "waypoints")
+    assert waypoints.detail.startswith("info['position'] and info['waypoint'] missing from step 1 (others have both")
+
+
 def test_no_time_limit_rules_out_ppo():
     checks = check_env("CheckPoint-nolimit-v0", max_steps=30)
     assert _status(checks)["time limit"] == WARN and "ppo" not in trains_with(checks)

@@ -110,7 +110,7 @@ def _spaces(env: gym.Env) -> Check:
                                      f"(the MLP's input), got {obs}")
     own = flattened_from(env)
     floats = f"{obs.shape[0]} floats" + ("" if own is None else f" (its {type(own).__name__} observations "
-                                                                   f"flattened, gymnasium.spaces.flatten's order)")
+                                                                   f"flattened{_order(own)})")
     if isinstance(act, gym.spaces.Discrete):
         return Check("spaces", OK, f"observations {floats}; actions Discrete({act.n}) (argmax)")
     if not isinstance(act, gym.spaces.Box) or len(act.shape) != 1:
@@ -120,6 +120,13 @@ def _spaces(env: gym.Env) -> Check:
                                      f"rescaled to them), got low {act.low}, high {act.high}")
     return Check("spaces", OK, f"observations {floats}; actions Box({act.shape[0]}) in "
                                f"[{_num(act.low.min())}, {_num(act.high.max())}] (the policy's [-1, 1] rescaled)")
+
+
+def _order(space: gym.Space) -> str:
+    """``: keys a, b, c in that order`` of a Dict space (gymnasium.spaces.flatten's order), else ``""``."""
+    if isinstance(space, gym.spaces.Dict):
+        return ": " + ", ".join(f"{k} ({gym.spaces.flatdim(v)})" for k, v in space.spaces.items()) + ", in that order"
+    return ""
 
 
 def _time_limit(env: gym.Env) -> Check:
@@ -214,13 +221,17 @@ def _waypoints(runs: list[dict]) -> Check:
     if not any(have):
         return Check("waypoints", NO, f"no info['{POSITION_KEY}'] / info['{WAYPOINT_KEY}']: every method but "
                                       f"shaped trains on it (README: environment contract)")
-    if not all(have):
-        return Check("waypoints", FAIL, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] come from some "
-                                        f"reset/step calls only: shaped needs them from every one")
+    if not all(have):  # the first call without them, and which key (a new user's reset lacked them)
+        where, missing = next(("reset" if t == 0 else f"step {t}", [k for k in (POSITION_KEY, WAYPOINT_KEY)
+                                                                    if k not in i])
+                              for r in runs for t, i in enumerate(r["infos"])
+                              if POSITION_KEY not in i or WAYPOINT_KEY not in i)
+        return Check("waypoints", FAIL, f"{' and '.join(f'info[{k!r}]' for k in missing)} missing from {where} "
+                                        f"(others have both keys): shaped needs them from reset and every step")
     shapes = {(np.shape(i[POSITION_KEY]), np.shape(i[WAYPOINT_KEY])) for i in infos}
     if len(shapes) != 1 or len({s for pair in shapes for s in pair}) != 1 or len(next(iter(shapes))[0]) != 1:
-        return Check("waypoints", FAIL, f"position and waypoint must both be (d,) arrays of one d, got "
-                                        f"{sorted(shapes)}")
+        got = "; ".join(f"position {p}, waypoint {w}" for p, w in sorted(shapes))
+        return Check("waypoints", FAIL, f"position and waypoint must both be (d,) arrays of one d, got {got}")
     if not all(np.isfinite(np.asarray(i[k], float)).all() for i in infos for k in (POSITION_KEY, WAYPOINT_KEY)):
         return Check("waypoints", FAIL, "a position or waypoint is not finite")
     d = next(iter(shapes))[0][0]
