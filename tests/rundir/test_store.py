@@ -11,11 +11,14 @@ def test_store_checkpoint_and_metrics(tmp_path):
     store = RunStore(tmp_path / "run")
     cfg = build_config({"env": "CartPole-v1"})
     store.create(cfg)
-    with pytest.raises(StoreError, match="already holds a run"):
+    with pytest.raises(StoreError, match="holds a run that finished no generation .its start failed.: 'shaped-es "
+                                         "resume"):
         store.create(cfg)
     assert store.read_config() == cfg
     for g in range(4):
         store.append_metrics({"generation": g, "x": g * 0.5})
+    with pytest.raises(StoreError, match="already holds a run"):
+        store.create(cfg)
     store.truncate_metrics(1)
     assert [r["generation"] for r in store.read_metrics()] == ["0", "1"]
     with pytest.raises(StoreError):

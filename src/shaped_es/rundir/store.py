@@ -159,6 +159,10 @@ class RunStore(CheckpointFiles, Recovery):
         if self.root.exists() and not self.root.is_dir():
             raise StoreError(f"--out {self.root} exists and is not a directory")
         if self.exists():
+            if not self._finished_any():  # a start that failed (a new user's env returned NaN at generation 0)
+                raise StoreError(f"{self.root} holds a run that finished no generation (its start failed): "
+                                 f"'shaped-es resume {self.root}' starts it again with its saved config, or "
+                                 f"choose another --out (or delete that folder) to start with a new one")
             raise StoreError(
                 f"{self.root} already holds a run; use 'shaped-es resume {self.root}' or another --out"
             )
@@ -173,6 +177,15 @@ class RunStore(CheckpointFiles, Recovery):
             shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
             raise StoreError(f"--out {self.root} is a folder that holds no run but other files ({shown}); a "
                              f"run directory is the run's own: name a new or empty folder")
+
+    def _finished_any(self) -> bool:
+        """A generation finished here: a metrics row or a checkpoint (unreadable ones count: not a fresh run)."""
+        try:
+            if self.metrics_path.is_file() and self.read_metrics():
+                return True
+            return self.ckpt_dir.is_dir() and any(self.ckpt_dir.iterdir())
+        except (OSError, StoreError, ValueError):
+            return True
 
     def create(self, cfg: RunConfig) -> None:
         self.check_new()
