@@ -231,6 +231,10 @@ class MeanCloneSettings(_Strict):
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it beats the mean's "
                           "return there")
+    probe_candidate: Bool = Field(_MEAN.probe_candidate, description="candidate: the label probe's best simulated "
+                                  "candidate (the initial mean cloned toward a variant's labels) is judged beside "
+                                  "generation 0 by the same rule, and is the mean from then on if it wins; a loss "
+                                  "there does not count against the labels (frame: auto only)")
 
     @model_validator(mode="after")
     def _positive(self):

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from helpers import new_run, run_until_crash, strip_time, train
+from shaped_es import seeding
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe
@@ -279,10 +280,15 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
         def __init__(self, horizon):
             self.horizon = horizon
 
-    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None):  # the frame variants' real, shooters' fake
+    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None, thetas=None):  # frames real, shooters fake
         own = [(lab, k) for lab, k in zip(labels, keys) if not isinstance(lab, Shooter)]
-        out = iter(real(cfg, spec, x0, data, [lab for lab, _ in own], seeds, [k for _, k in own], executor))
+        own_thetas: list = []
+        out = iter(real(cfg, spec, x0, data, [lab for lab, _ in own], seeds, [k for _, k in own], executor,
+                        own_thetas))
         seen.extend((lab.horizon, k) for lab, k in zip(labels, keys) if isinstance(lab, Shooter))
+        if thetas is not None:  # each shooter's "clone": the initial mean plus its horizon
+            own_iter = iter(own_thetas)
+            thetas.extend(x0 + lab.horizon if isinstance(lab, Shooter) else next(own_iter) for lab in labels)
         return [(drives[lab.horizon], 7) if isinstance(lab, Shooter) else next(out) for lab in labels]
 
     monkeypatch.setattr(label_probe, "shoot_labels", lambda cfg, spec, data, pos, m, h: Shooter(h))
@@ -295,6 +301,12 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     assert set(res.shoot_tried) == {"4", "8", "16"}
     assert "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in horizon_text(res)
     assert "; shooting rival kept (8 steps)" in probe_line(res)  # the run's line: the verdict and the horizon
+    # the candidate judged at generation 0: the best mean return of every simulated candidate, its parameters
+    means = {**{k: np.mean(v) for k, v in res.clones.items()}, **{f"shoot:{h}": np.mean(v) for h, v in drives.items()}}
+    assert res.candidate == max(means, key=means.get)
+    if res.candidate.startswith("shoot:"):
+        x0 = spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
+        np.testing.assert_array_equal(res.candidate_params, x0 + int(res.candidate[6:]))
     drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))

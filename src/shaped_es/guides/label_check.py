@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import EPISODES, FILE, ProbeResult, beats, clip_text, paired, probe, variant_name
+from shaped_es.guides.label_probe import (EPISODES, FILE, ProbeResult, beats, clip_text, paired, probe, variant_name,
+                                         variant_text)
 
 
 def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> str:
@@ -34,6 +35,24 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
     return (f"labels: frame={res.frame}, query_clip={clip_text(res.query_clip)} ({why}){score}{shoot}"
             + (f"; rivals: {', '.join(rivals)}" if rivals else "")
             + f"; see {FILE}, shaped-es check-env {env} --labels")
+
+
+def candidate_line(res: ProbeResult, won: bool) -> str:
+    """What became of the probe's best simulated candidate (guides/probe_candidate.py), judged beside generation
+    0: its labels, its mean return on the probe's episodes, ``won``; ``""`` where the probe kept none."""
+    name = res.candidate
+    if name is None:
+        return ""
+    if name.startswith("shoot:"):
+        h = name.partition(":")[2]
+        vals, what = res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else []), \
+            f"the shooting labels', actions held {h} steps"
+    else:
+        vals, what = res.clones.get(name, []), f"{variant_text(name)}'s"
+    score = f", {np.mean(vals):.2f} on the probe's episodes" if vals else ""
+    verdict = ("won: it is the search's mean now" if won else
+               "lost to the initial mean: not counted against the labels, the run goes on as without it")
+    return f"the label probe's best simulated candidate ({what}{score}) {verdict}"
 
 
 def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:

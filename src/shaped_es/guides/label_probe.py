@@ -72,6 +72,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, to_space
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
+from shaped_es.guides import probe_candidate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, roll_out, shoot_labels
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
@@ -110,6 +111,11 @@ class ProbeResult:
     # each horizon's simulated candidate where the probe tried several (shoot_probe_horizons)
     shoot_horizon: int | None = None
     shoot_tried: dict[str, list[float]] = field(default_factory=dict)
+    # the simulated candidate with the best mean return, judged at generation 0 (guides/probe_candidate.py): a
+    # variant's name, or "shoot:H" for the shooting labels holding actions H steps (None: a probe from before)
+    candidate: str | None = None
+    # its parameters (n,), kept in RUN/probe_candidate.FILE, not in the JSON (None: not at hand)
+    candidate_params: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     def keeps_base(self) -> bool:
         """Whether the shooting labels at the first probed horizon (``shoot_horizon``) also run, beside the
@@ -321,8 +327,9 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     # the shooting rival is kept only where its clone drives, at the horizon that drives best
     horizons = list(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else []
     shooters = [shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, h) for h in horizons]
+    thetas: list[np.ndarray] = []  # each simulated candidate (n,), in the order of sources + shooters
     sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, list(range(len(vs) + len(horizons))),
-                             executor)
+                             executor, thetas)
     for (frame, clip), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip)] = [float(v) for v in r]
         steps += n
@@ -338,8 +345,11 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     name, reason = choose({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
                           {k: np.array(v) for k, v in clones.items()})
     frame, clip = next((f, c) for f, c in vs if variant_name(f, c) == name)
+    names = [variant_name(f, c) for f, c in vs] + [f"shoot:{h}" for h in horizons]
+    top = probe_candidate.best({**clones, **{f"shoot:{h}": v for h, v in tried.items()}}, dict(zip(names, thetas)))
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
-                       clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {})
+                       clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
+                       *(top if top is not None else (None, None)))
 
 
 def parse(raw: bytes) -> ProbeResult:
@@ -347,7 +357,7 @@ def parse(raw: bytes) -> ProbeResult:
     d = json.loads(raw.decode())
     if not isinstance(d, dict):
         raise ValueError("not a JSON object")
-    known = {f.name for f in fields(ProbeResult)}
+    known = {f.name for f in fields(ProbeResult)} - {"candidate_params"}
     if set(d) - known or {"frame", "query_clip", "returns", "env_steps", "seconds", "reason"} - set(d):
         raise ValueError(f"fields {sorted(d)}")
     clip, steps = d["query_clip"], d["env_steps"]
@@ -366,6 +376,7 @@ def parse(raw: bytes) -> ProbeResult:
          "shoot_horizon"),
         (isinstance(d.get("shoot_tried", {}), dict)
          and all(isinstance(v, list) for v in d.get("shoot_tried", {}).values()), "shoot_tried"),
+        (d.get("candidate") is None or isinstance(d.get("candidate"), str), "candidate"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
@@ -382,7 +393,11 @@ def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
         except (ValueError, TypeError, UnicodeDecodeError, OSError, StoreError) as exc:
             raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to probe "
                               f"again (the new probe's env steps then count in the next generation)") from None
+        if res.candidate is not None:  # kept beside it; a probe from before has none
+            res.candidate_params = probe_candidate.load(path.with_name(probe_candidate.FILE), spec.num_params)
         return res, False
     res = probe(cfg, spec, pos_dim, mphi_cfg, executor)
-    atomic_write_text(path, json.dumps(asdict(res), indent=1))
+    if res.candidate_params is not None:  # first: a probe file on disk always has its candidate beside it
+        probe_candidate.save(path.with_name(probe_candidate.FILE), res.candidate_params)
+    atomic_write_text(path, json.dumps({k: v for k, v in asdict(res).items() if k != "candidate_params"}, indent=1))
     return res, True

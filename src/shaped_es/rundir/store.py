@@ -65,7 +65,8 @@ _START_LEFTOVERS = re.compile(rf"{re.escape(LOCK_NAME)}|{re.escape(ERROR_LOG)}|r
 
 # Fields added after runs were saved, whose default differs from what those runs did. A run's config.yaml
 # lists every field, so one without such a field ran the old way: it is read (resumed, reported) as that.
-SAVED_BEFORE = {("rollout", "test_policy"): "best"}  # the tested policy before rollout.test_policy existed
+SAVED_BEFORE = {("rollout", "test_policy"): "best",  # the tested policy before rollout.test_policy existed
+                ("shaping", "mean_clone", "probe_candidate"): False}  # no generation-0 candidate before it
 
 
 class RunStore(CheckpointFiles, Recovery):
@@ -231,9 +232,12 @@ class RunStore(CheckpointFiles, Recovery):
                 raise StoreError(f"{self.root} is not a run directory (not a directory)")
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         data = read_yaml(self.config_path)
-        for (section, key), before in SAVED_BEFORE.items():
-            if isinstance(data, dict) and isinstance(data.get(section), dict) and key not in data[section]:
-                data[section][key] = before
+        for (*sections, key), before in SAVED_BEFORE.items():
+            part = data
+            for section in sections:
+                part = part.get(section) if isinstance(part, dict) else None
+            if isinstance(part, dict) and key not in part:
+                part[key] = before
         return build_config(data)
 
     # -- metrics (metrics_csv.py) ------------------------------------------------------------------

@@ -104,6 +104,8 @@ class MeanCloneConfig:
     #                             many standard errors of the difference (0: jumps are never undone)
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
+    probe_candidate: bool = True  # candidate: the label probe's best simulated candidate is judged at generation 0
+    #                               (guides/probe_candidate.py); a loss there does not count against the labels
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \

@@ -124,9 +124,20 @@ class MeanCandidate(Mechanism):
             self.metric_keys = self.metric_keys + RIVAL_METRICS + tuple(GAIN_METRIC[v] for v in known)
         if self.cfg.revert_margin > 0:
             self.metric_keys = self.metric_keys + (REVERT_METRIC,)
+        # the label probe's best simulated candidate, judged beside generation 0 (guides/probe_candidate.py)
+        self.probe_rows = False  # the extras are that candidate and the initial mean (until generation 0 is judged)
+        self.free_judgement = False  # this generation's judgement is the probe candidate's (a loss not counted)
+        first = getattr(host, "probe_candidate", None)
+        if first is not None and self.cfg.probe_candidate:
+            x0 = host.spec.init(seeding.derive_seed(host.cfg.seed, seeding.INIT))  # the trainer's initial mean
+            self.extras = np.stack([first, x0]).astype(np.float32)  # (2, n): the candidate, the mean
+            self.probe_rows = True
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
-        return every_kth(population, extra, self.cfg.record_every)
+        mask = every_kth(population, extra, self.cfg.record_every)
+        if self.probe_rows:  # M_phi's data as without them: a losing probe candidate changes nothing else
+            mask[population:population + 2] = False
+        return mask
 
     def extra_members(self, generation: int) -> np.ndarray | None:
         return self.extras
@@ -134,6 +145,7 @@ class MeanCandidate(Mechanism):
     def after_tell(self, generation, params, fitness, extra_returns, results, old_mean, strategy,
                    map_tasks, judged=None) -> dict:
         out: dict = {}
+        self.free_judgement, self.probe_rows = self.probe_rows, False
         held = None  # a row for the next generation: the winner to confirm
         jumped, self.jumped = self.jumped, False  # the last generation's, and this one's (set on a jump)
         # revert_margin: the population just rolled out was sampled around the last generation's jump; if it
@@ -251,6 +263,7 @@ class MeanCandidate(Mechanism):
         return (theta_star, info, clones) if info else (mu, {}, [])
 
     def sleep(self) -> None:
+        self.probe_rows = False
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
         self.rivals, self.rival_learners = [], {}
         self.jumped, self.undo = False, None
@@ -290,6 +303,7 @@ class MeanCandidate(Mechanism):
             raise ValueError(f"candidate prev_pop is {pop.tolist()}, expected (mean, variance >= 0, size >= 0)")
         self.prev_pop = (float(pop[0]), float(pop[1]), int(pop[2]))
         self.extras = x if x.size else None
+        self.probe_rows = False  # a checkpoint comes after generation 0's judgement
         self.pending = pending if x.size else 0
         self.rivals = rivals if x.size else []
 
