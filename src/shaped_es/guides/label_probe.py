@@ -40,6 +40,10 @@ candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_hori
 that beats the default's by the frame's test (``ProbeResult.shoot_horizon``; a drone steered by its tilt rate
 moves toward the waypoint only after 8-16 steps; ``docs/benchmarks/shoot_horizon_v8``).
 
+The best of the simulated candidates (by mean return, over every variant and horizon) is also kept, as
+``ProbeResult.candidate`` and ``RUN/label_probe_candidate.npy``: generation 0's candidate
+(``guides/probe_candidate.py``).
+
 The recorded rollouts (the probe's data and the simulated candidates) run on the run's executor's workers, as
 its training rollouts do; the label-driven episodes and the models' training run here. The simulated
 candidates of every variant and horizon run in lock-step (``clone_probe.clone_rounds_many``:
