@@ -40,19 +40,24 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
 def candidate_line(res: ProbeResult, won: bool) -> str:
     """What became of the probe's best simulated candidate (guides/probe_candidate.py), judged beside generation
     0: its labels, its mean return on the probe's episodes, ``won``; ``""`` where the probe kept none."""
-    name = res.candidate
-    if name is None:
+    if res.candidate is None:
         return ""
+    verdict = ("won: it is the search's mean now" if won else
+               "lost to the initial mean: not counted against the labels, the run goes on as without it")
+    return f"the label probe's best simulated candidate ({candidate_what(res)}) {verdict}"
+
+
+def candidate_what(res: ProbeResult) -> str:
+    """``the shooting labels', actions held 8 steps, 7.91 on the probe's episodes``: whose the probe's best
+    simulated candidate is, and its mean return."""
+    name = res.candidate or ""
     if name.startswith("shoot:"):
         h = name.partition(":")[2]
         vals, what = res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else []), \
             f"the shooting labels', actions held {h} steps"
     else:
         vals, what = res.clones.get(name, []), f"{variant_text(name)}'s"
-    score = f", {np.mean(vals):.2f} on the probe's episodes" if vals else ""
-    verdict = ("won: it is the search's mean now" if won else
-               "lost to the initial mean: not counted against the labels, the run goes on as without it")
-    return f"the label probe's best simulated candidate ({what}{score}) {verdict}"
+    return what + (f", {np.mean(vals):.2f} on the probe's episodes" if vals else "")
 
 
 def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
@@ -94,6 +99,9 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
                        f"that rival")
+    if res.candidate is not None:  # guides/probe_candidate.py
+        details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
+                       f"({candidate_what(res)}); a win makes it the mean")
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
