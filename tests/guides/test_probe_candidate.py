@@ -74,3 +74,35 @@ def test_a_run_saved_before_the_setting_reads_it_as_off(tmp_path):
     store.config_path.write_text(text.replace("    probe_candidate: true\n", ""))
     assert store.read_config().shaping.mean_clone.probe_candidate is False
     assert label_probe.FILE == "label_probe.json"  # the candidate's file sits beside it
+
+
+class _Host:  # a stub shaped guide: the probe's candidate, no labels trained yet (generation 0)
+    def __init__(self, n, candidate):
+        from shaped_es.shaping.settings import MeanCloneConfig
+
+        self.mean_clone_cfg = MeanCloneConfig(accept="mean", extra_episodes=0)
+        self.labels = type("L", (), {"ready": False})()
+        self.rivals = []
+        self.probe_candidate = candidate
+        self.spec = type("S", (), {"num_params": n, "init": staticmethod(lambda seed: np.zeros(n, np.float32))})()
+        self.cfg = type("C", (), {"seed": 0, "rollout": type("R", (), {"episodes": 1})()})()
+
+
+@pytest.mark.parametrize("candidate_return, accepted", [(5.0, False), (20.0, True)])
+def test_the_probe_candidate_must_also_beat_every_member(candidate_return, accepted):
+    """On the swimmer the probe's clone beat the initial mean but not the members the search sampled around
+    it (17-26 against 5 at most), and the runs it jumped to were slower."""
+    from shaped_es.guides.mechanisms.candidate import MeanCandidate
+    from shaped_es.strategies import GuidedES
+
+    n = 3
+    mech = MeanCandidate(_Host(n, np.full(n, 7.0, np.float32)))
+    assert mech.probe_rows and mech.extra_members(0).shape == (2, n)  # the candidate, the initial mean
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=2, seed=0)
+    es.ask()
+    old = np.array(es.mean)
+    fitness = np.array([1.0, 10.0, 2.0, 3.0])  # (P,) one member at 10
+    es.tell(fitness)
+    out = mech.after_tell(0, None, fitness, np.array([[candidate_return], [0.0]]), [], old, es, None)
+    assert out["candidate_accepted"] == int(accepted) and mech.free_judgement and not mech.probe_rows
+    assert np.allclose(es.mean[0], 7.0, atol=1.0) == accepted  # the jump (plus the ES step it keeps)

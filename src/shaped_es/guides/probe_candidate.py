@@ -10,7 +10,12 @@ scored 2-7; those runs reached the threshold at generations 4-10.
 
 So a shaped run offers the probe's best clone (by its mean return on the probe's episodes) as generation 0's
 candidate, judged by the run's acceptance rule beside the mean like every later one (``mechanisms/
-candidate.py``). A win makes it the mean, as any accepted candidate. A loss is not held against the labels
+candidate.py``), and it must also beat every member of generation 0's population on their common episodes: a
+jump from the initial mean to a policy worse than what the search already sampled around it is no shortcut.
+Judged by the acceptance rule alone (``docs/benchmarks/probe_candidate_v14``), it won on 4 of the swimmer's 10
+seeds, whose population's best members swim at 17-26 where the clone scores 5 at most, and 3 of those runs
+reached the threshold 4-7 generations later than without it; none of those 4 beat the best member. A win
+makes it the mean, as any accepted candidate. A loss is not held against the labels
 (the label budget does not count it): the run goes on exactly as without it, one candidate's and the mean's
 episodes dearer. The clone is kept in ``RUN/label_probe_candidate.npy`` beside ``label_probe.json``, so a run
 restarted before its first checkpoint judges the same one; a probe file without it (a run from before) has

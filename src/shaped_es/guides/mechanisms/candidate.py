@@ -185,6 +185,8 @@ class MeanCandidate(Mechanism):
                     return False
                 return bool(common[i] > over and (more is None or more[i] > more[-1]))
             won = passes(j, bar)
+            if self.free_judgement:  # the probe's candidate must also beat every member (probe_candidate.py)
+                won = won and bool(f_cand[j] > np.max(fitness))
             # the held row (last generation's winner, confirm): it must beat the new mean's return on new episodes
             confirmed = bool(self.pending) and self.cfg.confirm and passes(k, f_mean) and not reverted
             accept = not reverted and (confirmed or (won and not self.cfg.confirm))
