@@ -19,42 +19,29 @@ TARGET_SPEED = 1.0
 LOOKAHEAD = 5
 
 
-class _Forward:
-    def _torso_xz(self):
-        p = self.data.body("torso").xpos
-        return np.array([p[0], p[2]], dtype=np.float64)
+class ForwardWaypoints(gym.Wrapper):
+    """The torso's (x, z) and a forward waypoint moving at TARGET_SPEED from the start, LOOKAHEAD steps ahead
+    (never behind the torso), added to ``info`` at reset and every step."""
 
-    def _waypoint(self, pos):
-        lead = TARGET_SPEED * self.dt * LOOKAHEAD
-        x_sched = self._x0 + TARGET_SPEED * self.dt * (self._t + LOOKAHEAD)
-        x = pos[0] + lead if pos[0] > x_sched else x_sched
-        return np.array([x, self._z0], dtype=np.float64)
-
-    def _add_keys(self, info):
-        pos = self._torso_xz()
-        info["position"] = pos
-        info["waypoint"] = self._waypoint(pos)
+    def _keys(self, info: dict) -> dict:
+        body = self.env.unwrapped
+        torso = np.array(body.data.body("torso").xpos[[0, 2]], dtype=np.float64)
+        ahead = TARGET_SPEED * body.dt * LOOKAHEAD
+        due = self.start[0] + TARGET_SPEED * body.dt * (self.t + LOOKAHEAD)
+        x = torso[0] + ahead if torso[0] > due else due
+        info["position"], info["waypoint"] = torso, np.array([x, self.start[1]], dtype=np.float64)
         return info
 
-    def reset(self, *, seed=None, options=None):
-        obs, info = super().reset(seed=seed, options=options)
-        self._t = 0
-        p = self._torso_xz()
-        self._x0, self._z0 = float(p[0]), float(p[1])
-        return obs, self._add_keys(info)
+    def reset(self, **kw):
+        obs, info = self.env.reset(**kw)
+        self.t = 0
+        self.start = np.array(self.env.unwrapped.data.body("torso").xpos[[0, 2]], dtype=np.float64)
+        return obs, self._keys(info)
 
     def step(self, action):
-        obs, reward, terminated, truncated, info = super().step(action)
-        self._t += 1
-        return obs, reward, terminated, truncated, self._add_keys(info)
-
-
-class HopperWay(_Forward, HopperEnv):
-    pass
-
-
-class Walker2dWay(_Forward, Walker2dEnv):
-    pass
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        self.t += 1
+        return obs, reward, terminated, truncated, self._keys(info)
 
 
 class AntNav(AntEnv):
@@ -102,7 +89,9 @@ class AntNav(AntEnv):
         return self._obs(base), reward, terminated, truncated, self._info(info)
 
 
-gym.register("HopperWay-v0", entry_point=HopperWay, max_episode_steps=150, reward_threshold=150.0)
-gym.register("Walker2dWay-v0", entry_point=Walker2dWay, max_episode_steps=150, reward_threshold=150.0)
+gym.register("HopperWay-v0", entry_point=lambda **kw: ForwardWaypoints(HopperEnv(**kw)), max_episode_steps=150,
+             reward_threshold=150.0)
+gym.register("Walker2dWay-v0", entry_point=lambda **kw: ForwardWaypoints(Walker2dEnv(**kw)), max_episode_steps=150,
+             reward_threshold=150.0)
 gym.register("AntNav-v0", entry_point=AntNav, max_episode_steps=200, reward_threshold=15.0,
              kwargs={"include_cfrc_ext_in_observation": False})
