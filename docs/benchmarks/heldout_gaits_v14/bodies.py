@@ -32,8 +32,8 @@ class ForwardWaypoints(gym.Wrapper):
         info["position"], info["waypoint"] = torso, np.array([x, self.start[1]], dtype=np.float64)
         return info
 
-    def reset(self, **kw):
-        obs, info = self.env.reset(**kw)
+    def reset(self, *, seed=None, options=None):
+        obs, info = self.env.reset(seed=seed, options=options)
         self.t = 0
         self.start = np.array(self.env.unwrapped.data.body("torso").xpos[[0, 2]], dtype=np.float64)
         return obs, self._keys(info)
