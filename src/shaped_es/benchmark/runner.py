@@ -251,7 +251,7 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
                          f"directory is the {what}'s own: name a new or empty folder")
 
 
-def _outcome(cfg: RunConfig, root: Path) -> str:
+def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     """``, test 8.67`` (the run's last test reward), and for a candidate run ``; candidates accepted 3 of 23
     judged``, or ``; no candidate accepted ...`` where its labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed
     neither until the report. ``""`` where the run has no rows."""
@@ -266,6 +266,7 @@ def _outcome(cfg: RunConfig, root: Path) -> str:
         out = f", test {float(last):.2f}" if last not in (None, "") else ""
     except (TypeError, ValueError):
         out = ""
+    out += _reached(cfg, rows, threshold)
     summary = rows_summary(rows)
     never = never_accepted(summary, METHODS[cfg.method].base, short=True)
     if never:
@@ -273,6 +274,25 @@ def _outcome(cfg: RunConfig, root: Path) -> str:
     if summary and summary["candidates_judged"]:  # what shaping did, as the progress bar's "labels A/J"
         out += f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
     return out
+
+
+def _reached(cfg: RunConfig, rows: list[dict], threshold: float | None) -> str:
+    """``, 8.5 reached at generation 4`` (generations done, as ``train``'s line counts them), or ``""``: the
+    threshold ``benchmark`` and ``report`` use (``threshold``, else the env's), where a row's test reward met it."""
+    from shaped_es.benchmark.summary import threshold_of
+
+    if not rows:
+        return ""
+    if threshold is None:
+        found = threshold_of(cfg.env, cfg.env_kwargs)
+        threshold = found[0] if found else None
+    for r in rows if threshold is not None else []:
+        try:
+            if float(r.get("test_reward_mean", "")) >= threshold:
+                return f", {threshold:g} reached at generation {int(r['generation']) + 1}"
+        except (TypeError, ValueError, KeyError):
+            continue
+    return ""
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,
@@ -310,7 +330,8 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
         t0 = time.perf_counter()
         s = run_one(cfg, out / "runs" / name, progress=progress, action=action)
         status[name] = {"status": s, "seconds": round(time.perf_counter() - t0, 3)}
-        log(f"[benchmark] {name}: {s} ({status[name]['seconds']:.1f} s){_outcome(cfg, out / 'runs' / name)}")
+        log(f"[benchmark] {name}: {s} ({status[name]['seconds']:.1f} s)"
+            f"{_outcome(cfg, out / 'runs' / name, spec.threshold)}")
     groups = {m: [out / "runs" / run_name(m, s) for s in spec.seeds] for m in spec.methods}
     configs = {m: cfgs[run_name(m, spec.seeds[0])] for m in spec.methods}
     extra = {"benchmark": record, "this_invocation": status}

@@ -111,12 +111,13 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
 
 
 def _against_zero(returns: list[float], zero: list[float]) -> str:
-    """``scores 9.05 against zero action's -1.00 (above it: 2 paired standard errors 0.35)``, over the same
-    episodes ("above it", "below it" or "not clearly different" by 2 paired standard errors)."""
+    """``scores 9.05 against zero action's -1.00 (above it by more than 2 paired standard errors, 0.35)``, over
+    the same episodes ("above it", "below it" or "not clearly different" by 2 paired standard errors)."""
     gain, se = paired(returns, zero)
-    side = "above it" if gain > 2 * se else "below it" if -gain > 2 * se else "not clearly different"
-    return (f"scores {np.mean(returns):.2f} against zero action's {np.mean(zero):.2f} ({side}: 2 paired standard "
-            f"errors {2 * se:.2f})")
+    side = ("above it by more than" if gain > 2 * se else "below it by more than" if -gain > 2 * se
+            else "not clearly different: within")
+    return (f"scores {np.mean(returns):.2f} against zero action's {np.mean(zero):.2f} ({side} 2 paired standard "
+            f"errors, {2 * se:.2f})")
 
 
 def horizon_text(res: ProbeResult) -> str:
