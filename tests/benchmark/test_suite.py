@@ -27,9 +27,11 @@ def test_two_tasks_two_seeds_run_resume_and_report(tmp_path):
     assert row["threshold"]["value"] == 8.5 and "reward_threshold" in row["threshold"]["source"]
     assert row["budget_generations"] == 2 and set(row["methods"]) == {"shaped", "vanilla"}
     for m in row["methods"].values():
-        assert m["seeds"] == 2 and m["solved"] == 0 and m["generations_to_threshold"] == 3.0  # censored
-        assert m["final_iqm"] is not None and len(m["final_iqm_ci"]) == 2
-    assert row["ratios"]["vs_vanilla"]["generations_to_threshold"] == 1.0
+        assert m["seeds"] == 2 and m["final_iqm"] is not None and len(m["final_iqm_ci"]) == 2
+    vanilla, shaped = row["methods"]["vanilla"], row["methods"]["shaped"]
+    assert vanilla["solved"] == 0 and vanilla["generations_to_threshold"] == 3.0  # censored at 2 + 1
+    # the shaped runs may solve in 2 generations (the label probe's candidate, judged beside generation 0)
+    assert row["ratios"]["vs_vanilla"]["generations_to_threshold"] == shaped["generations_to_threshold"] / 3.0
     assert row["best_baseline"] == "vanilla" and "acceptance" in row["methods"]["shaped"]
     md = (tmp_path / "suite.md").read_text()
     assert "| PointVel-v0 | 8.50 | 2 |" in md and "| Unicycle-v0 |" in md
