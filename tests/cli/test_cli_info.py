@@ -122,17 +122,19 @@ def test_list_fields_name_their_item_type(capsys):
 def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     """``--labels``: the label probe of a shaped run with frame auto, against zero action, with its choice."""
     lines = _out(capsys, ["check-env", "PointVel-v0", "--labels"]).out.strip().splitlines()
-    assert lines[-6].startswith("labels: label-driven return over 10 episodes: both ")
-    assert "zero action -1.00" in lines[-6]
-    assert lines[-5].startswith("labels: the simulated candidate's return (the initial mean cloned toward ")
+    assert lines[-7].startswith("labels: label-driven return over 10 episodes: both ")
+    assert "zero action -1.00" in lines[-7]
+    assert lines[-6].startswith("labels: the simulated candidate's return (the initial mean cloned toward ")
     # the probe of seed 0, not every run's pick: each run probes with its own seed (9 of 10 may pick another)
-    assert lines[-4].startswith("labels: with seed 0 a shaped run picks frame=")
-    assert lines[-4].endswith("; each run probes with its own seed")
-    assert lines[-3].startswith("labels: both's simulated candidate (what the frame was chosen on) scores ")
-    assert lines[-2].startswith("labels: the shooting labels' simulated candidate (actions held ")
-    assert "a run keeps that rival" in lines[-2]
+    assert lines[-5].startswith("labels: with seed 0 a shaped run picks frame=")
+    assert lines[-5].endswith("; each run probes with its own seed")
+    assert lines[-4].startswith("labels: both's simulated candidate (what the frame was chosen on) scores ")
+    assert lines[-3].startswith("labels: the shooting labels' simulated candidate (actions held ")
+    assert "a run keeps that rival" in lines[-3]
+    # the best simulated candidate, judged beside generation 0 (guides/probe_candidate.py)
+    assert lines[-2].startswith("labels: a run judges the best simulated candidate beside generation 0, as its ")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
-    assert max(len(ln) for ln in lines[-3:]) < 300  # one fact a line
+    assert max(len(ln) for ln in lines[-4:]) < 300  # one fact a line
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
     assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
