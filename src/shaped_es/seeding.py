@@ -22,6 +22,12 @@ def derive_seed(root: int, *keys: int) -> int:
     return int(ss.generate_state(1, dtype=np.uint32)[0] >> 1)
 
 
+def initial_mean(spec, root: int) -> np.ndarray:
+    """A run's initial search mean ``(n,)``: ``spec``'s (a ``policies.MLPSpec``) initial weights from the run's
+    root seed; the trainer's, the label probe's and the generation-0 candidate's mean are this one."""
+    return spec.init(derive_seed(root, INIT))
+
+
 def episode_seeds(
     root: int, stream: int, generation: int, members: np.ndarray, episodes: int, common: bool = True
 ) -> np.ndarray:

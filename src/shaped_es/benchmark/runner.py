@@ -252,9 +252,10 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
 
 
 def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
-    """``, test 8.67`` (the run's last test reward), and for a candidate run ``; candidates accepted 3 of 23
-    judged``, or ``; no candidate accepted ...`` where its labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed
-    neither until the report. ``""`` where the run has no rows."""
+    """``, test 8.67`` (the run's last test reward), where it reached the threshold (:func:`_reached`), and
+    for a candidate run ``; candidates accepted 3 of 23 judged``, or ``; no candidate accepted ...`` where its
+    labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed neither
+    until the report. ``""`` where the run has no rows."""
     from shaped_es.guides.label_budget import never_accepted, rows_summary
 
     try:
@@ -266,7 +267,7 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
         out = f", test {float(last):.2f}" if last not in (None, "") else ""
     except (TypeError, ValueError):
         out = ""
-    out += _reached(cfg, rows, threshold)
+    out += _reached(cfg, root, threshold) if rows else ""
     summary = rows_summary(rows)
     never = never_accepted(summary, METHODS[cfg.method].base, short=True)
     if never:
@@ -276,23 +277,18 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     return out
 
 
-def _reached(cfg: RunConfig, rows: list[dict], threshold: float | None) -> str:
-    """``, 8.5 reached at generation 4`` (generations done, as ``train``'s line counts them), or ``""``: the
-    threshold ``benchmark`` and ``report`` use (``threshold``, else the env's), where a row's test reward met it."""
-    from shaped_es.benchmark.summary import threshold_of
+def _reached(cfg: RunConfig, root: Path, threshold: float | None) -> str:
+    """``, 8.5 reached at generation 4`` (generations done: ``summary.first_reach``, as ``train``'s final JSON
+    counts them), or ``""``: the threshold ``benchmark`` and ``report`` use (``threshold``, else the env's)."""
+    from shaped_es.benchmark.summary import first_reach, threshold_of
+    from shaped_es.report.plots import load_metrics
 
-    if not rows:
-        return ""
     if threshold is None:
         found = threshold_of(cfg.env, cfg.env_kwargs)
         threshold = found[0] if found else None
-    for r in rows if threshold is not None else []:
-        try:
-            if float(r.get("test_reward_mean", "")) >= threshold:
-                return f", {threshold:g} reached at generation {int(r['generation']) + 1}"
-        except (TypeError, ValueError, KeyError):
-            continue
-    return ""
+    metrics = load_metrics(root) if threshold is not None else None
+    hit = first_reach(metrics, threshold) if metrics else None
+    return f", {threshold:g} reached at generation {hit['generations']:.0f}" if hit else ""
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,

@@ -3,9 +3,9 @@ the habit of Stable-Baselines3's ``check_env``).
 
 :func:`check_env` makes the env and runs a few episodes of random actions, reporting one :class:`Check`
 per requirement: Gymnasium's own API checker (a warning at most: training needs only what the checks
-below test), the spaces the policy needs (a flat ``Box`` observation, or one Gymnasium flattens into it, a ``Dict`` say; a
-flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is rescaled to, or
-``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
+below test), the spaces the policy needs (a flat ``Box`` observation, or a space Gymnasium flattens into
+one, a ``Dict`` say; a flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is
+rescaled to, or ``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
 the members of a generation face the same episodes), finiteness and fixed shapes of observations and
 rewards (a run stops at the first that is not), a time limit (PPO's budget needs one; without it an
 episode that never ends never returns), the success threshold ``benchmark`` uses (optional), and the
@@ -123,7 +123,8 @@ def _spaces(env: gym.Env) -> Check:
 
 
 def _order(space: gym.Space) -> str:
-    """``: keys a, b, c in that order`` of a Dict space (gymnasium.spaces.flatten's order), else ``""``."""
+    """``: a (2), b (4), in that order``: a Dict space's keys and sizes in gymnasium.spaces.flatten's order,
+    else ``""``."""
     if isinstance(space, gym.spaces.Dict):
         return ": " + ", ".join(f"{k} ({gym.spaces.flatdim(v)})" for k, v in space.spaces.items()) + ", in that order"
     return ""

@@ -300,7 +300,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     """Run the probe (module docstring) and return what it chose; its recorded rollouts (the data and the
     simulated candidates) run on ``executor``'s workers if given, the label-driven episodes here."""
     t0 = time.perf_counter()
-    x0 = spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
+    x0 = seeding.initial_mean(spec, cfg.seed)
     data, steps = collect(cfg, spec, x0, executor)
     seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
     vs = variants(cfg.shaping.inverse_dynamics.query_clip)

@@ -119,8 +119,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
-        self.probe_candidate = None  # the probe's best simulated candidate (n,), judged at generation 0
-        self._probe_res = None  # the probe's result where it kept that candidate (generation 0's line)
+        self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor)
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
@@ -129,7 +128,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             self.startup = (res.env_steps, res.seconds)
             probe_res = res if fresh else None
             shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
-            self.probe_candidate = res.candidate_params  # guides/probe_candidate.py
             self._probe_res = res
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
@@ -193,6 +191,11 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         if not self.sh.diagnose_returns:
             keys = tuple(k for k in keys if k not in DIAGNOSE_KEYS)
         return tuple(dict.fromkeys(keys))
+
+    @property
+    def probe_candidate(self) -> np.ndarray | None:
+        """The label probe's best simulated candidate ``(n,)``, judged beside generation 0 (None: none kept)."""
+        return None if self._probe_res is None else self._probe_res.candidate_params
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         """Which members' steps the rollouts keep (the mechanism's choice; every babbler),
@@ -296,7 +299,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             self._remember(generation, [])
             self._trim_cache(generation)
             return out
-        if not self.labels.ready and not getattr(self.mechanism, "probe_rows", False):  # M_phi has no data kept
+        if not self.labels.ready and not self.mechanism.probe_rows:  # M_phi has no data kept
             # yet and no probe candidate to judge (generation 0): this generation stays Vanilla-ES
             self._warn_untrained(generation)
             self._trim_cache(generation)
@@ -324,7 +327,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
                                              strategy, map_tasks, judged=judged))
         out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
-        if getattr(self.mechanism, "free_judgement", False) and self._probe_res is not None:
+        if self.mechanism.free_judgement:
             won = bool(out.get("candidate_accepted"))
             print(f"shaped-es: {self.run_name}: generation 0: {candidate_line(self._probe_res, won)}",
                   file=sys.stderr)
@@ -348,7 +351,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         (:meth:`_sleep`, once the mechanism's work is done)."""
         if out.get("candidate_accepted") is None:
             return False
-        if not out["candidate_accepted"] and getattr(self.mechanism, "free_judgement", False):
+        if not out["candidate_accepted"] and self.mechanism.free_judgement:
             return False  # the probe's candidate lost at generation 0: not held against the labels
         f = np.asarray(fitness, np.float64)  # (P,)
         return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), float(f.mean()),

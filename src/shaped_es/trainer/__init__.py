@@ -108,7 +108,7 @@ class Trainer(CheckpointState, Rows, RunLoop):
         probe = probe or probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
         self.spec = policy_spec(cfg, probe)
         warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
-        x0 = self.spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
+        x0 = seeding.initial_mean(self.spec, cfg.seed)
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store, probe, self.executor)
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()

@@ -39,6 +39,8 @@ class Mechanism:
     name = ""
     metric_keys: tuple[str, ...] = ()  # the metrics columns its after_tell fills
     extra_episodes = 0  # episodes its extra members run beyond the population's (after the common ones)
+    probe_rows = False  # its extras are the label probe's candidate and the initial mean (generation 0)
+    free_judgement = False  # its last judgement was that candidate's: a loss not held against the labels
 
     def __init__(self, host):
         self.host = host  # the ShapedGuide: cfg, spec, settings, data, labels, M_phi

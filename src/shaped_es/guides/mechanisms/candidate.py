@@ -125,11 +125,9 @@ class MeanCandidate(Mechanism):
         if self.cfg.revert_margin > 0:
             self.metric_keys = self.metric_keys + (REVERT_METRIC,)
         # the label probe's best simulated candidate, judged beside generation 0 (guides/probe_candidate.py)
-        self.probe_rows = False  # the extras are that candidate and the initial mean (until generation 0 is judged)
-        self.free_judgement = False  # this generation's judgement is the probe candidate's (a loss not counted)
         first = getattr(host, "probe_candidate", None)
         if first is not None and self.cfg.probe_candidate:
-            x0 = host.spec.init(seeding.derive_seed(host.cfg.seed, seeding.INIT))  # the trainer's initial mean
+            x0 = seeding.initial_mean(host.spec, host.cfg.seed)  # the trainer's initial mean
             self.extras = np.stack([first, x0]).astype(np.float32)  # (2, n): the candidate, the mean
             self.probe_rows = True
 
