@@ -11,9 +11,10 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es import seeding
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
-from shaped_es.guides import label_probe
+from shaped_es.guides import label_probe, probe_file
 from shaped_es.guides.label_check import horizon_text, probe_line
-from shaped_es.guides.label_probe import FILE, ProbeResult, choose, query, variants
+from shaped_es.guides.label_probe import ProbeResult, choose, query, variants
+from shaped_es.guides.probe_file import FILE
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
@@ -258,10 +259,10 @@ def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
 
 
 def test_a_saved_probe_parses():
-    assert label_probe.parse(json.dumps(GOOD).encode()).frame == "both"
-    assert label_probe.parse(json.dumps(GOOD).encode()).shoot_on is None  # a probe from before the gate
-    assert label_probe.parse(json.dumps({**GOOD, "shoot": [1.0], "shoot_on": False}).encode()).shoot_on is False
-    assert label_probe.parse(json.dumps(GOOD).encode()).shoot_horizon is None  # before the horizon's choice
+    assert probe_file.parse(json.dumps(GOOD).encode()).frame == "both"
+    assert probe_file.parse(json.dumps(GOOD).encode()).shoot_on is None  # a probe from before the gate
+    assert probe_file.parse(json.dumps({**GOOD, "shoot": [1.0], "shoot_on": False}).encode()).shoot_on is False
+    assert probe_file.parse(json.dumps(GOOD).encode()).shoot_horizon is None  # before the horizon's choice
 
 
 def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monkeypatch):

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from shaped_es.config import ConfigError, build_config
-from shaped_es.guides import label_probe, probe_candidate
+from shaped_es.guides import probe_candidate, probe_file
 from shaped_es.rundir.store import RunStore
 from tests.helpers import train
 
@@ -73,7 +73,7 @@ def test_a_run_saved_before_the_setting_reads_it_as_off(tmp_path):
     assert "probe_candidate: true" in text
     store.config_path.write_text(text.replace("    probe_candidate: true\n", ""))
     assert store.read_config().shaping.mean_clone.probe_candidate is False
-    assert label_probe.FILE == "label_probe.json"  # the candidate's file sits beside it
+    assert probe_file.FILE == "label_probe.json"  # the candidate's file sits beside it
 
 
 class _Host:  # a stub shaped guide: the probe's candidate, no labels trained yet (generation 0)

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from shaped_es.guides.label_probe import parse
+from shaped_es.guides.probe_file import parse
 
 VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base"}
 GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran

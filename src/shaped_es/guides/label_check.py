@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import (EPISODES, FILE, ProbeResult, beats, clip_text, paired, probe, variant_name,
+from shaped_es.guides.label_probe import (EPISODES, ProbeResult, beats, clip_text, paired, probe, variant_name,
                                          variant_text)
+from shaped_es.guides.probe_file import FILE
 
 
 def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> str:

@@ -53,28 +53,25 @@ on the suite and two held-out bodies). The probe is seeded by the run's seed, ta
 envs once the shaping kernels are compiled (the first run after an install compiles them: a few seconds
 more; SciPy's statistics, ~0.8 s to import, load with this module, before the clock), and its env steps and wall time
 are counted in the run's totals (``env_steps``, ``wall_time_s``) from the first generation on. Its result
-is kept in ``RUN/label_probe.json`` so a resumed run reuses it. ``shaped-es check-env ID --labels`` runs
-it for any env.
+is kept in ``RUN/label_probe.json`` (``probe_file.py``) so a resumed run reuses it. ``shaped-es check-env ID
+--labels`` runs it for any env.
 
 Written by hand: no library drives an env with an inverse-dynamics model's labels.
 """
 
 from __future__ import annotations
 
-import json
 import time
-from dataclasses import asdict, dataclass, field, fields, replace
-from pathlib import Path
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.stats import wilcoxon  # at import, with the guide (~0.8 s): a start-up cost, not the probe's work
 
 from shaped_es import seeding
-from shaped_es.config import ConfigError, RunConfig
+from shaped_es.config import RunConfig
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, to_space
-from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
 from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, roll_out, shoot_labels
@@ -91,7 +88,6 @@ CLONE_P = 0.05  # a simulated candidate beats another at this one-sided signed-r
 MIN_SHARE = 0.05  # ... and by this share of the spread of the probe's returns
 CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
-FILE = "label_probe.json"
 
 
 @dataclass
@@ -354,54 +350,3 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
                        *(top if top is not None else (None, None)))
-
-
-def parse(raw: bytes) -> ProbeResult:
-    """A saved probe, checked field by field (``ValueError`` naming the first bad one)."""
-    d = json.loads(raw.decode())
-    if not isinstance(d, dict):
-        raise ValueError("not a JSON object")
-    known = {f.name for f in fields(ProbeResult)} - {"candidate_params"}
-    if set(d) - known or {"frame", "query_clip", "returns", "env_steps", "seconds", "reason"} - set(d):
-        raise ValueError(f"fields {sorted(d)}")
-    clip, steps = d["query_clip"], d["env_steps"]
-    checks = [
-        (d["frame"] in ("both", "world"), "frame"),
-        (clip is None or (isinstance(clip, (int, float)) and not isinstance(clip, bool) and clip > 0), "query_clip"),
-        (isinstance(d["returns"], dict) and all(isinstance(v, list) for v in d["returns"].values()), "returns"),
-        (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 0, "env_steps"),
-        (isinstance(d["seconds"], (int, float)) and isinstance(d["reason"], str), "seconds/reason"),
-        (isinstance(d.get("zero_action", []), list), "zero_action"),
-        (isinstance(d.get("clones", {}), dict) and all(isinstance(v, list) for v in d.get("clones", {}).values()),
-         "clones"),
-        (isinstance(d.get("shoot", []), list), "shoot"),
-        (d.get("shoot_on") is None or isinstance(d.get("shoot_on"), bool), "shoot_on"),
-        (d.get("shoot_horizon") is None or (type(d.get("shoot_horizon")) is int and 1 <= d["shoot_horizon"] <= 64),
-         "shoot_horizon"),
-        (isinstance(d.get("shoot_tried", {}), dict)
-         and all(isinstance(v, list) for v in d.get("shoot_tried", {}).values()), "shoot_tried"),
-        (d.get("candidate") is None or isinstance(d.get("candidate"), str), "candidate"),
-    ]
-    bad = next((name for ok, name in checks if not ok), None)
-    if bad is not None:
-        raise ValueError(f"bad {bad}")
-    return ProbeResult(**d)
-
-
-def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
-                  mphi_cfg: InverseDynamicsConfig, executor=None) -> tuple[ProbeResult, bool]:
-    """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path``."""
-    if path.exists() or path.is_symlink():
-        try:
-            res = parse(read_regular(path))
-        except (ValueError, TypeError, UnicodeDecodeError, OSError, StoreError) as exc:
-            raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to probe "
-                              f"again (the new probe's env steps then count in the next generation)") from None
-        if res.candidate is not None:  # kept beside it; a probe from before has none
-            res.candidate_params = probe_candidate.load(path.with_name(probe_candidate.FILE), spec.num_params)
-        return res, False
-    res = probe(cfg, spec, pos_dim, mphi_cfg, executor)
-    if res.candidate_params is not None:  # first: a probe file on disk always has its candidate beside it
-        probe_candidate.save(path.with_name(probe_candidate.FILE), res.candidate_params)
-    atomic_write_text(path, json.dumps({k: v for k, v in asdict(res).items() if k != "candidate_params"}, indent=1))
-    return res, True

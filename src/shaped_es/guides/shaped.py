@@ -81,7 +81,7 @@ from shaped_es.shaping.trajectories import delete_generations, run_root, write_s
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_check import candidate_line, probe_line
-from shaped_es.guides.label_probe import FILE as PROBE_FILE, load_or_probe
+from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions

@@ -1,0 +1,69 @@
+"""The label probe's result on disk: ``RUN/label_probe.json`` (``label_probe.ProbeResult``, checked field by
+field when read) and its best simulated candidate beside it (``probe_candidate.FILE``), so a resumed run (or
+one restarted in generation 0) reuses the probe instead of probing again."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, fields
+from pathlib import Path
+
+from shaped_es.config import ConfigError, RunConfig
+from shaped_es.guides import probe_candidate
+from shaped_es.guides.label_probe import ProbeResult, probe
+from shaped_es.policies import MLPSpec
+from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
+from shaped_es.shaping.settings import InverseDynamicsConfig
+
+FILE = "label_probe.json"
+
+
+def parse(raw: bytes) -> ProbeResult:
+    """A saved probe, checked field by field (``ValueError`` naming the first bad one)."""
+    d = json.loads(raw.decode())
+    if not isinstance(d, dict):
+        raise ValueError("not a JSON object")
+    known = {f.name for f in fields(ProbeResult)} - {"candidate_params"}
+    if set(d) - known or {"frame", "query_clip", "returns", "env_steps", "seconds", "reason"} - set(d):
+        raise ValueError(f"fields {sorted(d)}")
+    clip, steps = d["query_clip"], d["env_steps"]
+    checks = [
+        (d["frame"] in ("both", "world"), "frame"),
+        (clip is None or (isinstance(clip, (int, float)) and not isinstance(clip, bool) and clip > 0), "query_clip"),
+        (isinstance(d["returns"], dict) and all(isinstance(v, list) for v in d["returns"].values()), "returns"),
+        (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 0, "env_steps"),
+        (isinstance(d["seconds"], (int, float)) and isinstance(d["reason"], str), "seconds/reason"),
+        (isinstance(d.get("zero_action", []), list), "zero_action"),
+        (isinstance(d.get("clones", {}), dict) and all(isinstance(v, list) for v in d.get("clones", {}).values()),
+         "clones"),
+        (isinstance(d.get("shoot", []), list), "shoot"),
+        (d.get("shoot_on") is None or isinstance(d.get("shoot_on"), bool), "shoot_on"),
+        (d.get("shoot_horizon") is None or (type(d.get("shoot_horizon")) is int and 1 <= d["shoot_horizon"] <= 64),
+         "shoot_horizon"),
+        (isinstance(d.get("shoot_tried", {}), dict)
+         and all(isinstance(v, list) for v in d.get("shoot_tried", {}).values()), "shoot_tried"),
+        (d.get("candidate") is None or isinstance(d.get("candidate"), str), "candidate"),
+    ]
+    bad = next((name for ok, name in checks if not ok), None)
+    if bad is not None:
+        raise ValueError(f"bad {bad}")
+    return ProbeResult(**d)
+
+
+def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
+                  mphi_cfg: InverseDynamicsConfig, executor=None) -> tuple[ProbeResult, bool]:
+    """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path``."""
+    if path.exists() or path.is_symlink():
+        try:
+            res = parse(read_regular(path))
+        except (ValueError, TypeError, UnicodeDecodeError, OSError, StoreError) as exc:
+            raise ConfigError(f"{path} is not a label probe this version wrote ({exc}); move it away to probe "
+                              f"again (the new probe's env steps then count in the next generation)") from None
+        if res.candidate is not None:  # kept beside it; a probe from before has none
+            res.candidate_params = probe_candidate.load(path.with_name(probe_candidate.FILE), spec.num_params)
+        return res, False
+    res = probe(cfg, spec, pos_dim, mphi_cfg, executor)
+    if res.candidate_params is not None:  # first: a probe file on disk always has its candidate beside it
+        probe_candidate.save(path.with_name(probe_candidate.FILE), res.candidate_params)
+    atomic_write_text(path, json.dumps({k: v for k, v in asdict(res).items() if k != "candidate_params"}, indent=1))
+    return res, True
