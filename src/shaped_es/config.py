@@ -139,6 +139,13 @@ class InverseDynamicsSettings(_Strict):
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "
         "the frame's choice): a body whose action shows in its position only after many steps (a drone's tilt "
         "rate) needs a longer look; (): shoot_horizon only")
+    probe_chunk: Int = Field(
+        4, ge=0, le=64, description="with frame auto and targets one_step, the label probe also trains M_phi on "
+        "chunk targets of this many steps (p_{t+k} - p_t labelled with the mean action over them) and simulates "
+        "each frame's and query_clip's candidate with them; the run takes them where such a candidate clearly "
+        "beats the default's (signed-rank, as the frame's choice): a body whose action shows in its position "
+        "only a step later (a differential drive's turn rate) has no one-step label for it "
+        "(docs/benchmarks/probe_chunk_v15); 0: one-step targets only")
     shoot_keep_base: bool = Field(
         False, description="where the label probe chose a longer shooting horizon and shoot_horizon's simulated "
         "candidate also beat zero action, the shooting labels at shoot_horizon run beside it as one more rival "

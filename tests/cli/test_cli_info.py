@@ -136,7 +136,9 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
     assert max(len(ln) for ln in lines[-4:]) < 300  # one fact a line
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
-    assert set(out["labels"]["returns"]) == {"both", "both+clip2", "world", "world+clip2"}
+    assert set(out["labels"]["returns"]) == {f"{f}{k}{c}" for f in ("both", "world") for k in ("", "+chunk4")
+                                             for c in ("", "+clip2")}  # one-step and chunk targets
+    assert "chunk" in out["labels"]["chosen"]
     assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
     assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0 and out["labels"]["seed"] == 0
     assert len(out["labels"]["shoot"]) == 10 and out["labels"]["shoot_on"] is True  # the point: kept

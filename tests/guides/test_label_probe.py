@@ -13,7 +13,7 @@ from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe, probe_file
 from shaped_es.guides.label_check import horizon_text, probe_line
-from shaped_es.guides.label_probe import ProbeResult, choose, query, variants
+from shaped_es.guides.label_probe import ProbeResult, choose, query, variant_name, variant_text, variants
 from shaped_es.guides.probe_file import FILE
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
@@ -156,8 +156,17 @@ def test_the_simulated_candidate_learns_from_good_labels():
 
 
 def test_variants_keep_a_clip_the_user_set():
-    assert variants(None) == [("both", None), ("both", 2.0), ("world", None), ("world", 2.0)]
-    assert variants(3.0) == [("both", 3.0), ("world", 3.0)]
+    assert variants(None) == [("both", None, None), ("both", 2.0, None), ("world", None, None), ("world", 2.0, None)]
+    assert variants(3.0) == [("both", 3.0, None), ("world", 3.0, None)]
+
+
+def test_chunk_variants_follow_the_one_step_ones_and_name_their_settings():
+    vs = variants(None, 4)
+    assert vs[:4] == variants(None) and vs[4:] == [(f, c, 4) for f in ("both", "world") for c in (None, 2.0)]
+    assert [variant_name(*v) for v in vs[4:]] == ["both+chunk4", "both+chunk4+clip2", "world+chunk4",
+                                                  "world+chunk4+clip2"]
+    assert variant_text("both+chunk4+clip2") == "frame=both, targets=chunk (4 steps), query_clip=2"
+    assert variant_text("world") == "frame=world, query_clip=none"
 
 
 def _episode(rng, T=6, d=2) -> Transitions:
@@ -203,14 +212,15 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     shoot = f", shooting ({res.shoot_horizon} steps)" if res.shoot_on else ""
     assert f"; rivals: waypoint frame, servo{shoot}; " in line and len(line) <= LINE_MAX
     assert ("; shooting rival dropped" in line) == (not res.shoot_on)
-    name = label_probe.variant_name(res.frame, res.query_clip)
+    name = label_probe.variant_name(res.frame, res.query_clip, res.chunk)
     own, zero = np.mean(res.clones[name]), np.mean(res.zero_action)
     assert f"candidate {own:.2f} vs zero action {zero:.2f}" in line
     assert line.endswith(f"; see {FILE}, shaped-es check-env PointVel-v0 --labels")
     assert len(res.shoot) == len(res.zero_action)
     assert ("shoot_gain" in full[0]) == res.shoot_on
     assert res.frame in ("both", "world") and res.env_steps > 0
-    assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2"}
+    assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2", "both+chunk4", "both+chunk4+clip2",
+                                "world+chunk4", "world+chunk4+clip2"}  # one-step and 4-step chunk targets
     # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
     assert int(full[0]["env_steps"]) > res.env_steps
     # killed after generation 1, or in generation 0 (the probe on file, no checkpoint yet), resumed: the
@@ -244,6 +254,7 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "shoot_horizon": True}),
                                   json.dumps({**GOOD, "shoot_horizon": "8"}),
                                   json.dumps({**GOOD, "shoot_horizon": 65}), json.dumps({**GOOD, "shoot_tried": [1.0]}),
+                                  json.dumps({**GOOD, "chunk": 0}), json.dumps({**GOOD, "chunk": "4"}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
@@ -318,6 +329,63 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))
     assert [h for h, _ in seen] == [8] and res.shoot_horizon == 8 and res.shoot_tried == {}
+
+
+def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
+    """A chunk variant that beats both's clearly is taken where its simulated candidate is also the best of every
+    variant's and shooting horizon's; where a shooting candidate drove better (the kart), the one-step variants
+    are chosen among as if no chunk variant had been probed."""
+    from shaped_es.guides.label_probe import choose_targets
+
+    def eps(m):
+        return np.array([m + 0.01 * k for k in range(10)])
+    returns = {k: eps(1.0) for k in ("both", "world", "both+chunk4")}
+    clones = {"both": eps(0.0), "world": eps(2.0), "both+chunk4": eps(4.0)}
+    zero = eps(0.5)
+    assert choose_targets(returns, "both", zero, clones, "both+chunk4")[0] == "both+chunk4"
+    assert choose_targets(returns, "both", zero, clones, "shoot:8")[0] == "world"  # as without chunk variants
+    one = {k: v for k, v in clones.items() if "chunk" not in k}
+    assert choose_targets(returns, "both", zero, clones, "shoot:8") == choose(
+        {k: v for k, v in returns.items() if "chunk" not in k}, "both", zero, one)
+
+
+def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
+    """Offering chunk targets adds variants and changes nothing else the probe measures: the one-step variants'
+    and the shooting horizons' simulated candidates keep their seed streams (their returns to the last digit),
+    so a run whose probe chooses as before trains as before."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.shaped_setup import mphi_config
+    from shaped_es.rollout import policy_spec, probe_env
+
+    runs = {}
+    for k in (0, 4):
+        cfg = build_config({**POINT, "shaping": {"inverse_dynamics": {"probe_chunk": k}}})
+        spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+        runs[k] = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
+    off, on = runs[0], runs[4]
+    assert set(on.clones) - set(off.clones) == {"both+chunk4", "both+chunk4+clip2", "world+chunk4",
+                                                  "world+chunk4+clip2"}
+    assert all(on.clones[k] == v for k, v in off.clones.items()) and on.returns | off.returns == on.returns
+    assert on.shoot_tried == off.shoot_tried and on.zero_action == off.zero_action
+    assert on.chunk in (None, 4) and off.chunk is None and on.env_steps > off.env_steps
+
+
+def test_a_run_trains_m_phi_on_the_chunk_targets_the_probe_chose(tmp_path, capsys):
+    """The probe file's chunk is the run's M_phi's targets (a resume reads the same file) and the run's line
+    names them; its rivals' models keep their own targets."""
+    cfg, store = new_run(tmp_path / "run", POINT)
+    saved = {**GOOD, "returns": {"both": [1.0], "both+chunk4+clip2": [2.0]}, "frame": "both", "query_clip": 2.0,
+             "chunk": 4}
+    (tmp_path / "run" / FILE).write_text(json.dumps(saved))
+    guide = Trainer(cfg, store, progress=False).guide
+    assert (guide.mphi_cfg.targets, guide.mphi_cfg.horizon, guide.query_clip) == ("chunk", 4, 2.0)
+    assert probe_file.parse(json.dumps(saved).encode()).chunk == 4
+    line = probe_line(probe_file.parse(json.dumps({**saved, "reason": "its simulated candidate ..."}).encode()))
+    assert line.startswith("labels: frame=both, targets=chunk (4 steps), query_clip=2 (beat the default, "
+                           "targets=one_step, query_clip=none)")
+    off, store = new_run(tmp_path / "off", {**POINT, "shaping": {"inverse_dynamics": {"probe_chunk": 0}}})
+    (tmp_path / "off" / FILE).write_text(json.dumps({**GOOD, "returns": {"both": [1.0]}}))
+    assert Trainer(off, store, progress=False).guide.mphi_cfg.targets == "one_step"  # a probe from before
 
 
 def test_a_run_holds_the_shooting_labels_for_the_probes_horizon(tmp_path):

@@ -58,16 +58,17 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
 
 
 def probe_choices(dirs: list[Path]) -> dict | None:
-    """What each run's label probe chose (``RUN/label_probe.json``): runs per frame, and runs per shooting
-    horizon (``"dropped"``: the probe dropped the shooting rival; ``"config"``: it was not probed). None when
-    no run has a readable probe (a method without one, or runs from before it)."""
+    """What each run's label probe chose (``RUN/label_probe.json``): runs per frame (and M_phi's targets where
+    they are chunks), and runs per shooting horizon (``"dropped"``: the probe dropped the shooting rival;
+    ``"config"``: it was not probed). None when no run has a readable probe (a method without one, or runs from
+    before it)."""
     frames, shoot = Counter(), Counter()
     for d in dirs:
         try:
             res = parse((Path(d) / "label_probe.json").read_bytes())
         except (OSError, ValueError, TypeError, UnicodeDecodeError):
             continue
-        frames[res.frame] += 1
+        frames[res.frame if res.chunk is None else f"{res.frame}, chunk targets"] += 1
         shoot["dropped" if res.shoot_on is False else "config" if res.shoot_horizon is None
               else f"{res.shoot_horizon} steps"] += 1
     return {"frame": dict(frames), "shoot": dict(shoot)} if frames else None

@@ -298,7 +298,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
                     print(f"labels: the simulated candidate's return (the initial mean cloned toward each "
                           f"variant's labels): {means}")
                 c = labels["chosen"]
-                print(f"labels: with seed {labels['seed']} a shaped run picks frame={c['frame']}, query_clip="
+                chunk = f", targets=chunk ({c['chunk']} steps)" if c.get("chunk") else ""
+                print(f"labels: with seed {labels['seed']} a shaped run picks frame={c['frame']}{chunk}, query_clip="
                       f"{clip_text(c['query_clip'])}: {c['reason']}; each run probes with its own seed")
             for line in labels.get("details", []):
                 print(f"labels: {line}")

@@ -14,10 +14,11 @@ from shaped_es.guides.probe_file import FILE
 def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> str:
     """The run's one line on the probe ``res`` (every number: label_probe.json; tables: ``check-env --labels``);
     ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
-    name, h = variant_name(res.frame, res.query_clip), res.shoot_horizon
+    name, h = variant_name(res.frame, res.query_clip, res.chunk), res.shoot_horizon
     default = next(iter(res.returns), name)
     d_frame, _, d_clip = default.partition("+clip")
     differs = ", ".join(([f"frame={d_frame}"] if d_frame != res.frame else [])  # the default, by what differs
+                        + (["targets=one_step"] if res.chunk else [])
                         + ([f"query_clip={d_clip or 'none'}"] if d_clip != (clip_text(res.query_clip)
                                                                          if res.query_clip else "") else []))
     why = ("the default choice" if name == default else f"beat the default, {differs}"
@@ -33,7 +34,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
     lost = "" if res.shoot_on else ", not above zero action"
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
-    return (f"labels: frame={res.frame}, query_clip={clip_text(res.query_clip)} ({why}){score}{shoot}"
+    return (f"labels: {variant_text(name)} ({why}){score}{shoot}"
             + (f"; rivals: {', '.join(rivals)}" if rivals else "")
             + f"; see {FILE}, shaped-es check-env {env} --labels")
 
@@ -76,7 +77,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
                 "verdict": "a 1-D waypoint space: M_phi uses the world frame (nothing to choose)"}
     res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
-    best = variant_name(res.frame, res.query_clip)
+    best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
     kept = "; the shooting rival drives above it, and a run keeps it"  # then the labels' own verdict matters less
     if gain > 2 * se:
@@ -103,7 +104,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")
-    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "reason": res.reason},
+    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
             "env_steps": res.env_steps, "seconds": res.seconds, "details": details,

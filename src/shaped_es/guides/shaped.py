@@ -122,7 +122,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor)
-            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame)
+            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame, **(
+                {} if res.chunk is None else {"targets": "chunk", "horizon": res.chunk}))  # the probe's M_phi
             self.query_clip = res.query_clip
             # counted in generation 0's row, also by a run that restarts it with the probe on file
             self.startup = (res.env_steps, res.seconds)

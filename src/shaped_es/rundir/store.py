@@ -66,7 +66,8 @@ _START_LEFTOVERS = re.compile(rf"{re.escape(LOCK_NAME)}|{re.escape(ERROR_LOG)}|r
 # Fields added after runs were saved, whose default differs from what those runs did. A run's config.yaml
 # lists every field, so one without such a field ran the old way: it is read (resumed, reported) as that.
 SAVED_BEFORE = {("rollout", "test_policy"): "best",  # the tested policy before rollout.test_policy existed
-                ("shaping", "mean_clone", "probe_candidate"): False}  # no generation-0 candidate before it
+                ("shaping", "mean_clone", "probe_candidate"): False,  # no generation-0 candidate before it
+                ("shaping", "inverse_dynamics", "probe_chunk"): 0}  # the probe tried one-step targets only
 
 
 class RunStore(CheckpointFiles, Recovery):
