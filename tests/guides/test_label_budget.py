@@ -70,6 +70,12 @@ def test_the_back_off_note_is_one_short_line():
                            "--method vanilla / cmaes")
     assert without == with_oracle.replace("--set shaping.labels=controller, ", "")
     assert len(with_oracle) <= NOTE_MAX and len(without) <= 250
+    once = LabelBudget(patience=8, max_sleep=32)  # a new user's car: its one win (generation 0) solved the task
+    for accepted in [True] + [False] * 8:
+        once.judge(accepted, 0.0)
+    note = once.note("CarNav-v0", True)
+    assert "(won 1 of 9)" in note and "; if it stalls, try shaped-es check-env" in note
+    assert len(note) <= NOTE_MAX
     won = LabelBudget(patience=8, max_sleep=32, keep_rate=0.2)
     for accepted in [False] * 3 + [True, True] + [False] * 8:
         won.judge(accepted, 0.0)

@@ -345,8 +345,12 @@ def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
     assert choose_targets(returns, "both", zero, clones, "both+chunk4")[0] == "both+chunk4"
     assert choose_targets(returns, "both", zero, clones, "shoot:8")[0] == "world"  # as without chunk variants
     one = {k: v for k, v in clones.items() if "chunk" not in k}
-    assert choose_targets(returns, "both", zero, clones, "shoot:8") == choose(
-        {k: v for k, v in returns.items() if "chunk" not in k}, "both", zero, one)
+    name, why = choose_targets(returns, "both", zero, clones, "shoot:8")
+    alone = choose({k: v for k, v in returns.items() if "chunk" not in k}, "both", zero, one)
+    assert name == alone[0] and why.startswith(alone[1])
+    assert "both+chunk4's simulated candidate beat the default's clearly too" in why  # says why it was passed over
+    assert "the shooting labels' (8 steps)" in why
+    assert "here world's" in choose_targets(returns, "both", zero, clones, "world")[1]
 
 
 def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():

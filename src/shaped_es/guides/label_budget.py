@@ -152,7 +152,9 @@ class LabelBudget:
                 f"shaping_awake)")
         if self.accepted >= KEEP_MIN_WINS:  # they paid before (one win can be luck): the search outpaced them
             return head + "; they paid before: the search may now outpace them, and shaping retries after the sleep"
-        return head + f"; try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes"
+        # one win (often the generation-0 candidate's) can be the run's making or luck: the advice is conditional
+        once = "if it stalls, " if self.accepted else ""  # (won 1 of N) says the rest
+        return head + f"; {once}try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes"
 
     def summary(self) -> dict:
         """What shaping did so far (the final JSON's ``shaping``, with ``accepted_then_fell``, is

@@ -321,8 +321,12 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
     name, reason = choose(returns, incumbent, zero, clones)
     if "+chunk" not in name or (best is not None and "+chunk" in best):
         return name, reason
-    return choose({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
-                  {k: v for k, v in clones.items() if "+chunk" not in k})
+    one, why = choose({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
+                      {k: v for k, v in clones.items() if "+chunk" not in k})
+    top = ("" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)" if best.startswith("shoot:")
+           else f", here {best}'s")
+    return one, (f"{why}; {name}'s simulated candidate beat the default's clearly too, but chunk targets stand only "
+                 f"where their candidate is the best of all{top}")
 
 
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
