@@ -143,7 +143,8 @@ class InverseDynamicsSettings(_Strict):
         4, ge=0, le=64, description="with frame auto and targets one_step, the label probe also trains M_phi on "
         "chunk targets of this many steps (p_{t+k} - p_t labelled with the mean action over them) and simulates "
         "each frame's and query_clip's candidate with them; the run takes them where such a candidate clearly "
-        "beats the default's (signed-rank, as the frame's choice): a body whose action shows in its position "
+        "beats the default's (signed-rank, as the frame's choice), is the best the probe simulated, and the "
+        "one-step labels do not drive the body better than its labels: a body whose action shows in its position "
         "only a step later (a differential drive's turn rate) has no one-step label for it "
         "(docs/benchmarks/probe_chunk_v15); 0: one-step targets only")
     shoot_keep_base: bool = Field(

@@ -351,6 +351,13 @@ def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
     assert "both+chunk4's simulated candidate beat the default's clearly too" in why  # says why it was passed over
     assert "the shooting labels' (8 steps)" in why
     assert "here world's" in choose_targets(returns, "both", zero, clones, "world")[1]
+    # UR5Reach-v0's seeds 0 and 1: the chunk candidate is the best of all, but the one-step labels drive the arm
+    # clearly better than the chunk labels: the one-step displacement shows the action, so one-step targets stay
+    drive = {**returns, "world": eps(3.0)}
+    name, why = choose_targets(drive, "both", zero, clones, "both+chunk4")
+    assert name == "world" and "do not drive the body better (here frame=world, query_clip=none's, by 2.00)" in why
+    near = {**returns, "world": eps(1.2) + 0.5 * (-1.0) ** np.arange(10)}  # better on average, not by 2 SE
+    assert choose_targets(near, "both", zero, clones, "both+chunk4")[0] == "both+chunk4"
 
 
 def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
@@ -372,6 +379,36 @@ def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
     assert all(on.clones[k] == v for k, v in off.clones.items()) and on.returns | off.returns == on.returns
     assert on.shoot_tried == off.shoot_tried and on.zero_action == off.zero_action
     assert on.chunk in (None, 4) and off.chunk is None and on.env_steps > off.env_steps
+    if on.chunk is None:  # passed over: generation 0's candidate is the one chosen without chunk variants too
+        assert on.candidate == off.candidate and np.array_equal(on.candidate_params, off.candidate_params)
+
+
+def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_passed_over(monkeypatch):
+    """UR5Reach-v0's seeds 13 and 16: the chunk clone was the best simulated candidate, the chunk targets were
+    passed over, and the chunk clone was still judged at generation 0 (the runs then differed from the runs
+    without chunk variants); now the candidate is the best of the others."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.shaped_setup import mphi_config
+    from shaped_es.rollout import policy_spec, probe_env
+
+    cfg = build_config(POINT)
+    spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+    real = label_probe.choose_targets
+
+    def passed_over(returns, incumbent, zero, clones, best):  # a chunk clone on top, one-step targets chosen
+        assert best is not None and "+chunk" in best
+        return real({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
+                    {k: v for k, v in clones.items() if "+chunk" not in k}, None)
+    boosted = label_probe.clone_rounds_many
+
+    def chunk_clones_win(*a, **k):  # every chunk variant's simulated candidate drives best
+        sims = boosted(*a, **k)
+        keys = a[6] if len(a) > 6 else k["keys"]
+        return [(r + 100.0, n) if key >= label_probe.CHUNK_KEY else (r, n) for (r, n), key in zip(sims, keys)]
+    monkeypatch.setattr(label_probe, "clone_rounds_many", chunk_clones_win)
+    monkeypatch.setattr(label_probe, "choose_targets", passed_over)
+    res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
+    assert res.chunk is None and res.candidate is not None and "+chunk" not in res.candidate
 
 
 def test_a_run_trains_m_phi_on_the_chunk_targets_the_probe_chose(tmp_path, capsys):

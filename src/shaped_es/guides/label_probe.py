@@ -35,13 +35,15 @@ Each variant is also probed with M_phi trained on chunk targets (``probe_chunk``
 p_t) -> mean(a_t .. a_{t+3})``; ``both+chunk4+clip2``) when the run's targets are one-step. On a differential
 drive whose position moves along the heading it had before the step (``pos += v dt (cos th, sin th)``, then
 ``th += w dt``: how a user writes it), the turn rate never shows in a one-step displacement and a one-step M_phi
-has no label for it. A chunk variant is taken only where the frame's test picks it *and* its simulated
-candidate is the best of every variant's and shooting horizon's: on the kart the chunk variants beat
+has no label for it. A chunk variant is taken only where the frame's test picks it, its simulated candidate
+is the best of every variant's and shooting horizon's, *and* the one-step variant chosen without it does not
+drive the body better with its labels (two paired standard errors): on the kart the chunk variants beat
 ``both``'s clearly while the shooting candidate drove far better, and the runs that took them anyway were
-slower. Measured (``docs/benchmarks/probe_chunk_v15``, 10 seeds): a new user's differential drive from 9.1
-to 6.5 generations (Vanilla-ES 9.7); on the suite they are taken on UR5Reach-v0 (5 seeds), the Reacher (2) and
-the swimmer (2): 9 of 90 seeds). The chunk variants' simulated candidates have seed streams of their own, so every other
-number the probe measures is what it was without them.
+slower; on UR5Reach-v0's seeds 0 and 1 the one-step labels drove the arm clearly better and the runs that took
+chunk targets ended 19-38 return lower. Measured (``docs/benchmarks/probe_chunk_v15``): a new user's
+differential drive, 20 seeds, 8.8 -> 7.3 generations (Vanilla-ES 10.8); on the suite they are taken on
+UR5Reach-v0 (3 seeds), the Reacher (2) and the swimmer (2). The chunk variants' simulated candidates have
+seed streams of their own, so every other number the probe measures is what it was without them.
 
 With ``rival_shoot`` on, the probe also simulates the candidate of the shooting labels
 (``shaping/forward_shoot.py``: the held action whose predicted path passes nearest the waypoint) and keeps
@@ -315,18 +317,29 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
 def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray, clones: dict[str, np.ndarray],
                    best: str | None) -> tuple[str, str]:
     """:func:`choose` over every variant; a chunk variant stands only where it is also ``best``, the simulated
-    candidate with the best mean return of all (every variant's and shooting horizon's), else :func:`choose`
-    over the one-step variants alone (as without chunk variants). On the kart the chunk variants beat
-    ``both``'s clearly, the shooting candidate drove far better, and the runs that took them were slower."""
+    candidate with the best mean return of all (every variant's and shooting horizon's), and where the labels of
+    the one-step variant chosen without it do not drive the body better than its own (by two paired standard
+    errors: there the one-step displacement does show the action); else :func:`choose` over the one-step
+    variants alone (as without chunk variants). On the kart the chunk variants beat ``both``'s clearly, the
+    shooting candidate drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1
+    the one-step labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return
+    lower (docs/benchmarks/probe_chunk_v15)."""
     name, reason = choose(returns, incumbent, zero, clones)
-    if "+chunk" not in name or (best is not None and "+chunk" in best):
+    if "+chunk" not in name:
         return name, reason
     one, why = choose({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
                       {k: v for k, v in clones.items() if "+chunk" not in k})
-    top = ("" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)" if best.startswith("shoot:")
-           else f", here {best}'s")
-    return one, (f"{why}; {name}'s simulated candidate beat the default's clearly too, but chunk targets stand only "
-                 f"where their candidate is the best of all{top}")
+    drives, by = beats(returns[one], returns[name])
+    if best is not None and "+chunk" in best and not drives:
+        return name, reason
+    if best is not None and "+chunk" in best:
+        top = f"where the one-step labels do not drive the body better (here {variant_text(one)}'s, by {by:.2f})"
+    else:
+        top = "where their candidate is the best of all" + (
+            "" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)"
+            if best.startswith("shoot:") else f", here {best}'s")
+    return one, (f"{why}; {name}'s simulated candidate beat the default's clearly too, but chunk targets stand "
+                 f"only {top}")
 
 
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
@@ -383,10 +396,13 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         horizon, shoot = int(best), tried[best]
         shoot_on = beats(np.array(shoot), zero)[0]
     names = [variant_name(*v) for v in vs] + [f"shoot:{h}" for h in horizons]
-    top = probe_candidate.best({**clones, **{f"shoot:{h}": v for h, v in tried.items()}}, dict(zip(names, thetas)))
+    sims_all = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}
+    top = probe_candidate.best(sims_all, dict(zip(names, thetas)))
     name, reason = choose_targets({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
                                   {k: np.array(v) for k, v in clones.items()}, top[0] if top is not None else None)
     frame, clip, chunk = next(v for v in vs if variant_name(*v) == name)
+    if chunk is None:  # chunk targets passed over: generation 0's candidate is chosen as without them too
+        top = probe_candidate.best({k: v for k, v in sims_all.items() if "+chunk" not in k}, dict(zip(names, thetas)))
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
                        *(top if top is not None else (None, None)), chunk)
