@@ -338,7 +338,7 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
         top = "where their candidate is the best of all" + (
             "" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)"
             if best.startswith("shoot:") else f", here {best}'s")
-    return one, (f"{why}; {name}'s simulated candidate beat the default's clearly too, but chunk targets stand "
+    return one, (f"{why}; {name}'s simulated candidate did beat the default's clearly, but chunk targets stand "
                  f"only {top}")
 
 
