@@ -68,7 +68,7 @@ def probe_choices(dirs: list[Path]) -> dict | None:
             res = parse((Path(d) / "label_probe.json").read_bytes())
         except (OSError, ValueError, TypeError, UnicodeDecodeError):
             continue
-        frames[res.frame if res.chunk is None else f"{res.frame}, chunk targets"] += 1
+        frames[res.frame if res.chunk is None else f"{res.frame} with chunk targets"] += 1
         shoot["dropped" if res.shoot_on is False else "config" if res.shoot_horizon is None
               else f"{res.shoot_horizon} steps"] += 1
     return {"frame": dict(frames), "shoot": dict(shoot)} if frames else None
