@@ -385,6 +385,30 @@ def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
         assert on.candidate == off.candidate and np.array_equal(on.candidate_params, off.candidate_params)
 
 
+def test_a_longer_clip_adds_variants_and_leaves_every_other_number_as_it_was():
+    """probe_clip_long (off by default) adds each frame's and targets' variant with that clip; the other
+    variants' labels, simulated candidates and the shooting horizons' keep their numbers to the last digit; a
+    clip the user set, or the default's own, adds none."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.label_probe import long_variants
+    from shaped_es.guides.shaped_setup import mphi_config
+    from shaped_es.rollout import policy_spec, probe_env
+
+    assert long_variants(None, 4.0, 4) == [("both", 4.0, None), ("world", 4.0, None), ("both", 4.0, 4),
+                                           ("world", 4.0, 4)]
+    assert long_variants(2.0, 4.0, 4) == [] and long_variants(None, None, 4) == [] and long_variants(None, 2.0) == []
+    runs = {}
+    for c in (None, 4.0):
+        cfg = build_config({**POINT, "shaping": {"inverse_dynamics": {"probe_chunk": 0, "probe_clip_long": c}}})
+        spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+        runs[c] = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
+    off, on = runs[None], runs[4.0]
+    assert set(on.clones) - set(off.clones) == {"both+clip4", "world+clip4"}
+    assert all(on.clones[k] == v for k, v in off.clones.items()) and on.returns | off.returns == on.returns
+    assert on.shoot_tried == off.shoot_tried and on.zero_action == off.zero_action
+    assert on.query_clip in (None, 2.0, 4.0)
+
+
 def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_passed_over(monkeypatch):
     """UR5Reach-v0's seeds 13 and 16: the chunk clone was the best simulated candidate, the chunk targets were
     passed over, and the chunk clone was still judged at generation 0 (the runs then differed from the runs

@@ -102,6 +102,7 @@ CLONE_P = 0.05  # a simulated candidate beats another at this one-sided signed-r
 MIN_SHARE = 0.05  # ... and by this share of the spread of the probe's returns
 CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
+LONG_KEY = 200  # the probe_clip_long variants' simulated candidates' seed keys (the others' are as without them)
 CHUNK_KEY = 100  # the chunk variants' simulated candidates' seed keys start here (the others' are as before them)
 
 
@@ -159,6 +160,14 @@ def variant_text(name: str) -> str:
     base, _, clip = name.partition("+clip")
     frame, _, chunk = base.partition("+chunk")
     return f"frame={frame}" + (f", targets=chunk ({chunk} steps)" if chunk else "") + f", query_clip={clip or 'none'}"
+
+
+def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0
+                  ) -> list[tuple[str, float | None, int | None]]:
+    """The ``probe_clip_long`` variants, after :func:`variants`' (none where the user set a clip or it is off)."""
+    if user_clip is not None or long_clip is None or long_clip == CLIP:
+        return []
+    return [(f, float(long_clip), k) for k in ([None, chunk] if chunk else [None]) for f in ("both", "world")]
 
 
 def variants(user_clip: float | None, chunk: int = 0) -> list[tuple[str, float | None, int | None]]:
@@ -351,7 +360,9 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     data, steps = collect(cfg, spec, x0, executor)
     seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
     mp = cfg.shaping.inverse_dynamics
-    vs = variants(mp.query_clip, mp.probe_chunk if mphi_cfg.targets == "one_step" else 0)
+    chunk_len = mp.probe_chunk if mphi_cfg.targets == "one_step" else 0
+    base = variants(mp.query_clip, chunk_len)
+    vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len)
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[tuple[str, int | None], tuple[InverseDynamics, float]] = {}
@@ -380,8 +391,9 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     horizons = list(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else []
     shooters = [shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, h) for h in horizons]
     thetas: list[np.ndarray] = []  # each simulated candidate (n,), in the order of sources + shooters
-    one = sum(v[2] is None for v in vs)  # the one-step variants: keys 0.., the shooters' next (as before chunks)
-    keys = [i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(vs)] + list(range(one, one + len(horizons)))
+    one = sum(v[2] is None for v in base)  # the one-step variants: keys 0.., the shooters' next (as before chunks)
+    keys = ([i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(base)]
+            + [LONG_KEY + j for j in range(len(vs) - len(base))] + list(range(one, one + len(horizons))))
     sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, keys, executor, thetas)
     for (frame, clip, chunk), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip, chunk)] = [float(v) for v in r]
