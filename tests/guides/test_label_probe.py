@@ -362,6 +362,26 @@ def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
     assert choose_targets(near, "both", zero, clones, "both+chunk4")[0] == "both+chunk4"
 
 
+def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_drive_better():
+    """The Reacher's seeds 0, 2 and 3: a clip-4 variant won the frame test while the labels chosen without it drove
+    the arm clearly better; the unicycle's clip-4 seeds: they did not. A variant with both extensions must pass
+    both rules."""
+    from shaped_es.guides.label_probe import choose_targets
+
+    def eps(m):
+        return np.array([m + 0.01 * k for k in range(10)])
+    returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0), "both+chunk4+clip4": eps(1.0)}
+    clones = {"both": eps(0.0), "world": eps(0.0), "both+clip4": eps(4.0), "both+chunk4+clip4": eps(2.0)}
+    zero = eps(0.5)
+    assert choose_targets(returns, "both", zero, clones, "both+clip4", "+clip4")[0] == "both+clip4"
+    name, why = choose_targets({**returns, "both": eps(3.0)}, "both", zero, clones, "both+clip4", "+clip4")
+    assert name == "both" and "but a query clip of 4 stands only where the labels chosen without it" in why
+    assert choose_targets(returns, "both", zero, clones, "both+clip4", None)[0] == "both+clip4"  # off: a plain name
+    both = {**clones, "both+clip4": eps(0.0), "both+chunk4+clip4": eps(4.0)}  # the doubly extended one wins the test
+    assert choose_targets(returns, "both", zero, both, "both+chunk4+clip4", "+clip4")[0] == "both+chunk4+clip4"
+    assert choose_targets(returns, "both", zero, both, "shoot:8", "+clip4")[0] == "both"  # chunk: not the best of all
+
+
 def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
     """Offering chunk targets adds variants and changes nothing else the probe measures: the one-step variants'
     and the shooting horizons' simulated candidates keep their seed streams (their returns to the last digit),
@@ -421,7 +441,7 @@ def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_pass
     spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
     real = label_probe.choose_targets
 
-    def passed_over(returns, incumbent, zero, clones, best):  # a chunk clone on top, one-step targets chosen
+    def passed_over(returns, incumbent, zero, clones, best, long_tag=None):  # a chunk clone on top, one-step chosen
         assert best is not None and "+chunk" in best
         return real({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
                     {k: v for k, v in clones.items() if "+chunk" not in k}, None)

@@ -5,7 +5,7 @@ run whose probe chose as before is row for row the previous one (its ``train_rew
 the censored means and the ratios new / previous and new / Vanilla-ES / CMA-ES (``../test_policy_v11``'s runs,
 whose code is unchanged), with 95% percentile-bootstrap intervals over the seeds resampled in pairs.
 
-    python docs/benchmarks/probe_chunk_v15/compare.py NEW_SUITE_DIR [NEW_SUITE_DIR ...] > compare.json
+    python docs/benchmarks/probe_chunk_v15/compare.py [--previous SUITE_DIR] NEW_SUITE_DIR [...] > compare.json
 """
 
 from __future__ import annotations
@@ -77,5 +77,8 @@ def main(dirs: list[str]) -> dict:
 
 
 if __name__ == "__main__":
-    json.dump(main(sys.argv[1:]), sys.stdout, indent=1)
+    args = sys.argv[1:]
+    if args[:1] == ["--previous"]:  # another previous default's suite folder (the same layout)
+        PREV, args = Path(args[1]).resolve(), args[2:]
+    json.dump(main(args), sys.stdout, indent=1)
     print()
