@@ -441,8 +441,8 @@ def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_pass
     spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
     real = label_probe.choose_targets
 
-    def passed_over(returns, incumbent, zero, clones, best, long_tag=None):  # a chunk clone on top, one-step chosen
-        assert best is not None and "+chunk" in best
+    def passed_over(returns, incumbent, zero, clones, ranking, long_tag=None):  # a chunk clone on top, one-step
+        assert ranking and "+chunk" in ranking[0]  # chosen
         return real({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
                     {k: v for k, v in clones.items() if "+chunk" not in k}, None)
     boosted = label_probe.clone_rounds_many

@@ -324,22 +324,26 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
 
 
 def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray, clones: dict[str, np.ndarray],
-                   best: str | None, long_tag: str | None = None) -> tuple[str, str]:
+                   ranking: str | list[str] | None, long_tag: str | None = None) -> tuple[str, str]:
     """:func:`choose` over every variant; a variant of an extension the probe offers (chunk targets, ``+chunk``;
     the ``probe_clip_long`` clip, ``long_tag`` such as ``+clip4``) stands only where the labels of the variant
     chosen without that extension do not drive the body better than its own (by two paired standard errors:
     there the base labels already show the action), and a chunk variant also only where it is ``best``, the
-    simulated candidate with the best mean return of all (every variant's and shooting horizon's); else the
-    choice without it (the same rules). On the kart the chunk variants beat ``both``'s clearly, the shooting
+    simulated candidate with the best mean return of all (every variant's and shooting horizon's; ``ranking``:
+    their names best first, or the best's alone); else the choice without it (the same rules, among the
+    candidates left). On the kart the chunk variants beat ``both``'s clearly, the shooting
     candidate drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1 the
     one-step labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return lower;
     on the Reacher's seeds 0, 2 and 3 the same held for a longer clip (docs/benchmarks/probe_chunk_v15)."""
+    ranking = [ranking] if isinstance(ranking, str) else list(ranking or [])
+    best = ranking[0] if ranking else None
     name, reason = choose(returns, incumbent, zero, clones)
     for tag in ("+chunk", long_tag):
         if not tag or tag not in name:
             continue
         one, why = choose_targets({k: v for k, v in returns.items() if tag not in k}, incumbent, zero,
-                                  {k: v for k, v in clones.items() if tag not in k}, best, long_tag)
+                                  {k: v for k, v in clones.items() if tag not in k},
+                                  [k for k in ranking if tag not in k], long_tag)
         drives, by = beats(returns[one], returns[name])
         top_ok = tag != "+chunk" or (best is not None and "+chunk" in best)
         if top_ok and not drives:
@@ -416,9 +420,10 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     sims_all = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}
     top = probe_candidate.best(sims_all, dict(zip(names, thetas)))
     long_tag = f"+clip{mp.probe_clip_long:g}" if len(vs) > len(base) else None
+    order = [k for k in sims_all if k in names and len(sims_all[k])]  # best first, the first on a tie (as best())
+    ranking = sorted(order, key=lambda k: (-float(np.mean(sims_all[k])), order.index(k)))
     name, reason = choose_targets({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
-                                  {k: np.array(v) for k, v in clones.items()}, top[0] if top is not None else None,
-                                  long_tag)
+                                  {k: np.array(v) for k, v in clones.items()}, ranking, long_tag)
     frame, clip, chunk = next(v for v in vs if variant_name(*v) == name)
     passed = [t for t in ("+chunk", long_tag) if t and t not in name]  # extensions passed over: generation 0's
     if passed:  # candidate is chosen as without them too
