@@ -4,7 +4,8 @@ where the labels chosen without it do not drive the body better); this applies t
 ``label_probe.json``: where clip 4 stands, the run is the one kept; where the rule sets it aside, the final code
 chooses as without the option (every other simulated candidate keeps its seed stream, and generation 0's
 candidate is chosen without the clip-4 clones), so the run is the default's (``suite/``, ``diffbot/default``,
-``../heldout_bicycle_v15/bench``). Per body: generations to the threshold, the option against the default.
+``../heldout_bicycle_v15/bench``). Per body: generations to the threshold, the option against the default. The robot's seeds 10-19
+and the Reacher's (``clip_long/reacher_10_19``, both arms) were run at the final code.
 
     python docs/benchmarks/probe_chunk_v15/clip_long.py > clip_long.json
 """
@@ -56,5 +57,7 @@ if __name__ == "__main__":
            "bicycle": body(HERE / "clip_long/bicycle/runs", HERE.parent / "heldout_bicycle_v15/bench/runs", 8.4)}
     for task in sorted((HERE / "clip_long/suite").iterdir()):
         out[task.name] = body(task / "runs", HERE / "suite" / task.name / "runs", threshold_of(task.name)[0])
+    out["ReacherWay-v0, seeds 10-19"] = body(HERE / "clip_long/reacher_10_19/option",  # both arms at the final code
+                                             HERE / "clip_long/reacher_10_19/default", threshold_of("ReacherWay-v0")[0])
     json.dump(out, sys.stdout, indent=1)
     print()
