@@ -344,22 +344,22 @@ def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
     returns = {k: eps(1.0) for k in ("both", "world", "both+chunk4")}
     clones = {"both": eps(0.0), "world": eps(2.0), "both+chunk4": eps(4.0)}
     zero = eps(0.5)
-    assert choose_targets(returns, "both", zero, clones, "both+chunk4")[0] == "both+chunk4"
-    assert choose_targets(returns, "both", zero, clones, "shoot:8")[0] == "world"  # as without chunk variants
+    assert choose_targets(returns, "both", zero, clones, ["both+chunk4"])[0] == "both+chunk4"
+    assert choose_targets(returns, "both", zero, clones, ["shoot:8"])[0] == "world"  # as without chunk variants
     one = {k: v for k, v in clones.items() if "chunk" not in k}
-    name, why = choose_targets(returns, "both", zero, clones, "shoot:8")
+    name, why = choose_targets(returns, "both", zero, clones, ["shoot:8"])
     alone = choose({k: v for k, v in returns.items() if "chunk" not in k}, "both", zero, one)
     assert name == alone[0] and why.startswith(alone[1])
     assert "both+chunk4's simulated candidate did beat the default's clearly" in why  # says why it was passed over
     assert "the shooting labels' (8 steps)" in why
-    assert "here world's" in choose_targets(returns, "both", zero, clones, "world")[1]
+    assert "here world's" in choose_targets(returns, "both", zero, clones, ["world"])[1]
     # UR5Reach-v0's seeds 0 and 1: the chunk candidate is the best of all, but the one-step labels drive the arm
     # clearly better than the chunk labels: the one-step displacement shows the action, so one-step targets stay
     drive = {**returns, "world": eps(3.0)}
-    name, why = choose_targets(drive, "both", zero, clones, "both+chunk4")
+    name, why = choose_targets(drive, "both", zero, clones, ["both+chunk4"])
     assert name == "world" and "do not drive the body better (here frame=world, query_clip=none's, by 2.00)" in why
     near = {**returns, "world": eps(1.2) + 0.5 * (-1.0) ** np.arange(10)}  # better on average, not by 2 SE
-    assert choose_targets(near, "both", zero, clones, "both+chunk4")[0] == "both+chunk4"
+    assert choose_targets(near, "both", zero, clones, ["both+chunk4"])[0] == "both+chunk4"
 
 
 def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_drive_better():
@@ -373,13 +373,13 @@ def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_dri
     returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0), "both+chunk4+clip4": eps(1.0)}
     clones = {"both": eps(0.0), "world": eps(0.0), "both+clip4": eps(4.0), "both+chunk4+clip4": eps(2.0)}
     zero = eps(0.5)
-    assert choose_targets(returns, "both", zero, clones, "both+clip4", "+clip4")[0] == "both+clip4"
-    name, why = choose_targets({**returns, "both": eps(3.0)}, "both", zero, clones, "both+clip4", "+clip4")
+    assert choose_targets(returns, "both", zero, clones, ["both+clip4"], "+clip4")[0] == "both+clip4"
+    name, why = choose_targets({**returns, "both": eps(3.0)}, "both", zero, clones, ["both+clip4"], "+clip4")
     assert name == "both" and "but a query clip of 4 stands only where the labels chosen without it" in why
-    assert choose_targets(returns, "both", zero, clones, "both+clip4", None)[0] == "both+clip4"  # off: a plain name
+    assert choose_targets(returns, "both", zero, clones, ["both+clip4"], None)[0] == "both+clip4"  # off: a plain name
     both = {**clones, "both+clip4": eps(0.0), "both+chunk4+clip4": eps(4.0)}  # the doubly extended one wins the test
-    assert choose_targets(returns, "both", zero, both, "both+chunk4+clip4", "+clip4")[0] == "both+chunk4+clip4"
-    assert choose_targets(returns, "both", zero, both, "shoot:8", "+clip4")[0] == "both"  # chunk: not the best of all
+    assert choose_targets(returns, "both", zero, both, ["both+chunk4+clip4"], "+clip4")[0] == "both+chunk4+clip4"
+    assert choose_targets(returns, "both", zero, both, ["shoot:8"], "+clip4")[0] == "both"  # chunk: not the best of all
 
 
 def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
@@ -444,7 +444,7 @@ def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_pass
     def passed_over(returns, incumbent, zero, clones, ranking, long_tag=None):  # a chunk clone on top, one-step
         assert ranking and "+chunk" in ranking[0]  # chosen
         return real({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
-                    {k: v for k, v in clones.items() if "+chunk" not in k}, None)
+                    {k: v for k, v in clones.items() if "+chunk" not in k}, [])
     boosted = label_probe.clone_rounds_many
 
     def chunk_clones_win(*a, **k):  # every chunk variant's simulated candidate drives best

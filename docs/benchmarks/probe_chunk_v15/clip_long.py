@@ -18,8 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from compare import _rows, to_threshold  # this folder's compare.py
+from compare import metrics, to_threshold  # this folder's compare.py
 from shaped_es.benchmark.summary import threshold_of
+from shaped_es.guides import probe_candidate
 from shaped_es.guides.label_probe import choose_targets
 
 HERE = Path(__file__).resolve().parent
@@ -29,12 +30,10 @@ def final_choice(d: dict) -> str:
     """The variant the final rule chooses from a probe file's returns (the ranking as the probe builds it)."""
     returns = {k: np.array(v) for k, v in d["returns"].items()}
     clones = {k: np.array(v) for k, v in d["clones"].items()}
-    sims = {k: float(np.mean(v)) for k, v in {**d["clones"], **{f"shoot:{h}": v for h, v in
-                                                                 (d.get("shoot_tried") or {}).items()}}.items()}
-    if not d.get("shoot_tried") and d.get("shoot"):
-        sims[f"shoot:{d.get('shoot_horizon')}"] = float(np.mean(d["shoot"]))
-    order = list(sims)
-    ranking = sorted(order, key=lambda k: (-sims[k], order.index(k)))
+    sims = {**d["clones"], **{f"shoot:{h}": v for h, v in (d.get("shoot_tried") or {}).items()}}
+    if not d.get("shoot_tried") and d.get("shoot"):  # one horizon probed: the file keeps it as shoot
+        sims[f"shoot:{d.get('shoot_horizon')}"] = d["shoot"]
+    ranking = probe_candidate.rank(sims, dict.fromkeys(sims))  # as the probe ranks them
     return choose_targets(returns, "both", np.array(d["zero_action"]), clones, ranking, "+clip4")[0]
 
 
@@ -42,9 +41,9 @@ def body(runs: Path, base: Path, thr: float) -> dict:
     seeds, option, default, kept = [], [], [], []
     for r in sorted(runs.glob("shaped_s*"), key=lambda p: int(p.name[8:])):
         keep = "+clip4" in final_choice(json.loads((r / "label_probe.json").read_text()))
-        g_base = to_threshold(_rows(base / r.name / "metrics.csv"), thr)
+        g_base = to_threshold(metrics(base / r.name), thr)
         seeds.append(int(r.name[8:]))
-        option.append(to_threshold(_rows(r / "metrics.csv"), thr) if keep else g_base)
+        option.append(to_threshold(metrics(r), thr) if keep else g_base)
         default.append(g_base)
         kept.append(keep)
     return {"seeds": seeds, "threshold": thr, "option": option, "default": default, "clip4_kept": kept,

@@ -10,30 +10,28 @@ whose code is unchanged), with 95% percentile-bootstrap intervals over the seeds
 
 from __future__ import annotations
 
-import csv
 import json
 import sys
 from pathlib import Path
 
 import numpy as np
 
-from shaped_es.benchmark.summary import threshold_of
+from shaped_es.benchmark.summary import threshold_of, time_to_threshold
+from shaped_es.report.plots import load_metrics
 
 HERE = Path(__file__).resolve().parent
 PREV, BASE = HERE.parent / "probe_candidate_v14" / "suite", HERE.parent / "test_policy_v11" / "suite"
 
 
-def _rows(p: Path) -> list[dict]:
-    with p.open(newline="") as fh:
-        return list(csv.DictReader(fh))
+def metrics(run: Path) -> dict[str, np.ndarray]:
+    """A run's ``metrics.csv`` as columns (the report's reader)."""
+    return load_metrics(run)
 
 
-def to_threshold(rows: list[dict], thr: float) -> int:
-    """Generations done when the test reward first reached ``thr`` (budget + 1 if never)."""
-    for r in rows:
-        if r["test_reward_mean"] not in ("", None) and float(r["test_reward_mean"]) >= thr:
-            return int(r["generation"]) + 1
-    return len(rows) + 1
+def to_threshold(m: dict[str, np.ndarray], thr: float) -> int:
+    """Generations done when the test reward first reached ``thr`` (budget + 1 if never): the report's censored
+    count (``summary.time_to_threshold``)."""
+    return int(time_to_threshold([m], thr)["generations"]["per_seed"][0])
 
 
 def paired_ratio(a: np.ndarray, b: np.ndarray, n: int = 10_000, seed: int = 0) -> list[float]:
@@ -52,15 +50,14 @@ def main(dirs: list[str]) -> dict:
             seeds = sorted(int(p.name.split("_s")[1]) for p in (task / "runs").glob("shaped_s*"))
             new, prev, van, cma, chunk, same = [], [], [], [], [], []
             for s in seeds:
-                rows = _rows(task / "runs" / f"shaped_s{s}" / "metrics.csv")
-                old = _rows(PREV / env / "runs" / f"shaped_s{s}" / "metrics.csv")
-                new.append(to_threshold(rows, thr))
+                m, old = metrics(task / "runs" / f"shaped_s{s}"), metrics(PREV / env / "runs" / f"shaped_s{s}")
+                new.append(to_threshold(m, thr))
                 prev.append(to_threshold(old, thr))
-                van.append(to_threshold(_rows(BASE / env / "runs" / f"vanilla_s{s}" / "metrics.csv"), thr))
-                cma.append(to_threshold(_rows(BASE / env / "runs" / f"cmaes_s{s}" / "metrics.csv"), thr))
+                van.append(to_threshold(metrics(BASE / env / "runs" / f"vanilla_s{s}"), thr))
+                cma.append(to_threshold(metrics(BASE / env / "runs" / f"cmaes_s{s}"), thr))
                 probe = json.loads((task / "runs" / f"shaped_s{s}" / "label_probe.json").read_text())
                 chunk.append(probe.get("chunk"))
-                same.append([r["train_reward_mean"] for r in rows] == [r["train_reward_mean"] for r in old])
+                same.append(bool(np.array_equal(m["train_reward_mean"], old["train_reward_mean"], equal_nan=True)))
             a, b = np.array(new, float), np.array(prev, float)
             out[env] = {"seeds": seeds, "threshold": thr, "new": new, "previous": prev, "vanilla": van, "cmaes": cma,
                         "chunk": chunk, "same_as_previous": same,

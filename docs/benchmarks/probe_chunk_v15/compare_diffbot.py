@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compare import _rows, paired_ratio, to_threshold  # this folder's compare.py
+from compare import metrics, paired_ratio, to_threshold  # this folder's compare.py
 
 THRESHOLD = 8.5  # 0.9 x the scripted controller's 9.58 (../heldout_diffbot_v14/measure_baselines.py)
 
@@ -23,11 +23,11 @@ def arm(d: Path) -> dict:
     runs = sorted((d / "runs").iterdir(), key=lambda p: int(p.name.rsplit("_s", 1)[1]))
     gens, chunk, accepted = [], [], []
     for r in runs:
-        rows = _rows(r / "metrics.csv")
-        gens.append(to_threshold(rows, THRESHOLD))
+        m = metrics(r)
+        gens.append(to_threshold(m, THRESHOLD))
         probe = r / "label_probe.json"
         chunk.append(json.loads(probe.read_text()).get("chunk") if probe.exists() else None)
-        accepted.append(sum(row.get("candidate_accepted") in ("1", "1.0", "True") for row in rows))
+        accepted.append(int(np.nansum(m["candidate_accepted"] == 1)) if "candidate_accepted" in m else 0)
     return {"seeds": [int(r.name.rsplit("_s", 1)[1]) for r in runs], "generations": gens, "chunk": chunk,
             "candidates_accepted": accepted, "mean": float(np.mean(gens))}
 

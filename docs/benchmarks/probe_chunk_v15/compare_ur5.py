@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compare import _rows, paired_ratio, to_threshold  # this folder's compare.py
+from compare import metrics, paired_ratio, to_threshold  # this folder's compare.py
 
 HERE = Path(__file__).resolve().parent
 
@@ -22,9 +22,9 @@ def arm(d: Path) -> dict:
     gens, late, chunk = [], [], []
     for s in range(10, 20):
         run = d / f"shaped_s{s}"
-        rows = _rows(run / "metrics.csv")
-        gens.append(to_threshold(rows, 40.0))
-        tests = [float(r["test_reward_mean"]) for r in rows if r["test_reward_mean"] not in ("", None)]
+        m = metrics(run)
+        gens.append(to_threshold(m, 40.0))
+        tests = m["test_reward_mean"][np.isfinite(m["test_reward_mean"])]  # (evaluations,)
         late.append(float(np.mean(tests[-10:])))
         chunk.append(json.loads((run / "label_probe.json").read_text()).get("chunk"))
     return {"generations": gens, "late_reward": late, "chunk": chunk, "mean": float(np.mean(gens)),

@@ -167,7 +167,7 @@ def long_variants(user_clip: float | None, long_clip: float | None, chunk: int =
     """The ``probe_clip_long`` variants, after :func:`variants`' (none where the user set a clip or it is off)."""
     if user_clip is not None or long_clip is None or long_clip == CLIP:
         return []
-    return [(f, float(long_clip), k) for k in ([None, chunk] if chunk else [None]) for f in ("both", "world")]
+    return variants(float(long_clip), chunk)  # every frame and targets, with that clip alone
 
 
 def variants(user_clip: float | None, chunk: int = 0) -> list[tuple[str, float | None, int | None]]:
@@ -324,18 +324,17 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
 
 
 def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray, clones: dict[str, np.ndarray],
-                   ranking: str | list[str] | None, long_tag: str | None = None) -> tuple[str, str]:
+                   ranking: list[str], long_tag: str | None = None) -> tuple[str, str]:
     """:func:`choose` over every variant; a variant of an extension the probe offers (chunk targets, ``+chunk``;
     the ``probe_clip_long`` clip, ``long_tag`` such as ``+clip4``) stands only where the labels of the variant
     chosen without that extension do not drive the body better than its own (by two paired standard errors:
     there the base labels already show the action), and a chunk variant also only where it is ``best``, the
-    simulated candidate with the best mean return of all (every variant's and shooting horizon's; ``ranking``:
-    their names best first, or the best's alone); else the choice without it (the same rules, among the
+    simulated candidate with the best mean return of all (``ranking``: every variant's and shooting horizon's
+    name, best first, ``probe_candidate.rank``); else the choice without it (the same rules, among the
     candidates left). On the kart the chunk variants beat ``both``'s clearly, the shooting
     candidate drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1 the
     one-step labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return lower;
     on the Reacher's seeds 0, 2 and 3 the same held for a longer clip (docs/benchmarks/probe_chunk_v15)."""
-    ranking = [ranking] if isinstance(ranking, str) else list(ranking or [])
     best = ranking[0] if ranking else None
     name, reason = choose(returns, incumbent, zero, clones)
     for tag in ("+chunk", long_tag):
@@ -349,7 +348,7 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
         if top_ok and not drives:
             continue
         what = "chunk targets stand" if tag == "+chunk" else f"a query clip of {tag[5:]} stands"
-        if top_ok or tag != "+chunk":
+        if top_ok:
             top = f"where the labels chosen without it do not drive the body better (here {variant_text(one)}'s, " \
                   f"by {by:.2f})"
         else:
@@ -416,19 +415,16 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
                                 lambda a, b: clone_beats(a, b, scale))
         horizon, shoot = int(best), tried[best]
         shoot_on = beats(np.array(shoot), zero)[0]
-    names = [variant_name(*v) for v in vs] + [f"shoot:{h}" for h in horizons]
-    sims_all = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}
-    top = probe_candidate.best(sims_all, dict(zip(names, thetas)))
+    simulated = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}  # every simulated candidate's returns
+    by_name = dict(zip([variant_name(*v) for v in vs] + [f"shoot:{h}" for h in horizons], thetas))
     long_tag = f"+clip{mp.probe_clip_long:g}" if len(vs) > len(base) else None
-    order = [k for k in sims_all if k in names and len(sims_all[k])]  # best first, the first on a tie (as best())
-    ranking = sorted(order, key=lambda k: (-float(np.mean(sims_all[k])), order.index(k)))
     name, reason = choose_targets({k: np.array(v) for k, v in returns.items()}, variant_name(*vs[0]), zero,
-                                  {k: np.array(v) for k, v in clones.items()}, ranking, long_tag)
+                                  {k: np.array(v) for k, v in clones.items()},
+                                  probe_candidate.rank(simulated, by_name), long_tag)
     frame, clip, chunk = next(v for v in vs if variant_name(*v) == name)
-    passed = [t for t in ("+chunk", long_tag) if t and t not in name]  # extensions passed over: generation 0's
-    if passed:  # candidate is chosen as without them too
-        top = probe_candidate.best({k: v for k, v in sims_all.items() if not any(t in k for t in passed)},
-                                   dict(zip(names, thetas)))
+    # the extensions passed over: generation 0's candidate is chosen without their clones too
+    passed = [t for t in ("+chunk", long_tag) if t and t not in name]
+    top = probe_candidate.best({k: v for k, v in simulated.items() if not any(t in k for t in passed)}, by_name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
                        *(top if top is not None else (None, None)), chunk)

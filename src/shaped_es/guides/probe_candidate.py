@@ -35,14 +35,18 @@ from shaped_es.rundir.atomic import StoreError, atomic_write_bytes, read_regular
 FILE = "label_probe_candidate.npy"
 
 
-def best(returns: dict[str, list[float]], thetas: dict[str, np.ndarray]) -> tuple[str, np.ndarray] | None:
-    """``(name, theta (n,))`` of the simulated candidate with the highest mean return (the first on a tie, in
-    ``returns``' order); None when there is none."""
+def rank(returns: dict[str, list[float]], thetas: dict[str, np.ndarray]) -> list[str]:
+    """The simulated candidates' names (those with parameters and returns), highest mean return first (the first
+    in ``returns``' order on a tie)."""
     names = [k for k in returns if k in thetas and len(returns[k])]
-    if not names:
-        return None
-    name = max(names, key=lambda k: (float(np.mean(returns[k])), -names.index(k)))
-    return name, np.asarray(thetas[name], np.float32)
+    return sorted(names, key=lambda k: (-float(np.mean(returns[k])), names.index(k)))
+
+
+def best(returns: dict[str, list[float]], thetas: dict[str, np.ndarray]) -> tuple[str, np.ndarray] | None:
+    """``(name, theta (n,))`` of the simulated candidate with the highest mean return (:func:`rank`'s first);
+    None when there is none."""
+    names = rank(returns, thetas)
+    return (names[0], np.asarray(thetas[names[0]], np.float32)) if names else None
 
 
 def save(path: Path, theta: np.ndarray) -> None:
