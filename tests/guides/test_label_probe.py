@@ -13,7 +13,9 @@ from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
 from shaped_es.guides import label_probe, probe_file
 from shaped_es.guides.label_check import horizon_text, probe_line
-from shaped_es.guides.label_probe import ProbeResult, choose, query, variant_name, variant_text, variants
+from shaped_es.guides.label_probe import ProbeResult, query
+from shaped_es.guides.probe_choice import choose
+from shaped_es.guides.probe_variants import variant_name
 from shaped_es.guides.probe_file import FILE
 from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
@@ -22,36 +24,6 @@ from shaped_es.trainer import Trainer
 LINE_MAX = 275  # characters of the run's printed probe line, for a built-in env's id and a short run name
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
-
-
-def test_choose_replaces_the_default_only_where_zero_action_beats_its_labels():
-    zero = np.array([0.0, 0.0, 0.0, 0.0])
-    good = np.array([1.0, 2.0, 3.0, 4.0])  # the default's labels drive the body: kept, whatever else wins
-    better = good + 5.0
-    assert choose({"both": good, "world": better}, "both", zero)[0] == "both"
-    bad = np.array([-5.0, -6.0, -5.5, -6.5])  # worse than zero action on every episode
-    noisy = bad + np.array([4.0, -3.0, 5.0, -4.0])  # not beyond 2 SE of the default
-    clear = bad + np.array([4.0, 4.2, 3.9, 4.1])
-    name, reason = choose({"both": bad, "world": noisy, "world+clip2": clear}, "both", zero)
-    assert name == "world+clip2" and reason.startswith("zero action beats the default")
-    name, reason = choose({"both": bad, "world": noisy}, "both", zero)
-    assert name == "both" and "no variant beats" in reason
-
-
-def test_choose_takes_the_variant_whose_simulated_candidate_is_clearly_better():
-    zero = np.zeros(10)
-    labels = {"both": np.full(10, 9.0), "both+clip2": np.full(10, 9.0), "world": np.full(10, 8.0)}
-    # heavy-tailed clone returns: the default's clone crashes on 2 of 10 episodes (a 2-SE test misses it)
-    base = np.array([5.5, 4.4, -7.1, 7.3, 2.9, -26.8, -51.1, 0.2, 6.9, 5.5])
-    clipped = np.array([7.3, 6.5, 6.6, 8.5, 5.2, 5.4, 8.0, 5.9, 3.8, 7.9])
-    name, reason = choose(labels, "both", zero, {"both": base, "both+clip2": clipped, "world": base})
-    assert name == "both+clip2" and reason.startswith("its simulated candidate")
-    # a consistent but tiny gain (0.25 where the probe's returns span ~60) does not switch
-    flat = np.full(10, -25.0)
-    tiny = {"both": flat, "both+clip2": flat + 0.25, "world": flat}
-    assert choose({**labels, "both": np.full(10, 35.0)}, "both", zero, tiny)[0] == "both"
-    # clones that do not differ: the label rule decides (here: keep the default)
-    assert choose(labels, "both", zero, {"both": clipped, "both+clip2": clipped[::-1], "world": clipped})[0] == "both"
 
 
 def test_the_probe_line_is_short_and_keeps_the_key_facts():
@@ -88,15 +60,6 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
         lost, "ReacherWay-v0", rivals)
     for text in (line, dropped, f"shaped-es: {kept}", f"shaped-es: {probe_line(lost, 'ReacherWay-v0', rivals)}"):
         assert len(text) <= LINE_MAX and "\n" not in text
-
-
-def test_clone_beats_needs_a_signed_rank_win_and_a_share_of_the_spread():
-    a = np.arange(10.0) + 1.0
-    assert label_probe.clone_beats(a + 1.0, a, scale=10.0) == (True, 1.0)
-    assert not label_probe.clone_beats(a + 1.0, a, scale=100.0)[0]  # 1 < 5% of 100
-    assert not label_probe.clone_beats(a, a, scale=1.0)[0]  # no difference at all
-    mixed = a + np.array([3.0, -3.0] * 5)  # as many losses as wins
-    assert not label_probe.clone_beats(mixed, a, scale=1.0)[0]
 
 
 def test_the_simulated_candidate_learns_from_good_labels():
@@ -155,20 +118,6 @@ def test_the_simulated_candidate_learns_from_good_labels():
                                      for a, b in zip(g, h))
 
 
-def test_variants_keep_a_clip_the_user_set():
-    assert variants(None) == [("both", None, None), ("both", 2.0, None), ("world", None, None), ("world", 2.0, None)]
-    assert variants(3.0) == [("both", 3.0, None), ("world", 3.0, None)]
-
-
-def test_chunk_variants_follow_the_one_step_ones_and_name_their_settings():
-    vs = variants(None, 4)
-    assert vs[:4] == variants(None) and vs[4:] == [(f, c, 4) for f in ("both", "world") for c in (None, 2.0)]
-    assert [variant_name(*v) for v in vs[4:]] == ["both+chunk4", "both+chunk4+clip2", "world+chunk4",
-                                                  "world+chunk4+clip2"]
-    assert variant_text("both+chunk4+clip2") == "frame=both, targets=chunk (4 steps), query_clip=2"
-    assert variant_text("world") == "frame=world, query_clip=none"
-
-
 def _episode(rng, T=6, d=2) -> Transitions:
     pos = np.cumsum(rng.normal(size=(T, d)), axis=0).astype(np.float32)  # (T, d)
     wp = (pos + rng.normal(size=(T, d))).astype(np.float32)
@@ -178,8 +127,14 @@ def _episode(rng, T=6, d=2) -> Transitions:
 
 
 @pytest.mark.parametrize("frame", ["world", "both", "motion", "waypoint"])
+
+
 @pytest.mark.parametrize("mix", [1.0, 0.25])
+
+
 @pytest.mark.parametrize("d", [2, 3])
+
+
 def test_online_queries_equal_the_offline_ones(frame, mix, d):
     """The probe drives with the queries the run's labels read from recorded steps (a 3-D waypoint space,
     as UR5Reach-v0's: the motion frame turns the first two coordinates)."""
@@ -212,7 +167,7 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     shoot = f", shooting ({res.shoot_horizon} steps)" if res.shoot_on else ""
     assert f"; rivals: waypoint frame, servo{shoot}; " in line and len(line) <= LINE_MAX
     assert ("; shooting rival dropped" in line) == (not res.shoot_on)
-    name = label_probe.variant_name(res.frame, res.query_clip, res.chunk)
+    name = variant_name(res.frame, res.query_clip, res.chunk)
     own, zero = np.mean(res.clones[name]), np.mean(res.zero_action)
     assert f"candidate {own:.2f} vs zero action {zero:.2f}" in line
     assert line.endswith(f"; see {FILE}, shaped-es check-env PointVel-v0 --labels")
@@ -256,6 +211,8 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "shoot_horizon": 65}), json.dumps({**GOOD, "shoot_tried": [1.0]}),
                                   json.dumps({**GOOD, "chunk": 0}), json.dumps({**GOOD, "chunk": "4"}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
+
+
 def test_a_damaged_probe_file_is_one_clear_error(tmp_path, text):
     cfg, store = new_run(tmp_path / "run", POINT)
     path = tmp_path / "run" / FILE
@@ -333,55 +290,6 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     assert [h for h, _ in seen] == [8] and res.shoot_horizon == 8 and res.shoot_tried == {}
 
 
-def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
-    """A chunk variant that beats both's clearly is taken where its simulated candidate is also the best of every
-    variant's and shooting horizon's; where a shooting candidate drove better (the kart), the one-step variants
-    are chosen among as if no chunk variant had been probed."""
-    from shaped_es.guides.label_probe import choose_targets
-
-    def eps(m):
-        return np.array([m + 0.01 * k for k in range(10)])
-    returns = {k: eps(1.0) for k in ("both", "world", "both+chunk4")}
-    clones = {"both": eps(0.0), "world": eps(2.0), "both+chunk4": eps(4.0)}
-    zero = eps(0.5)
-    assert choose_targets(returns, "both", zero, clones, ["both+chunk4"])[0] == "both+chunk4"
-    assert choose_targets(returns, "both", zero, clones, ["shoot:8"])[0] == "world"  # as without chunk variants
-    one = {k: v for k, v in clones.items() if "chunk" not in k}
-    name, why = choose_targets(returns, "both", zero, clones, ["shoot:8"])
-    alone = choose({k: v for k, v in returns.items() if "chunk" not in k}, "both", zero, one)
-    assert name == alone[0] and why.startswith(alone[1])
-    assert "both+chunk4's simulated candidate did beat the default's clearly" in why  # says why it was passed over
-    assert "the shooting labels' (8 steps)" in why
-    assert "here world's" in choose_targets(returns, "both", zero, clones, ["world"])[1]
-    # UR5Reach-v0's seeds 0 and 1: the chunk candidate is the best of all, but the one-step labels drive the arm
-    # clearly better than the chunk labels: the one-step displacement shows the action, so one-step targets stay
-    drive = {**returns, "world": eps(3.0)}
-    name, why = choose_targets(drive, "both", zero, clones, ["both+chunk4"])
-    assert name == "world" and "do not drive the body better (here frame=world, query_clip=none's, by 2.00)" in why
-    near = {**returns, "world": eps(1.2) + 0.5 * (-1.0) ** np.arange(10)}  # better on average, not by 2 SE
-    assert choose_targets(near, "both", zero, clones, ["both+chunk4"])[0] == "both+chunk4"
-
-
-def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_drive_better():
-    """The Reacher's seeds 0, 2 and 3: a clip-4 variant won the frame test while the labels chosen without it drove
-    the arm clearly better; the unicycle's clip-4 seeds: they did not. A variant with both extensions must pass
-    both rules."""
-    from shaped_es.guides.label_probe import choose_targets
-
-    def eps(m):
-        return np.array([m + 0.01 * k for k in range(10)])
-    returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0), "both+chunk4+clip4": eps(1.0)}
-    clones = {"both": eps(0.0), "world": eps(0.0), "both+clip4": eps(4.0), "both+chunk4+clip4": eps(2.0)}
-    zero = eps(0.5)
-    assert choose_targets(returns, "both", zero, clones, ["both+clip4"], "+clip4")[0] == "both+clip4"
-    name, why = choose_targets({**returns, "both": eps(3.0)}, "both", zero, clones, ["both+clip4"], "+clip4")
-    assert name == "both" and "but a query clip of 4 stands only where the labels chosen without it" in why
-    assert choose_targets(returns, "both", zero, clones, ["both+clip4"], None)[0] == "both+clip4"  # off: a plain name
-    both = {**clones, "both+clip4": eps(0.0), "both+chunk4+clip4": eps(4.0)}  # the doubly extended one wins the test
-    assert choose_targets(returns, "both", zero, both, ["both+chunk4+clip4"], "+clip4")[0] == "both+chunk4+clip4"
-    assert choose_targets(returns, "both", zero, both, ["shoot:8"], "+clip4")[0] == "both"  # chunk: not the best of all
-
-
 def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
     """Offering chunk targets adds variants and changes nothing else the probe measures: the one-step variants'
     and the shooting horizons' simulated candidates keep their seed streams (their returns to the last digit),
@@ -410,7 +318,7 @@ def test_a_longer_clip_adds_variants_and_leaves_every_other_number_as_it_was():
     variants' labels, simulated candidates and the shooting horizons' keep their numbers to the last digit; a
     clip the user set, or the default's own, adds none."""
     from shaped_es.config import build_config
-    from shaped_es.guides.label_probe import long_variants
+    from shaped_es.guides.probe_variants import long_variants
     from shaped_es.guides.shaped_setup import mphi_config
     from shaped_es.rollout import policy_spec, probe_env
 
@@ -486,6 +394,8 @@ def test_a_run_holds_the_shooting_labels_for_the_probes_horizon(tmp_path):
 
 
 @pytest.mark.parametrize("keep", [True, False])
+
+
 def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action(tmp_path, keep, monkeypatch):
     """The probe chose 16 steps and the 4-step candidate also beat zero action: both shooting rivals run
     (variant 3 at 16 steps, 4 at 4), each its own model, gain column and checkpoint keys, and a killed run

@@ -21,7 +21,7 @@ import numpy as np
 from compare import metrics, to_threshold  # this folder's compare.py
 from shaped_es.benchmark.summary import threshold_of
 from shaped_es.guides import probe_candidate
-from shaped_es.guides.label_probe import choose_targets
+from shaped_es.guides.probe_choice import choose_targets
 
 HERE = Path(__file__).resolve().parent
 

@@ -266,7 +266,7 @@ def cmd_check_env(a: argparse.Namespace) -> int:
     methods = trains_with(checks)
     failed = any(c.status == FAIL for c in checks)
     from shaped_es.guides.label_check import check_labels
-    from shaped_es.guides.label_probe import clip_text
+    from shaped_es.guides.probe_variants import clip_text
 
     labels = None
     if a.labels and "shaped" in methods:

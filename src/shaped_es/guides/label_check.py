@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import (EPISODES, ProbeResult, beats, clip_text, paired, probe, variant_name,
-                                         variant_text)
+from shaped_es.guides.label_probe import EPISODES, ProbeResult, probe
+from shaped_es.guides.probe_choice import beats, paired
+from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
 
 

@@ -70,6 +70,9 @@ are counted in the run's totals (``env_steps``, ``wall_time_s``) from the first 
 is kept in ``RUN/label_probe.json`` (``probe_file.py``) so a resumed run reuses it. ``shaped-es check-env ID
 --labels`` runs it for any env.
 
+What it tries and the names it gives each try: ``guides/probe_variants.py``; the rules that choose among
+them: ``guides/probe_choice.py``.
+
 Written by hand: no library drives an env with an inverse-dynamics model's labels.
 """
 
@@ -79,7 +82,6 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.stats import wilcoxon  # at import, with the guide (~0.8 s): a start-up cost, not the probe's work
 
 from shaped_es import seeding
 from shaped_es.config import RunConfig
@@ -88,7 +90,9 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, to_space
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
-from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, roll_out, shoot_labels
+from shaped_es.guides.clone_probe import clone_rounds_many, roll_out, shoot_labels
+from shaped_es.guides.probe_choice import beats, best_beating, choose_targets, clone_beats
+from shaped_es.guides.probe_variants import long_variants, variant_name, variants
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.mphi_inputs import mixed_query
@@ -98,9 +102,6 @@ GENERATIONS = 2  # generations of probe data (babblers + members around the init
 MEMBERS = 8  # members around the initial mean per probe generation (at es.sigma)
 BABBLERS = 8  # babbling policies per probe generation (weights ~ N(0, babble_sigma^2))
 EPISODES = 10  # closed-loop episodes per variant (the same seeds for every variant)
-CLONE_P = 0.05  # a simulated candidate beats another at this one-sided signed-rank p-value ...
-MIN_SHARE = 0.05  # ... and by this share of the spread of the probe's returns
-CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
 LONG_KEY = 200  # the probe_clip_long variants' simulated candidates' seed keys (the others' are as without them)
 CHUNK_KEY = 100  # the chunk variants' simulated candidates' seed keys start here (the others' are as before them)
@@ -142,39 +143,6 @@ class ProbeResult:
         base = next(iter(self.shoot_tried), None)
         return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
-
-
-def clip_text(query_clip: float | None) -> str:
-    return "none" if query_clip is None else f"{query_clip:g}"
-
-
-def variant_name(frame: str, query_clip: float | None, chunk: int | None = None) -> str:
-    """``both``, ``both+clip2``, ``world+chunk4``, ``both+chunk4+clip2``."""
-    base = frame if chunk is None else f"{frame}+chunk{chunk}"
-    return base if query_clip is None else f"{base}+clip{query_clip:g}"
-
-
-def variant_text(name: str) -> str:
-    """A variant's name as its settings: ``both+chunk4+clip2`` -> ``frame=both, targets=chunk (4 steps),
-    query_clip=2``."""
-    base, _, clip = name.partition("+clip")
-    frame, _, chunk = base.partition("+chunk")
-    return f"frame={frame}" + (f", targets=chunk ({chunk} steps)" if chunk else "") + f", query_clip={clip or 'none'}"
-
-
-def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0
-                  ) -> list[tuple[str, float | None, int | None]]:
-    """The ``probe_clip_long`` variants, after :func:`variants`' (none where the user set a clip or it is off)."""
-    if user_clip is not None or long_clip is None or long_clip == CLIP:
-        return []
-    return variants(float(long_clip), chunk)  # every frame and targets, with that clip alone
-
-
-def variants(user_clip: float | None, chunk: int = 0) -> list[tuple[str, float | None, int | None]]:
-    """The probed ``(frame, query_clip, chunk)`` triples, the incumbent (``both``, one-step targets, the query as
-    asked) first; a clip the user set is kept; with ``chunk`` > 0 each also with M_phi on chunk targets."""
-    clips = [user_clip] if user_clip is not None else [None, CLIP]
-    return [(f, c, k) for k in ([None, chunk] if chunk else [None]) for f in ("both", "world") for c in clips]
 
 
 def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None):
@@ -259,106 +227,6 @@ def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix:
     return rets, steps
 
 
-def paired(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
-    """``(mean, standard error)`` of the paired per-episode differences ``a - b`` (same seeds)."""
-    diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
-    se = diff.std(ddof=1) / np.sqrt(diff.size) if diff.size > 1 else np.inf
-    return float(diff.mean()), float(se)
-
-
-def beats(a: np.ndarray, b: np.ndarray) -> tuple[bool, float]:
-    """``(a beats b, mean gain)``: the mean paired difference ``a - b`` exceeds two standard errors."""
-    mean, se = paired(a, b)
-    return mean > 2 * se, mean
-
-
-def clone_beats(a: np.ndarray, b: np.ndarray, scale: float) -> tuple[bool, float]:
-    """``(a beats b, mean gain)`` for the simulated candidates' returns, whose episodes are heavy-tailed
-    (a clone that drives well on most seeds and crashes on one): a one-sided Wilcoxon signed-rank test of
-    the paired differences at :data:`CLONE_P`, and a mean gain of at least :data:`MIN_SHARE` of ``scale``
-    (the spread of every return the probe saw: a consistent 0.25 on a task whose returns span 90 is no
-    better candidate)."""
-    diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
-    gain = float(diff.mean())
-    if gain < MIN_SHARE * scale or not np.any(diff != 0):
-        return False, gain
-    return bool(wilcoxon(diff, alternative="greater").pvalue < CLONE_P), gain
-
-
-def _best_beating(returns: dict[str, np.ndarray], incumbent: str, test=beats) -> tuple[str, float]:
-    """The variant that beats ``incumbent`` by the most (by ``test``), and by how much; ``(incumbent, 0)``
-    if none does."""
-    best, best_gain = incumbent, 0.0
-    for name, r in returns.items():
-        ok, gain = test(r, returns[incumbent])
-        if ok and gain > best_gain:
-            best, best_gain = name, gain
-    return best, best_gain
-
-
-def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
-           clones: dict[str, np.ndarray] | None = None) -> tuple[str, str]:
-    """``(variant, reason)``: the variant whose simulated candidate (``clones``: the mean's clone after
-    ``clone_probe.ROUNDS`` DAgger rounds) beats the incumbent's by the most, by two paired standard
-    errors; else the incumbent, unless zero action drives the body better than its labels (by two paired
-    standard errors): then the variant whose labels beat the incumbent's by the most, if one does."""
-    if clones:
-        seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), zero)])  # every return
-        scale = float(seen.max() - seen.min()) if seen.size else 0.0
-        best, gain = _best_beating(clones, incumbent, lambda a, b: clone_beats(a, b, scale))
-        if best != incumbent:
-            return best, (f"its simulated candidate (the initial mean cloned toward its labels, {ROUNDS} DAgger "
-                          f"rounds) beats the default's ({variant_text(incumbent)}) by {gain:.2f} return "
-                          f"(signed-rank p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
-    worse, by = beats(zero, returns[incumbent])
-    if not worse:
-        return incumbent, ("the default: no variant's simulated candidate clearly beats its own, and zero action "
-                           "does not beat its labels by 2 paired standard errors")
-    best, best_gain = _best_beating(returns, incumbent)
-    if best == incumbent:
-        return best, (f"the default: no variant's simulated candidate clearly beats its own; zero action beats "
-                      f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
-                      f"standard errors")
-    return best, (f"zero action beats the default's labels ({variant_text(incumbent)}) by {by:.2f} return; "
-                  f"{variant_text(best)} beats them by {best_gain:.2f} (> 2 paired standard errors)")
-
-
-def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray, clones: dict[str, np.ndarray],
-                   ranking: list[str], long_tag: str | None = None) -> tuple[str, str]:
-    """:func:`choose` over every variant; a variant of an extension the probe offers (chunk targets, ``+chunk``;
-    the ``probe_clip_long`` clip, ``long_tag`` such as ``+clip4``) stands only where the labels of the variant
-    chosen without that extension do not drive the body better than its own (by two paired standard errors:
-    there the base labels already show the action), and a chunk variant also only where it is ``best``, the
-    simulated candidate with the best mean return of all (``ranking``: every variant's and shooting horizon's
-    name, best first, ``probe_candidate.rank``); else the choice without it (the same rules, among the
-    candidates left). On the kart the chunk variants beat ``both``'s clearly, the shooting
-    candidate drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1 the
-    one-step labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return lower;
-    on the Reacher's seeds 0, 2 and 3 the same held for a longer clip (docs/benchmarks/probe_chunk_v15)."""
-    best = ranking[0] if ranking else None
-    name, reason = choose(returns, incumbent, zero, clones)
-    for tag in ("+chunk", long_tag):
-        if not tag or tag not in name:
-            continue
-        one, why = choose_targets({k: v for k, v in returns.items() if tag not in k}, incumbent, zero,
-                                  {k: v for k, v in clones.items() if tag not in k},
-                                  [k for k in ranking if tag not in k], long_tag)
-        drives, by = beats(returns[one], returns[name])
-        top_ok = tag != "+chunk" or (best is not None and "+chunk" in best)
-        if top_ok and not drives:
-            continue
-        what = "chunk targets stand" if tag == "+chunk" else f"a query clip of {tag[5:]} stands"
-        if top_ok:
-            top = f"where the labels chosen without it do not drive the body better (here {variant_text(one)}'s, " \
-                  f"by {by:.2f})"
-        else:
-            top = "where their candidate is the best of all" + (
-                "" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)"
-                if best.startswith("shoot:") else f", here {best}'s")
-        return one, f"{why}; {name}'s simulated candidate did beat the default's clearly, but {what} only {top}"
-    return name, reason
-
-
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
           executor=None) -> ProbeResult:
     """Run the probe (module docstring) and return what it chose; its recorded rollouts (the data and the
@@ -411,7 +279,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     if horizons:
         seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), *tried.values(), zero)])
         scale = float(seen.max() - seen.min())
-        best, _ = _best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
+        best, _ = best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
                                 lambda a, b: clone_beats(a, b, scale))
         horizon, shoot = int(best), tried[best]
         shoot_on = beats(np.array(shoot), zero)[0]

@@ -1,0 +1,120 @@
+"""How the label probe (``guides/label_probe.py``) chooses among its variants, from the returns it measured.
+
+Every rule compares paired episodes (the same seeds for every variant): labels driving the body step by step
+(:func:`beats`, two paired standard errors), simulated candidates, whose returns are heavy-tailed
+(:func:`clone_beats`, a signed-rank test and a share of the return spread), the frame's choice
+(:func:`choose`) and the extensions the probe offers on top of it, chunk targets and a longer clip
+(:func:`choose_targets`). The measurements behind each rule are in ``label_probe.py``'s docstring and
+``docs/shaped-results.md``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import wilcoxon  # at import, with the guide (~0.8 s): a start-up cost, not the probe's work
+
+from shaped_es.guides.clone_probe import ROUNDS
+from shaped_es.guides.probe_variants import variant_text
+
+CLONE_P = 0.05  # a simulated candidate beats another at this one-sided signed-rank p-value ...
+MIN_SHARE = 0.05  # ... and by this share of the spread of the probe's returns
+
+
+def paired(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """``(mean, standard error)`` of the paired per-episode differences ``a - b`` (same seeds)."""
+    diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
+    se = diff.std(ddof=1) / np.sqrt(diff.size) if diff.size > 1 else np.inf
+    return float(diff.mean()), float(se)
+
+
+def beats(a: np.ndarray, b: np.ndarray) -> tuple[bool, float]:
+    """``(a beats b, mean gain)``: the mean paired difference ``a - b`` exceeds two standard errors."""
+    mean, se = paired(a, b)
+    return mean > 2 * se, mean
+
+
+def clone_beats(a: np.ndarray, b: np.ndarray, scale: float) -> tuple[bool, float]:
+    """``(a beats b, mean gain)`` for the simulated candidates' returns, whose episodes are heavy-tailed
+    (a clone that drives well on most seeds and crashes on one): a one-sided Wilcoxon signed-rank test of
+    the paired differences at :data:`CLONE_P`, and a mean gain of at least :data:`MIN_SHARE` of ``scale``
+    (the spread of every return the probe saw: a consistent 0.25 on a task whose returns span 90 is no
+    better candidate)."""
+    diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
+    gain = float(diff.mean())
+    if gain < MIN_SHARE * scale or not np.any(diff != 0):
+        return False, gain
+    return bool(wilcoxon(diff, alternative="greater").pvalue < CLONE_P), gain
+
+
+def best_beating(returns: dict[str, np.ndarray], incumbent: str, test=beats) -> tuple[str, float]:
+    """The variant that beats ``incumbent`` by the most (by ``test``), and by how much; ``(incumbent, 0)``
+    if none does."""
+    best, best_gain = incumbent, 0.0
+    for name, r in returns.items():
+        ok, gain = test(r, returns[incumbent])
+        if ok and gain > best_gain:
+            best, best_gain = name, gain
+    return best, best_gain
+
+
+def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
+           clones: dict[str, np.ndarray] | None = None) -> tuple[str, str]:
+    """``(variant, reason)``: the variant whose simulated candidate (``clones``: the mean's clone after
+    ``clone_probe.ROUNDS`` DAgger rounds) beats the incumbent's by the most, by two paired standard
+    errors; else the incumbent, unless zero action drives the body better than its labels (by two paired
+    standard errors): then the variant whose labels beat the incumbent's by the most, if one does."""
+    if clones:
+        seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), zero)])  # every return
+        scale = float(seen.max() - seen.min()) if seen.size else 0.0
+        best, gain = best_beating(clones, incumbent, lambda a, b: clone_beats(a, b, scale))
+        if best != incumbent:
+            return best, (f"its simulated candidate (the initial mean cloned toward its labels, {ROUNDS} DAgger "
+                          f"rounds) beats the default's ({variant_text(incumbent)}) by {gain:.2f} return "
+                          f"(signed-rank p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
+    worse, by = beats(zero, returns[incumbent])
+    if not worse:
+        return incumbent, ("the default: no variant's simulated candidate clearly beats its own, and zero action "
+                           "does not beat its labels by 2 paired standard errors")
+    best, best_gain = best_beating(returns, incumbent)
+    if best == incumbent:
+        return best, (f"the default: no variant's simulated candidate clearly beats its own; zero action beats "
+                      f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
+                      f"standard errors")
+    return best, (f"zero action beats the default's labels ({variant_text(incumbent)}) by {by:.2f} return; "
+                  f"{variant_text(best)} beats them by {best_gain:.2f} (> 2 paired standard errors)")
+
+
+def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray, clones: dict[str, np.ndarray],
+                   ranking: list[str], long_tag: str | None = None) -> tuple[str, str]:
+    """:func:`choose` over every variant; a variant of an extension the probe offers (chunk targets, ``+chunk``;
+    the ``probe_clip_long`` clip, ``long_tag`` such as ``+clip4``) stands only where the labels of the variant
+    chosen without that extension do not drive the body better than its own (by two paired standard errors:
+    there the base labels already show the action), and a chunk variant also only where it is ``best``, the
+    simulated candidate with the best mean return of all (``ranking``: every variant's and shooting horizon's
+    name, best first, ``probe_candidate.rank``); else the choice without it (the same rules, among the
+    candidates left). On the kart the chunk variants beat ``both``'s clearly, the shooting
+    candidate drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1 the
+    one-step labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return lower;
+    on the Reacher's seeds 0, 2 and 3 the same held for a longer clip (docs/benchmarks/probe_chunk_v15)."""
+    best = ranking[0] if ranking else None
+    name, reason = choose(returns, incumbent, zero, clones)
+    for tag in ("+chunk", long_tag):
+        if not tag or tag not in name:
+            continue
+        one, why = choose_targets({k: v for k, v in returns.items() if tag not in k}, incumbent, zero,
+                                  {k: v for k, v in clones.items() if tag not in k},
+                                  [k for k in ranking if tag not in k], long_tag)
+        drives, by = beats(returns[one], returns[name])
+        top_ok = tag != "+chunk" or (best is not None and "+chunk" in best)
+        if top_ok and not drives:
+            continue
+        what = "chunk targets stand" if tag == "+chunk" else f"a query clip of {tag[5:]} stands"
+        if top_ok:
+            top = f"where the labels chosen without it do not drive the body better (here {variant_text(one)}'s, " \
+                  f"by {by:.2f})"
+        else:
+            top = "where their candidate is the best of all" + (
+                "" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)"
+                if best.startswith("shoot:") else f", here {best}'s")
+        return one, f"{why}; {name}'s simulated candidate did beat the default's clearly, but {what} only {top}"
+    return name, reason

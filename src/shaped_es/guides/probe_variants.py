@@ -1,0 +1,44 @@
+"""What the label probe (``guides/label_probe.py``) tries, and the names it gives each try.
+
+A variant is ``(frame, query_clip, chunk)``: M_phi's displacement frame, the query's clip (times the mean
+training displacement; None: as asked) and the chunk length of its targets (None: one-step). The incumbent
+(``both``, one-step targets, the query as asked) comes first; its name is the default every rule in
+``guides/probe_choice.py`` compares against.
+"""
+
+from __future__ import annotations
+
+CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
+
+
+def clip_text(query_clip: float | None) -> str:
+    return "none" if query_clip is None else f"{query_clip:g}"
+
+
+def variant_name(frame: str, query_clip: float | None, chunk: int | None = None) -> str:
+    """``both``, ``both+clip2``, ``world+chunk4``, ``both+chunk4+clip2``."""
+    base = frame if chunk is None else f"{frame}+chunk{chunk}"
+    return base if query_clip is None else f"{base}+clip{query_clip:g}"
+
+
+def variant_text(name: str) -> str:
+    """A variant's name as its settings: ``both+chunk4+clip2`` -> ``frame=both, targets=chunk (4 steps),
+    query_clip=2``."""
+    base, _, clip = name.partition("+clip")
+    frame, _, chunk = base.partition("+chunk")
+    return f"frame={frame}" + (f", targets=chunk ({chunk} steps)" if chunk else "") + f", query_clip={clip or 'none'}"
+
+
+def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0
+                  ) -> list[tuple[str, float | None, int | None]]:
+    """The ``probe_clip_long`` variants, after :func:`variants`' (none where the user set a clip or it is off)."""
+    if user_clip is not None or long_clip is None or long_clip == CLIP:
+        return []
+    return variants(float(long_clip), chunk)  # every frame and targets, with that clip alone
+
+
+def variants(user_clip: float | None, chunk: int = 0) -> list[tuple[str, float | None, int | None]]:
+    """The probed ``(frame, query_clip, chunk)`` triples, the incumbent (``both``, one-step targets, the query as
+    asked) first; a clip the user set is kept; with ``chunk`` > 0 each also with M_phi on chunk targets."""
+    clips = [user_clip] if user_clip is not None else [None, CLIP]
+    return [(f, c, k) for k in ([None, chunk] if chunk else [None]) for f in ("both", "world") for c in clips]

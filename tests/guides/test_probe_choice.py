@@ -1,0 +1,90 @@
+"""The label probe's choice rules (guides/probe_choice.py): the frame's test on simulated candidates and labels,
+the signed-rank test, and the rule for the extensions the probe offers (chunk targets, a longer clip)."""
+
+import numpy as np
+
+from shaped_es.guides.probe_choice import choose, choose_targets, clone_beats
+
+
+def test_choose_replaces_the_default_only_where_zero_action_beats_its_labels():
+    zero = np.array([0.0, 0.0, 0.0, 0.0])
+    good = np.array([1.0, 2.0, 3.0, 4.0])  # the default's labels drive the body: kept, whatever else wins
+    better = good + 5.0
+    assert choose({"both": good, "world": better}, "both", zero)[0] == "both"
+    bad = np.array([-5.0, -6.0, -5.5, -6.5])  # worse than zero action on every episode
+    noisy = bad + np.array([4.0, -3.0, 5.0, -4.0])  # not beyond 2 SE of the default
+    clear = bad + np.array([4.0, 4.2, 3.9, 4.1])
+    name, reason = choose({"both": bad, "world": noisy, "world+clip2": clear}, "both", zero)
+    assert name == "world+clip2" and reason.startswith("zero action beats the default")
+    name, reason = choose({"both": bad, "world": noisy}, "both", zero)
+    assert name == "both" and "no variant beats" in reason
+
+
+def test_choose_takes_the_variant_whose_simulated_candidate_is_clearly_better():
+    zero = np.zeros(10)
+    labels = {"both": np.full(10, 9.0), "both+clip2": np.full(10, 9.0), "world": np.full(10, 8.0)}
+    # heavy-tailed clone returns: the default's clone crashes on 2 of 10 episodes (a 2-SE test misses it)
+    base = np.array([5.5, 4.4, -7.1, 7.3, 2.9, -26.8, -51.1, 0.2, 6.9, 5.5])
+    clipped = np.array([7.3, 6.5, 6.6, 8.5, 5.2, 5.4, 8.0, 5.9, 3.8, 7.9])
+    name, reason = choose(labels, "both", zero, {"both": base, "both+clip2": clipped, "world": base})
+    assert name == "both+clip2" and reason.startswith("its simulated candidate")
+    # a consistent but tiny gain (0.25 where the probe's returns span ~60) does not switch
+    flat = np.full(10, -25.0)
+    tiny = {"both": flat, "both+clip2": flat + 0.25, "world": flat}
+    assert choose({**labels, "both": np.full(10, 35.0)}, "both", zero, tiny)[0] == "both"
+    # clones that do not differ: the label rule decides (here: keep the default)
+    assert choose(labels, "both", zero, {"both": clipped, "both+clip2": clipped[::-1], "world": clipped})[0] == "both"
+
+
+def test_clone_beats_needs_a_signed_rank_win_and_a_share_of_the_spread():
+    a = np.arange(10.0) + 1.0
+    assert clone_beats(a + 1.0, a, scale=10.0) == (True, 1.0)
+    assert not clone_beats(a + 1.0, a, scale=100.0)[0]  # 1 < 5% of 100
+    assert not clone_beats(a, a, scale=1.0)[0]  # no difference at all
+    mixed = a + np.array([3.0, -3.0] * 5)  # as many losses as wins
+    assert not clone_beats(mixed, a, scale=1.0)[0]
+
+
+def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
+    """A chunk variant that beats both's clearly is taken where its simulated candidate is also the best of every
+    variant's and shooting horizon's; where a shooting candidate drove better (the kart), the one-step variants
+    are chosen among as if no chunk variant had been probed."""
+    def eps(m):
+        return np.array([m + 0.01 * k for k in range(10)])
+    returns = {k: eps(1.0) for k in ("both", "world", "both+chunk4")}
+    clones = {"both": eps(0.0), "world": eps(2.0), "both+chunk4": eps(4.0)}
+    zero = eps(0.5)
+    assert choose_targets(returns, "both", zero, clones, ["both+chunk4"])[0] == "both+chunk4"
+    assert choose_targets(returns, "both", zero, clones, ["shoot:8"])[0] == "world"  # as without chunk variants
+    one = {k: v for k, v in clones.items() if "chunk" not in k}
+    name, why = choose_targets(returns, "both", zero, clones, ["shoot:8"])
+    alone = choose({k: v for k, v in returns.items() if "chunk" not in k}, "both", zero, one)
+    assert name == alone[0] and why.startswith(alone[1])
+    assert "both+chunk4's simulated candidate did beat the default's clearly" in why  # says why it was passed over
+    assert "the shooting labels' (8 steps)" in why
+    assert "here world's" in choose_targets(returns, "both", zero, clones, ["world"])[1]
+    # UR5Reach-v0's seeds 0 and 1: the chunk candidate is the best of all, but the one-step labels drive the arm
+    # clearly better than the chunk labels: the one-step displacement shows the action, so one-step targets stay
+    drive = {**returns, "world": eps(3.0)}
+    name, why = choose_targets(drive, "both", zero, clones, ["both+chunk4"])
+    assert name == "world" and "do not drive the body better (here frame=world, query_clip=none's, by 2.00)" in why
+    near = {**returns, "world": eps(1.2) + 0.5 * (-1.0) ** np.arange(10)}  # better on average, not by 2 SE
+    assert choose_targets(near, "both", zero, clones, ["both+chunk4"])[0] == "both+chunk4"
+
+
+def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_drive_better():
+    """The Reacher's seeds 0, 2 and 3: a clip-4 variant won the frame test while the labels chosen without it drove
+    the arm clearly better; the unicycle's clip-4 seeds: they did not. A variant with both extensions must pass
+    both rules."""
+    def eps(m):
+        return np.array([m + 0.01 * k for k in range(10)])
+    returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0), "both+chunk4+clip4": eps(1.0)}
+    clones = {"both": eps(0.0), "world": eps(0.0), "both+clip4": eps(4.0), "both+chunk4+clip4": eps(2.0)}
+    zero = eps(0.5)
+    assert choose_targets(returns, "both", zero, clones, ["both+clip4"], "+clip4")[0] == "both+clip4"
+    name, why = choose_targets({**returns, "both": eps(3.0)}, "both", zero, clones, ["both+clip4"], "+clip4")
+    assert name == "both" and "but a query clip of 4 stands only where the labels chosen without it" in why
+    assert choose_targets(returns, "both", zero, clones, ["both+clip4"], None)[0] == "both+clip4"  # off: a plain name
+    both = {**clones, "both+clip4": eps(0.0), "both+chunk4+clip4": eps(4.0)}  # the doubly extended one wins the test
+    assert choose_targets(returns, "both", zero, both, ["both+chunk4+clip4"], "+clip4")[0] == "both+chunk4+clip4"
+    assert choose_targets(returns, "both", zero, both, ["shoot:8"], "+clip4")[0] == "both"  # chunk: not the best of all
