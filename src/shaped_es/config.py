@@ -148,10 +148,12 @@ class InverseDynamicsSettings(_Strict):
         "only a step later (a differential drive's turn rate) has no one-step label for it "
         "(docs/benchmarks/probe_chunk_v15); 0: one-step targets only")
     probe_clip_long: Float | None = Field(
-        None, gt=0, description="with frame auto and no query_clip set, the label probe also tries every variant "
+        4.0, gt=0, description="with frame auto and no query_clip set, the label probe also tries every variant "
         "with the query clipped to this many times the mean training displacement (a third clip beside none and "
-        "2; its simulated candidates have seed streams of their own). Off: measured as a lead only, "
-        "docs/benchmarks/probe_chunk_v15 (a fixed query_clip=4 paid on one body and cost on another)")
+        "2; its simulated candidates have seed streams of their own); the run takes such a variant where it wins "
+        "the frame's choice, the labels chosen without it do not drive the body better, and its own labels drive "
+        "the body better than zero action (a torque arm's labels do not: a longer query there only asks them for "
+        "a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: clips none and 2 only")
     shoot_keep_base: bool = Field(
         False, description="where the label probe chose a longer shooting horizon and shoot_horizon's simulated "
         "candidate also beat zero action, the shooting labels at shoot_horizon run beside it as one more rival "

@@ -137,7 +137,7 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert max(len(ln) for ln in lines[-4:]) < 300  # one fact a line
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {f"{f}{k}{c}" for f in ("both", "world") for k in ("", "+chunk4")
-                                             for c in ("", "+clip2")}  # one-step and chunk targets
+                                             for c in ("", "+clip2", "+clip4")}  # one-step and chunk targets, 3 clips
     assert "chunk" in out["labels"]["chosen"]
     assert set(out["labels"]["clones"]) == set(out["labels"]["returns"])
     assert len(out["labels"]["zero_action"]) == 10 and out["labels"]["env_steps"] > 0 and out["labels"]["seed"] == 0

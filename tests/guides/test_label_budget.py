@@ -82,7 +82,10 @@ def test_the_back_off_note_is_one_short_line():
     assert won.sleeps == 1
     note = won.note("CarNav-v0", True)
     assert note.startswith("labels lost 8 judged generations in a row (won 2 of 13): shaping sleeps 4 ")
-    assert "they paid before" in note and "check-env" not in note and len(note) <= NOTE_MAX
+    # a new user's drone and 3-link arm: "they paid before: the search may now outpace them" read as all is well
+    # on runs that had stalled below zero action's return; the advice is for a run that stalls
+    assert "(won 2 of 13): shaping sleeps" in note and "; if it stalls, try shaped-es check-env" in note
+    assert len(note) <= NOTE_MAX
 
 
 def test_a_never_winning_streak_lost_by_a_median_of_more_than_the_spread_sleeps_early():

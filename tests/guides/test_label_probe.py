@@ -174,8 +174,8 @@ def test_a_run_probes_once_counts_its_steps_and_a_resume_reuses_it(tmp_path, cap
     assert len(res.shoot) == len(res.zero_action)
     assert ("shoot_gain" in full[0]) == res.shoot_on
     assert res.frame in ("both", "world") and res.env_steps > 0
-    assert set(res.returns) == {"both", "both+clip2", "world", "world+clip2", "both+chunk4", "both+chunk4+clip2",
-                                "world+chunk4", "world+chunk4+clip2"}  # one-step and 4-step chunk targets
+    assert set(res.returns) == {f"{f}{k}{c}" for f in ("both", "world") for k in ("", "+chunk4")
+                                for c in ("", "+clip2", "+clip4")}  # one-step and 4-step chunk targets, 3 clips
     # generation 0's env steps hold the probe's, beyond the population's and the extras' rollouts
     assert int(full[0]["env_steps"]) > res.env_steps
     # killed after generation 1, or in generation 0 (the probe on file, no checkpoint yet), resumed: the
@@ -300,7 +300,7 @@ def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
 
     runs = {}
     for k in (0, 4):
-        cfg = build_config({**POINT, "shaping": {"inverse_dynamics": {"probe_chunk": k}}})
+        cfg = build_config({**POINT, "shaping": {"inverse_dynamics": {"probe_chunk": k, "probe_clip_long": None}}})
         spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
         runs[k] = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     off, on = runs[0], runs[4]
@@ -314,7 +314,7 @@ def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():
 
 
 def test_a_longer_clip_adds_variants_and_leaves_every_other_number_as_it_was():
-    """probe_clip_long (off by default) adds each frame's and targets' variant with that clip; the other
+    """probe_clip_long (4 by default) adds each frame's and targets' variant with that clip; the other
     variants' labels, simulated candidates and the shooting horizons' keep their numbers to the last digit; a
     clip the user set, or the default's own, adds none."""
     from shaped_es.config import build_config
@@ -337,10 +337,11 @@ def test_a_longer_clip_adds_variants_and_leaves_every_other_number_as_it_was():
     assert on.query_clip in (None, 2.0, 4.0)
 
 
-def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_passed_over(monkeypatch):
+@pytest.mark.parametrize("tag", ["+chunk", "+clip4"])
+def test_generation_0s_candidate_is_none_of_an_extension_the_probe_passed_over(monkeypatch, tag):
     """UR5Reach-v0's seeds 13 and 16: the chunk clone was the best simulated candidate, the chunk targets were
     passed over, and the chunk clone was still judged at generation 0 (the runs then differed from the runs
-    without chunk variants); now the candidate is the best of the others."""
+    without chunk variants); now the candidate is the best of the others. The same for a longer clip."""
     from shaped_es.config import build_config
     from shaped_es.guides.shaped_setup import mphi_config
     from shaped_es.rollout import policy_spec, probe_env
@@ -349,20 +350,22 @@ def test_generation_0s_candidate_is_no_chunk_clone_where_chunk_targets_were_pass
     spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
     real = label_probe.choose_targets
 
-    def passed_over(returns, incumbent, zero, clones, ranking, long_tag=None):  # a chunk clone on top, one-step
-        assert ranking and "+chunk" in ranking[0]  # chosen
-        return real({k: v for k, v in returns.items() if "+chunk" not in k}, incumbent, zero,
-                    {k: v for k, v in clones.items() if "+chunk" not in k}, [])
+    def passed_over(returns, incumbent, zero, clones, ranking, long_tag=None):  # the extension's clone on top
+        assert ranking and tag in ranking[0]  # chosen without it
+        return real({k: v for k, v in returns.items() if tag not in k}, incumbent, zero,
+                    {k: v for k, v in clones.items() if tag not in k}, [k for k in ranking if tag not in k], None)
     boosted = label_probe.clone_rounds_many
+    lo, hi = (label_probe.CHUNK_KEY, label_probe.LONG_KEY) if tag == "+chunk" else (label_probe.LONG_KEY, 10**9)
 
-    def chunk_clones_win(*a, **k):  # every chunk variant's simulated candidate drives best
+    def extension_clones_win(*a, **k):  # every simulated candidate of the extension drives best
         sims = boosted(*a, **k)
         keys = a[6] if len(a) > 6 else k["keys"]
-        return [(r + 100.0, n) if key >= label_probe.CHUNK_KEY else (r, n) for (r, n), key in zip(sims, keys)]
-    monkeypatch.setattr(label_probe, "clone_rounds_many", chunk_clones_win)
+        return [(r + 100.0, n) if lo <= key < hi else (r, n) for (r, n), key in zip(sims, keys)]
+    monkeypatch.setattr(label_probe, "clone_rounds_many", extension_clones_win)
     monkeypatch.setattr(label_probe, "choose_targets", passed_over)
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
-    assert res.chunk is None and res.candidate is not None and "+chunk" not in res.candidate
+    assert tag not in label_probe.variant_name(res.frame, res.query_clip, res.chunk)
+    assert res.candidate is not None and tag not in res.candidate
 
 
 def test_a_run_trains_m_phi_on_the_chunk_targets_the_probe_chose(tmp_path, capsys):

@@ -73,9 +73,9 @@ def test_chunk_targets_stand_only_where_their_candidate_is_the_best_of_all():
 
 
 def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_drive_better():
-    """The Reacher's seeds 0, 2 and 3: a clip-4 variant won the frame test while the labels chosen without it drove
-    the arm clearly better; the unicycle's clip-4 seeds: they did not. A variant with both extensions must pass
-    both rules."""
+    """A clip-4 variant that won the frame test stands where the labels chosen without it do not drive the body
+    clearly better and its own labels drive it better than zero action (the unicycle's clip-4 seeds); a variant
+    with both extensions must pass both rules."""
     def eps(m):
         return np.array([m + 0.01 * k for k in range(10)])
     returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0), "both+chunk4+clip4": eps(1.0)}
@@ -88,3 +88,9 @@ def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_dri
     both = {**clones, "both+clip4": eps(0.0), "both+chunk4+clip4": eps(4.0)}  # the doubly extended one wins the test
     assert choose_targets(returns, "both", zero, both, ["both+chunk4+clip4"], "+clip4")[0] == "both+chunk4+clip4"
     assert choose_targets(returns, "both", zero, both, ["shoot:8"], "+clip4")[0] == "both"  # chunk: not the best of all
+    # the Reacher's seeds 0, 2 and 3: every variant's labels drive the arm worse than zero action; a clip of 4 is a
+    # larger move asked of labels that do not move the body: passed over, and the line says why
+    name, why = choose_targets(returns, "both", eps(1.5), clones, ["both+clip4"], "+clip4")
+    assert name == "both" and "a query clip of 4 stands only where its labels drive the body better than zero" in why
+    near = eps(0.9) + 0.3 * (-1.0) ** np.arange(10)  # zero action a little worse on average, not by 2 SE
+    assert choose_targets(returns, "both", near, clones, ["both+clip4"], "+clip4")[0] == "both"

@@ -1,7 +1,8 @@
 """What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
 judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
 own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4 the shooting labels at 4 steps
-beside a longer horizon; ``guides/rival.py``), their mean gain over the mean, the
+beside a longer horizon; ``guides/rival.py``; 5 the label probe's candidate, judged at generation 0: blank there
+in runs from before that value), their mean gain over the mean, the
 generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
 (those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""
 
@@ -14,7 +15,7 @@ import numpy as np
 
 from shaped_es.guides.probe_file import parse
 
-VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base"}
+VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base", 5: "probe"}
 GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran
          "shoot_base": "shoot_base_gain"}
 
@@ -42,7 +43,7 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
         runs_without += int(not won.any())
         rival = _finite(m, "candidate_rival")
         for g in np.flatnonzero(won):
-            v = int(rival[g]) if rival.size and np.isfinite(rival[g]) else 0
+            v = int(rival[g]) if rival.size and np.isfinite(rival[g]) else 5 if rival.size and g == 0 else 0
             key = VARIANTS.get(v, f"variant_{v}")
             by_variant[key] = by_variant.get(key, 0) + 1
         gain = _finite(m, "candidate_gain")
@@ -94,21 +95,22 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
     if not rows:
         return []
     out = ["## What shaping did", "",
-           "Candidates judged and accepted, pooled over seeds (accepted by the run's own labels / the rival "
+           "Candidates judged and accepted, pooled over seeds (accepted: the label probe's candidate at generation 0 "
+           "/ by the run's own labels / the rival "
            "frame's / the servo's / the shooting labels' / the shooting labels' at shoot_horizon beside a longer "
            "horizon the probe chose), the mean gain of the judged candidate over the mean (return, on every "
            "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
            "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
            "simulated candidate loses to zero action), and says in how many runs it ran where not all.", "",
-           "| method | judged | accepted (own / frame / servo / shoot / shoot base) | mean gain | backed off per run "
+           "| method | judged | accepted (probe / own / frame / servo / shoot / shoot base) | mean gain | backed off per run "
            "| runs with none accepted |",
            "|---|---|---|---|---|---|"]
     for k, s in rows.items():
         v = s["accepted_by_variant"]
         gain = "n/a" if s["mean_gain"] is None else f"{s['mean_gain']:.3g}"
         counts = " / ".join(_count(s, key) for key in GAINS)
-        out.append(f"| {k} | {s['candidates_judged']} | {s['candidates_accepted']} ({v.get('own', 0)} / "
+        out.append(f"| {k} | {s['candidates_judged']} | {s['candidates_accepted']} ({v.get('probe', 0)} / {v.get('own', 0)} / "
                    f"{counts}) | {gain} | "
                    f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
     out.append("")

@@ -150,10 +150,10 @@ class LabelBudget:
         head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged}): "
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (metrics.csv "
                 f"shaping_awake)")
-        if self.accepted >= KEEP_MIN_WINS:  # they paid before (one win can be luck): the search outpaced them
-            return head + "; they paid before: the search may now outpace them, and shaping retries after the sleep"
-        # one win (often the generation-0 candidate's) can be the run's making or luck: the advice is conditional
-        once = "if it stalls, " if self.accepted else ""  # (won 1 of N) says the rest
+        # after a win ("won N of J" says how many): the advice is for a run that stalls. Two new users' runs (a
+        # drone, a 3-link arm) read the older "they paid before: the search may now outpace them" as all is well
+        # where they had stalled below zero action's return
+        once = "if it stalls, " if self.accepted else ""
         return head + f"; {once}try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes"
 
     def summary(self) -> dict:

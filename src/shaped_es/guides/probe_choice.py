@@ -89,13 +89,16 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
     """:func:`choose` over every variant; a variant of an extension the probe offers (chunk targets, ``+chunk``;
     the ``probe_clip_long`` clip, ``long_tag`` such as ``+clip4``) stands only where the labels of the variant
     chosen without that extension do not drive the body better than its own (by two paired standard errors:
-    there the base labels already show the action), and a chunk variant also only where it is ``best``, the
+    there the base labels already show the action); a chunk variant also only where it is ``best``, the
     simulated candidate with the best mean return of all (``ranking``: every variant's and shooting horizon's
-    name, best first, ``probe_candidate.rank``); else the choice without it (the same rules, among the
-    candidates left). On the kart the chunk variants beat ``both``'s clearly, the shooting
-    candidate drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1 the
-    one-step labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return lower;
-    on the Reacher's seeds 0, 2 and 3 the same held for a longer clip (docs/benchmarks/probe_chunk_v15)."""
+    name, best first, ``probe_candidate.rank``), and a longer clip only where its own labels drive the body
+    better than zero action (two paired standard errors: a longer query asks labels for a larger move, which
+    is worth asking only of labels that move the body at all); else the choice without it (the same rules,
+    among the candidates left). On the kart the chunk variants beat ``both``'s clearly, the shooting candidate
+    drove far better, and the runs that took them were slower; on UR5Reach-v0's seeds 0 and 1 the one-step
+    labels drove the arm clearly better, and the runs that took chunk targets ended 19-38 return lower; on the
+    Reacher's seeds 0, 2 and 3 every variant's labels drove the arm worse than zero action and the runs that
+    took a clip of 4 were slower (18 -> 22, 18 -> unsolved, 22 -> 40; docs/benchmarks/probe_chunk_v15)."""
     best = ranking[0] if ranking else None
     name, reason = choose(returns, incumbent, zero, clones)
     for tag in ("+chunk", long_tag):
@@ -105,16 +108,20 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
                                   {k: v for k, v in clones.items() if tag not in k},
                                   [k for k in ranking if tag not in k], long_tag)
         drives, by = beats(returns[one], returns[name])
-        top_ok = tag != "+chunk" or (best is not None and "+chunk" in best)
-        if top_ok and not drives:
-            continue
-        what = "chunk targets stand" if tag == "+chunk" else f"a query clip of {tag[5:]} stands"
-        if top_ok:
-            top = f"where the labels chosen without it do not drive the body better (here {variant_text(one)}'s, " \
-                  f"by {by:.2f})"
-        else:
-            top = "where their candidate is the best of all" + (
+        if tag == "+chunk":
+            own_ok = best is not None and "+chunk" in best
+            own = "where their candidate is the best of all" + (
                 "" if best is None else f", here the shooting labels' ({best.split(':')[1]} steps)"
                 if best.startswith("shoot:") else f", here {best}'s")
-        return one, f"{why}; {name}'s simulated candidate did beat the default's clearly, but {what} only {top}"
+        else:
+            moves, over = beats(returns[name], zero)
+            own_ok = bool(moves)
+            own = f"where its labels drive the body better than zero action (here by {over:.2f}, within 2 paired SE)"
+        if own_ok and not drives:
+            continue
+        what = "chunk targets stand" if tag == "+chunk" else f"a query clip of {tag[5:]} stands"
+        if own_ok:
+            own = (f"where the labels chosen without it do not drive the body better (here {variant_text(one)}'s, "
+                   f"by {by:.2f})")
+        return one, f"{why}; {name}'s simulated candidate did beat the default's clearly, but {what} only {own}"
     return name, reason

@@ -51,7 +51,8 @@ DIR = "mphi_data_rival"
 SERVO_DIR = "mphi_data_servo"
 SHOOT_DIR = "mphi_data_shoot"
 SHOOT_BASE_DIR = "mphi_data_shoot_base"
-FRAME, SERVO, SHOOT, SHOOT_BASE = 1, 2, 3, 4  # variant ids: the candidate_rival column's values (0: own labels)
+FRAME, SERVO, SHOOT, SHOOT_BASE = 1, 2, 3, 4  # variant ids: the candidate_rival column's values (0: own labels;
+#                                              5: generation 0's probe candidate, mechanisms/candidate.PROBE)
 
 
 @dataclass

@@ -43,6 +43,7 @@ CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_sa
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
 GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain"}  # per variant: its
 #                                                              candidate's gain over the mean
+PROBE = 5  # candidate_rival at generation 0: the label probe's best simulated candidate (guides/probe_candidate.py)
 SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
 REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
 
@@ -194,6 +195,8 @@ class MeanCandidate(Mechanism):
             out.update(candidate_return=float(f_cand[j]), mean_return=f_mean, candidate_gain=gain, candidate_accepted=int(accept),
                        candidate_scale=float(self.cfg.scales[j]) if j < ns else 1.0,
                        clone_step_update_cosine=cosine(self.extras[0] - self.extras[-1], es_update))
+            if self.free_judgement and RIVAL_METRICS[0] in self.metric_keys:  # no label source's row this time
+                out["candidate_rival"] = PROBE
             if self.rivals:
                 out["candidate_rival"] = self.rivals[j - ns] if j >= ns else 0
                 for i, v in enumerate(self.rivals):
