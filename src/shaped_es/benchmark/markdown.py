@@ -80,16 +80,22 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
             *["| " + " | ".join(r) + " |" for r in rows]]
 
 
-def _ratio_rows(ratios: dict, level: float) -> list[str]:
+def _ratio_rows(ratios: dict, level: float, solved: dict[str, int] | None = None) -> list[str]:
     """The success section's ratio table: each method's censored mean generations and wall time to the
-    threshold over each other method's, with bootstrap intervals (``summary.ratios_to_threshold``)."""
+    threshold over each other method's, with bootstrap intervals (``summary.ratios_to_threshold``). Where no
+    seed of either method reached the threshold (``solved``: successes per method) a ratio of two budgets would
+    read as a tie: the cell says so instead (a new user's drone: "1.00x [1.00, 1.00]" read as "as fast")."""
     order = list(ratios)
     pairs = [(x, y, r) for x, per in ratios.items() for y, r in per.items() if order.index(x) < order.index(y)]
     if not pairs:
         return []
-    def cell(d: dict) -> str:
+    solved = solved or {}
+
+    def cell(d: dict, x: str, y: str) -> str:
+        if solved.get(x) == 0 and solved.get(y) == 0:
+            return "n/a: no seed of either reached it (every seed censored; more --generations?)"
         return f"{_num(d['ratio'])}x {_interval(d['ci'])}" if d.get("ratio") is not None else "n/a"
-    rows = [[f"{x} / {y}", cell(r["generations"]), cell(r["wall_time_s"])] for x, y, r in pairs]
+    rows = [[f"{x} / {y}", cell(r["generations"], x, y), cell(r["wall_time_s"], x, y)] for x, y, r in pairs]
     return [f"Ratios of the censored means above, with percentile-bootstrap {level:.0%} intervals (each method's "
             "seeds resampled on their own; below 1: the first method needs less):", "",
             *_table(["methods", "generations to threshold", "wall time to threshold"], rows), ""]
@@ -143,7 +149,8 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
              _censored(s["to_threshold"]["generations"]), _censored(s["to_threshold"]["wall_time_s"]),
              _censored(s["to_threshold"]["env_steps"], 0)] for k, s in methods.items()]
     out += [*_table(header, rows), ""]
-    out += _ratio_rows(summary.get("ratios_to_threshold") or {}, level)
+    out += _ratio_rows(summary.get("ratios_to_threshold") or {}, level,
+                       {k: s["successes"] for k, s in methods.items()})
     out += ["## Final test reward and cost per run", "",
             "IQM: interquartile mean of the seeds' final test rewards (mean of the middle 50%), robust to a "
             "stray seed; mean ± the Student-t half width. Best test reward: each seed's best, mean over seeds. "
