@@ -34,6 +34,18 @@ CARTPOLE_TINY = {  # a CartPole-v1 ES run that learns in a few seconds (the end-
     "tensorboard": False,
 }
 
+SHAPED_TINY = {  # a default shaped run on UR5Reach-v0 in ~3 s, inline: every data folder a shaped run writes
+    "env": "UR5Reach-v0",  # (mphi_data*, trajectories/) and 3 checkpoints (keep_checkpoints' default)
+    "method": "shaped",
+    "executor": "inline",
+    "generations": 3,
+    "seed": 1,
+    "es": {"pairs": 6},
+    "policy": {"hidden": [8]},
+    "rollout": {"episodes": 1, "test_episodes": 2, "max_steps": 40},
+    "tensorboard": False,
+}
+
 
 # an own env's module, as a user writes it next to their runs (myenvs.py: `--env myenvs:Point-v0`)
 POINT_ENV_MODULE = '''

@@ -39,6 +39,7 @@ from shaped_es.monitor.callbacks import as_callbacks
 from shaped_es.monitor.progress import ProgressDisplay
 from shaped_es.rundir.atomic import atomic_write_text
 from shaped_es.rundir.meta import Counters, checkpoint_mismatch, config_digest
+from shaped_es.rundir.prune import refuse_pruned
 from shaped_es.rundir.store import RunStore, StoreError
 
 # the columns every method's metrics row holds, in metrics.csv's order
@@ -202,6 +203,7 @@ class RunLoop:
         repair (once the first generation ran: a resume that fails before changes nothing) drops the
         metrics rows past the checkpoint. Returns True if one was loaded. Nothing on disk changes when
         the checkpoint does not fit."""
+        refuse_pruned(self.store)  # its data parts and shards are gone: no exact resume (one line)
         self.store.check_writable_layout(self.columns(), self.cfg.tensorboard)
         loaded = self.store.load_checkpoint()
         if loaded is None:

@@ -90,15 +90,15 @@ def test_own_env_module_from_the_working_directory(tmp_path, executor):
 
 def test_commands_in_order_and_where_their_handlers_live():
     """The subcommands, in the order ``--help`` lists them, each run by its module's handler (the parser is
-    assembled in cli/commands.py from cli/results.py, cli/speed_commands.py, benchmark/cli_commands.py and
-    cli/info.py)."""
+    assembled in cli/commands.py from cli/results.py, cli/prune.py, cli/speed_commands.py,
+    benchmark/cli_commands.py and cli/info.py)."""
     sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
-    assert list(sub.choices) == ["train", "resume", "evaluate", "benchmark", "suite", "report", "render", "config",
-                                 "envs", "check-env", "speed", "bench"]
+    assert list(sub.choices) == ["train", "resume", "evaluate", "benchmark", "suite", "report", "render", "prune",
+                                 "config", "envs", "check-env", "speed", "bench"]
     where = {name: sp.get_default("fn").__module__ for name, sp in sub.choices.items() if sp.get_default("fn")}
-    assert {k: where[k] for k in ("train", "resume", "evaluate", "report", "render")} == {
+    assert {k: where[k] for k in ("train", "resume", "evaluate", "report", "render", "prune")} == {
         "train": "shaped_es.cli.commands", "resume": "shaped_es.cli.commands", "evaluate": "shaped_es.cli.results",
-        "report": "shaped_es.cli.results", "render": "shaped_es.cli.results"}
+        "report": "shaped_es.cli.results", "render": "shaped_es.cli.results", "prune": "shaped_es.cli.prune"}
     speed = next(a for a in sub.choices["speed"]._actions if isinstance(a, argparse._SubParsersAction))
     assert {n: sp.get_default("fn").__module__ for n, sp in speed.choices.items()} == {
         "env": "shaped_es.cli.speed_commands", "executors": "shaped_es.cli.speed_commands",

@@ -1,7 +1,7 @@
-"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / speed (alias bench),
-and the commands that explain: config / envs / check-env (``info.py``). Here: the parser, train and resume,
-and how a command ends; evaluate, report and render are in ``results.py``, speed in ``speed_commands.py``,
-benchmark and suite in ``benchmark/cli_commands.py``.
+"""``shaped-es`` command line: train / resume / evaluate / benchmark / report / render / prune / speed (alias
+bench), and the commands that explain: config / envs / check-env (``info.py``). Here: the parser, train and
+resume, and how a command ends; evaluate, report and render are in ``results.py``, prune in ``prune.py``,
+speed in ``speed_commands.py``, benchmark and suite in ``benchmark/cli_commands.py``.
 
 Errors print one line ``shaped-es: error: ...`` and exit with code 2: bad input (config, env, run
 directory, checkpoint; nothing already saved is touched), an env that raises or returns non-finite
@@ -69,10 +69,12 @@ def cmd_train(a: argparse.Namespace) -> int:
 
 def cmd_resume(a: argparse.Namespace) -> int:
     from shaped_es.config import ConfigError, build_config, merge
+    from shaped_es.rundir.prune import refuse_pruned
     from shaped_es.rundir.store import RunStore
 
     store = RunStore(a.run_dir)
     store.read_config()  # "not a run directory" before anything is created or locked
+    refuse_pruned(store)  # a pruned run (shaped-es prune): one line, nothing changed
     with store.lock():
         cfg = store.read_config()
         loaded = _fitting_checkpoint(cfg, store)  # a foreign or unreadable checkpoint: nothing changes
@@ -264,6 +266,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_suite_parser(sub)
     add_report_parser(sub)
     add_render_parser(sub)
+    from shaped_es.cli.prune import add_prune_parser
+
+    add_prune_parser(sub)
     from shaped_es.cli import info as cli_info
 
     cli_info.add_parsers(sub)  # config, envs, check-env

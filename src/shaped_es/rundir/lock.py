@@ -110,6 +110,40 @@ def probe(root: Path) -> None:
         release(_acquire_file(root))
 
 
+def holder(root: Path) -> str | None:
+    """The one line naming the live process that holds ``root``'s lock, or None when it is free; unlike
+    :func:`probe`, nothing is created, written or removed (not even a dead holder's ``.lock``)."""
+    try:
+        fd = _lock_directory(root)
+    except StoreError as exc:
+        return str(exc)
+    if fd is not None:
+        os.close(fd)
+    path = root / LOCK_NAME
+    if not path.is_file():
+        return None
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError:
+        return None
+    try:
+        if fcntl is not None:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return None
+    except BlockingIOError:
+        return _locked_message(root, _read_owner(path))
+    except OSError as exc:  # no flock here (or NFS's, which a read-only descriptor cannot take): the pid
+        if exc.errno not in (*_NO_FLOCK, errno.EBADF):
+            raise
+    finally:
+        os.close(fd)  # drops the flock just taken
+    try:  # without flock: a live pid on this host holds it
+        _check_pid_lock(root, path)
+    except StoreError as exc:
+        return str(exc)
+    return None
+
+
 def _acquire_file(root: Path) -> _Lock:
     path = root / LOCK_NAME
     for _ in range(10):  # only loops when another process unlinked the file between our open and flock

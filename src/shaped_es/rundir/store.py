@@ -13,6 +13,8 @@ Layout::
     RUN/trajectories/            Parquet shards (shaped method)
     RUN/mphi_data/               M_phi's training rows, one part per generation (shaped method)
     RUN/label_probe.json         the frame the label probe chose (shaped method, frame auto)
+    RUN/pruned.json              written by ``shaped-es prune`` (``prune.py``) once it deleted what an exact
+                                 resume reads (mphi_data*, trajectories): resume refuses the run
     RUN/figures/                 plots
     RUN/.lock                    pid of the process writing the run (train, resume, benchmark)
     RUN/error.log                full tracebacks of errors the command line reported in one line
