@@ -94,3 +94,23 @@ def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_dri
     assert name == "both" and "a query clip of 4 stands only where its labels drive the body better than zero" in why
     near = eps(0.9) + 0.3 * (-1.0) ** np.arange(10)  # zero action a little worse on average, not by 2 SE
     assert choose_targets(returns, "both", near, clones, ["both+clip4"], "+clip4")[0] == "both"
+
+
+def test_chunk_targets_are_judged_against_the_labels_chosen_without_either_extension():
+    """UR5Reach-v0's seed 1: without chunk variants the choice was a clip-4 variant whose labels drove the arm about
+    as badly as the chunk variant's, so the chunk variant stood, though both's labels beat its own by 18 (the run
+    ended 19 return lower). Chunk targets are judged against the labels chosen without chunk and longer-clip
+    variants both; the choice then made without chunk variants stands."""
+    def eps(m):
+        return np.array([m + 0.01 * k for k in range(10)])
+    alt = 3.0 * (-1.0) ** np.arange(10)
+    returns = {"both": eps(6.0), "both+clip4": eps(5.0) + alt, "both+chunk4": eps(4.0)}
+    clones = {"both": eps(0.0), "both+clip4": eps(2.0), "both+chunk4": eps(3.0)}
+    zero = eps(-1.0)
+    name, why = choose_targets(returns, "both", zero, clones, ["both+chunk4", "both+clip4"], "+clip4")
+    assert name == "both+clip4" and "chunk targets stand only where the labels chosen without it" in why
+    assert "(here frame=both, query_clip=none's, by 2.00)" in why
+    # without the longer clip offered, the same chunk rule as before
+    two = {k: v for k, v in returns.items() if "clip4" not in k}
+    assert choose_targets(two, "both", zero, {k: v for k, v in clones.items() if "clip4" not in k},
+                          ["both+chunk4"])[0] == "both"
