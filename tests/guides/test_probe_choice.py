@@ -78,7 +78,7 @@ def test_a_longer_clip_stands_only_where_the_labels_chosen_without_it_do_not_dri
     with both extensions must pass both rules."""
     def eps(m):
         return np.array([m + 0.01 * k for k in range(10)])
-    returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0), "both+chunk4+clip4": eps(1.0)}
+    returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.001), "both+chunk4+clip4": eps(1.0)}
     clones = {"both": eps(0.0), "world": eps(0.0), "both+clip4": eps(4.0), "both+chunk4+clip4": eps(2.0)}
     zero = eps(0.5)
     assert choose_targets(returns, "both", zero, clones, ["both+clip4"], "+clip4")[0] == "both+clip4"
@@ -114,3 +114,17 @@ def test_chunk_targets_are_judged_against_the_labels_chosen_without_either_exten
     two = {k: v for k, v in returns.items() if "clip4" not in k}
     assert choose_targets(two, "both", zero, {k: v for k, v in clones.items() if "clip4" not in k},
                           ["both+chunk4"])[0] == "both"
+
+
+def test_a_longer_clip_that_never_binds_does_not_stand():
+    """UR5Reach-v0's seed 17: both+chunk4+clip4's labels were both+chunk4's to the last digit (the clip never
+    bound), so its simulated candidate was the same labels' clone on another seed stream; its win (44.7 against
+    34.6) was the clone's noise, and the run that took it was slower (30 generations against 13)."""
+    def eps(m):
+        return np.array([m + 0.01 * k for k in range(10)])
+    returns = {"both": eps(1.0), "world": eps(1.0), "both+clip4": eps(1.0)}  # both+clip4's labels are both's
+    clones = {"both": eps(0.0), "world": eps(0.0), "both+clip4": eps(4.0)}
+    name, why = choose_targets(returns, "both", eps(0.5), clones, ["both+clip4"], "+clip4")
+    assert name == "both" and "a query clip of 4 stands only where the clip changes the labels (here both's" in why
+    bound = {**returns, "both+clip4": eps(1.0) + 0.001}  # the clip changed them: it stands
+    assert choose_targets(bound, "both", eps(0.5), clones, ["both+clip4"], "+clip4")[0] == "both+clip4"
