@@ -485,3 +485,18 @@ def test_check_labels_names_a_kept_shooting_rival_when_the_labels_lose_to_zero_a
         monkeypatch.setattr(label_check, "probe", lambda *a, **k: res)
         verdict = label_check.check_labels("PointVel-v0")["verdict"]
         assert verdict.startswith("world's labels drive the body worse than zero action (by 4.00 return)" + says)
+
+
+def test_generation_0s_line_says_why_its_shooting_horizon_is_not_the_rivals():
+    """A new user's 3-link arm: the probe line said "shooting (4 steps)" and generation 0's line "actions held 16
+    steps"; read as a contradiction. The generation-0 line now says the rival's horizon needs a clear win."""
+    from shaped_es.guides.label_check import candidate_line
+
+    res = ProbeResult("both", None, {"both": [1.0, 2.0]}, 10, 0.1, "the default", [0.0, 0.0], {"both": [1.0, 2.0]},
+                      [3.0, 3.0], True, 4, {"4": [3.0, 3.0], "16": [5.0, 6.0]}, "shoot:16")
+    line = candidate_line(res, True)
+    assert "actions held 16 steps (best by its mean; the run's shooting rival holds 4 steps, which 16 did not " \
+           "beat clearly), 5.50 on the probe's episodes) won" in line
+    same = ProbeResult("both", None, {"both": [1.0, 2.0]}, 10, 0.1, "the default", [0.0, 0.0], {"both": [1.0, 2.0]},
+                       [5.0, 6.0], True, 16, {"4": [3.0, 3.0], "16": [5.0, 6.0]}, "shoot:16")
+    assert "rival holds" not in candidate_line(same, True)

@@ -58,6 +58,10 @@ def candidate_what(res: ProbeResult) -> str:
         h = name.partition(":")[2]
         vals, what = res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else []), \
             f"the shooting labels', actions held {h} steps"
+        if res.shoot_on and res.shoot_horizon is not None and str(res.shoot_horizon) != h:  # a new user read the
+            # probe line's rival horizon and this one as a contradiction: the rival's horizon needs a clear win
+            what += (f" (best by its mean; the run's shooting rival holds {res.shoot_horizon} steps, which {h} did not "
+                     "beat clearly)")
     else:
         vals, what = res.clones.get(name, []), f"{variant_text(name)}'s"
     return what + (f", {np.mean(vals):.2f} on the probe's episodes" if vals else "")
