@@ -128,6 +128,10 @@ def test_a_misspelt_key_at_depth_3_is_named_however_it_is_written(data):
     ("shapng.eta", "shapng: unknown field (did you mean shaping?)"),
     ("shaping.mean_clon.accept", "shaping.mean_clon: unknown field (did you mean mean_clone?)"),
     ("es.sigma.x", "es.sigma: Input should be a valid number"),
+    # a new user's --set sigma=0.1: a key at the wrong level names the sections that hold it
+    ("sigma", "sigma: unknown field (did you mean es.sigma?)"),
+    ("babble_sigma", "babble_sigma: unknown field (did you mean shaping.inverse_dynamics.babble_sigma?)"),
+    ("zzz_no_field", "zzz_no_field: unknown field"),
 ])
 def test_a_misspelt_dotted_key_names_its_first_bad_part(key, line):
     with pytest.raises(ConfigError) as e:

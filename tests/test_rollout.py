@@ -40,6 +40,9 @@ def test_unknown_env_one_line():
         assert "\n" not in str(e.value)
     with pytest.raises(EnvSpecError, match=r"an own env is named module:Id, e.g. --env mymodule:NoSuchEnv-v0"):
         make_env("NoSuchEnv-v0")
+    # a new user wrote a dot where the colon goes: the example is their module and id
+    with pytest.raises(EnvSpecError, match=r"e.g. --env forcepoint:ForcePoint-v0, and its module registers it"):
+        make_env("forcepoint.ForcePoint-v0")
 
 
 def test_a_record_mask_keeps_those_members_and_the_rest_is_unchanged():

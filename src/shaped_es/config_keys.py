@@ -81,7 +81,20 @@ def did_you_mean(model: type[BaseModel], loc: tuple) -> str:
         if fields is None:
             return ""
         if part not in fields:
-            close = difflib.get_close_matches(str(part), list(fields), n=2, cutoff=0.6)
+            close = difflib.get_close_matches(str(part), list(fields), n=2, cutoff=0.6) or _deeper(model, str(part))
             return f" (did you mean {' or '.join(close)}?)" if close else ""
         model = fields[part].annotation  # a plain field has none: a dotted key past it gets no suggestion
     return " (a dotted key is not a path here: nest it, one key per level)"
+
+
+def _deeper(model: type[BaseModel], name: str, prefix: str = "", depth: int = 3) -> list[str]:
+    """Dotted paths below ``model``'s sections whose last field is ``name`` (``sigma`` -> ``es.sigma``): a key
+    given at the wrong level (a new user's ``--set sigma=0.1``); at most two."""
+    found: list[str] = []
+    for key, field in getattr(model, "model_fields", {}).items():
+        sub = field.annotation
+        if depth and isinstance(sub, type) and issubclass(sub, BaseModel):
+            if name in sub.model_fields:
+                found.append(f"{prefix}{key}.{name}")
+            found += _deeper(sub, name, f"{prefix}{key}.", depth - 1)
+    return list(dict.fromkeys(found))[:2]

@@ -73,7 +73,9 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
         if isinstance(exc, ModuleNotFoundError) and ":" in env_id:
             msg = _missing_module(env_id.split(":", 1)[0], exc) or msg
         elif ":" not in env_id and "doesn't exist" in msg and "Did you mean" not in msg:  # an own env, no module
-            msg += (f" (an own env is named module:Id, e.g. --env mymodule:{env_id}, and its module registers it: "
+            module, dot, name = env_id.rpartition(".")  # forcepoint.ForcePoint-v0: the module, then a dot
+            example = f"{module}:{name}" if dot and module and name else f"mymodule:{env_id}"
+            msg += (f" (an own env is named module:Id, e.g. --env {example}, and its module registers it: "
                     f"README, \"Your own env\")")
         elif ":" in env_id and not _registered_as(env_id.split(":", 1)[1]):  # no version of it either
             module, name = env_id.split(":", 1)

@@ -82,6 +82,7 @@ def test_dry_run_changes_nothing_and_says_what_would_go(run):
     before = snapshot(run)
     dry = prune_run(run, run_finished, dry_run=True)
     assert dry.status == "would prune" and snapshot(run) == before
+    assert "resume would refuse it afterwards (evaluate, render and report still work)" in dry.notes  # said first
     real = prune_run(run, run_finished)
     assert (real.nbytes, real.parts) == (dry.nbytes, dry.parts)
 

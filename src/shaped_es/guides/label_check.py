@@ -45,7 +45,7 @@ def candidate_line(res: ProbeResult, won: bool) -> str:
     0: its labels, its mean return on the probe's episodes, ``won``; ``""`` where the probe kept none."""
     if res.candidate is None:
         return ""
-    verdict = ("won: it is the search's mean now" if won else
+    verdict = ("won: it is the search's mean now (its test reward shows from the next generation's test)" if won else
                "lost to the initial mean: not counted against the labels, the run goes on as without it")
     return f"the label probe's best simulated candidate ({candidate_what(res)}) {verdict}"
 

@@ -208,6 +208,8 @@ def _judge(store: RunStore, cfg: RunConfig, finished, force: bool, dry_run: bool
         return PruneResult(store.root, "nothing", notes=notes)
     if not plan.resume_data and old is None:
         notes.append("it stays resumable (only older checkpoints go)")
+    elif dry_run and plan.resume_data:  # said before it happens (a new user read the dry run as harmless)
+        notes.append("resume would refuse it afterwards (evaluate, render and report still work)")
     if dry_run:
         return PruneResult(store.root, "would prune", plan.nbytes, plan.parts, notes=notes)
     if plan.resume_data or old is not None:  # marked first: a prune cut short leaves a marked run
