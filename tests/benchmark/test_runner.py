@@ -82,7 +82,8 @@ def test_benchmark_writes_runs_summary_and_report(bench):
     md = (bench / "report.md").read_text()
     assert "![Fig. 4](figures/fig4_test_reward.png)" in md and "_Not drawn" in md
     assert all(f"| {m} | 2 |" in md for m in ("vanilla", "cmaes", "ppo"))
-    assert "| vanilla / cmaes | 1.00x" in md and "| cmaes / vanilla |" not in md  # each pair once, in order
+    # each pair once, in order; nobody reached 475: a ratio of two budgets is no tie, and the cell says so
+    assert "| vanilla / cmaes | n/a: no seed of either reached it" in md and "| cmaes / vanilla |" not in md
     assert (bench / "figures" / "fig4_test_reward.png").stat().st_size > 10_000
     assert (bench / "figures" / "profile_final_reward.png").stat().st_size > 10_000
     assert (bench / "benchmark.yaml").is_file()
