@@ -21,7 +21,7 @@ from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
 
-LINE_MAX = 275  # characters of the run's printed probe line, for a built-in env's id and a short run name
+LINE_MAX = 280  # characters of the run's printed probe line, for a built-in env's id and a short run name
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
 
@@ -55,6 +55,13 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     kept = probe_line(replace(res, query_clip=None, reason="the default: ..."), "CarNav-v0", rivals)
     assert ("query_clip=none (the default choice): candidate -19.19, below zero action's -1.20; "
             in kept)  # a new user's cheetah: the numbers alone did not say it
+    # a new user's force point: the chosen variant's candidate below zero action, the probe's best (the shooting
+    # labels') far above it and judged at generation 0: the line says so, not only the bad number
+    best = replace(res, query_clip=None, reason="the default: ...", candidate="shoot:16")
+    told = probe_line(best, "CarNav-v0", rivals)
+    assert "below zero action's -1.20; best: shooting 16 steps 6.37, judged at generation 0; rivals" in told
+    assert len(f"shaped-es: {told}") <= LINE_MAX
+    assert "; best: " not in probe_line(replace(best, candidate="both"), "CarNav-v0", rivals)
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
     assert "(the default's labels, frame=both, lost to zero action): labels -0.39 vs zero action" in probe_line(
         lost, "ReacherWay-v0", rivals)

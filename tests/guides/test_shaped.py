@@ -207,3 +207,17 @@ def test_sigkill_mid_run_and_resume_gives_identical_rows(tmp_path):
     r = cli("resume", str(run))
     assert r.wait(timeout=300) == 0, r.stderr.read()
     assert strip_time(RunStore(run).read_metrics()) == strip_time(full.read_metrics())
+
+
+def test_a_missing_info_key_is_named():
+    """A new user's env returned info['position'] but no info['waypoint']: the line named both keys as needed;
+    it now also names the one missing."""
+    from shaped_es.config import ConfigError, build_config
+    from shaped_es.env_probe import EnvProbe
+    from shaped_es.guides.shaped_setup import waypoint_dim
+
+    cfg = build_config({"env": "PointVel-v0", "method": "shaped"})
+    probe = EnvProbe(4, 2, 100, reset_info={"position": [0.0, 0.0]})
+    with pytest.raises(ConfigError, match=r"its reset info has no 'waypoint' \(see the README"):
+        waypoint_dim(cfg, probe)
+    assert waypoint_dim(cfg, EnvProbe(4, 2, 100, reset_info={"position": [0.0, 0.0], "waypoint": [1.0, 0.0]})) == 2

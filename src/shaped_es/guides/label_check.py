@@ -32,12 +32,28 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
         # below zero action is said, not read as a verdict: the Reacher's and the kart's paying runs start so
         score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}" if below
                  else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
+        best = _best_text(res, name)
+        if below and best:  # a new user read "below zero action" as broken labels, a line before the probe's
+            score += f"; best: {best}, judged at generation 0"  # (its shooting clone won there)
     lost = "" if res.shoot_on else ", not above zero action"
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
     return (f"labels: {variant_text(name)} ({why}){score}{shoot}"
             + (f"; rivals: {', '.join(rivals)}" if rivals else "")
             + f"; see {FILE}, shaped-es check-env {env} --labels")
+
+
+def _best_text(res: ProbeResult, chosen: str) -> str:
+    """``shooting 16 steps 8.34``: the probe's best simulated candidate where it is another than ``chosen``'s and
+    scores above zero action's mean; ``""`` otherwise."""
+    name = res.candidate
+    if not name or name == chosen or not res.zero_action:
+        return ""
+    h = name.partition(":")[2] if name.startswith("shoot:") else None
+    vals = (res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else [])) if h else res.clones.get(name)
+    if not vals or np.mean(vals) <= np.mean(res.zero_action):
+        return ""
+    return f"{f'shooting {h} steps' if h else name} {np.mean(vals):.2f}"
 
 
 def candidate_line(res: ProbeResult, won: bool) -> str:

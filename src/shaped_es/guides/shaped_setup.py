@@ -25,9 +25,11 @@ def waypoint_dim(cfg: RunConfig, probe: EnvProbe | None = None) -> int:
     if probe.reset_error is not None:
         raise probe.reset_error
     info = probe.reset_info
-    if POSITION_KEY not in info or WAYPOINT_KEY not in info:
+    missing = [k for k in (POSITION_KEY, WAYPOINT_KEY) if k not in info]  # the one(s) missing, by name
+    if missing:
         raise ConfigError(f"--method shaped needs info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] "
-                          f"from {cfg.env} (see the README's environment contract)")
+                          f"from {cfg.env}; its reset info has no {' or '.join(repr(k) for k in missing)} "
+                          f"(see the README's environment contract)")
     return int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
 
 
