@@ -50,7 +50,7 @@ def _best_text(res: ProbeResult, chosen: str) -> str:
     if not name or name == chosen or not res.zero_action:
         return ""
     h = name.partition(":")[2] if name.startswith("shoot:") else None
-    vals = (res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else [])) if h else res.clones.get(name)
+    vals = _candidate_returns(res, name)
     if not vals or np.mean(vals) <= np.mean(res.zero_action):
         return ""
     return f"{f'shooting {h} steps' if h else name} {np.mean(vals):.2f}"
@@ -72,15 +72,24 @@ def candidate_what(res: ProbeResult) -> str:
     name = res.candidate or ""
     if name.startswith("shoot:"):
         h = name.partition(":")[2]
-        vals, what = res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else []), \
-            f"the shooting labels', actions held {h} steps"
+        what = f"the shooting labels', actions held {h} steps"
         if res.shoot_on and res.shoot_horizon is not None and str(res.shoot_horizon) != h:  # a new user read the
             # probe line's rival horizon and this one as a contradiction: the rival's horizon needs a clear win
             what += (f" (best by its mean; the run's shooting rival holds {res.shoot_horizon} steps, which {h} did not "
                      "beat clearly)")
     else:
-        vals, what = res.clones.get(name, []), f"{variant_text(name)}'s"
+        what = f"{variant_text(name)}'s"
+    vals = _candidate_returns(res, name)
     return what + (f", {np.mean(vals):.2f} on the probe's episodes" if vals else "")
+
+
+def _candidate_returns(res: ProbeResult, name: str) -> list[float]:
+    """A simulated candidate's per-episode returns by its name (a variant's, or ``shoot:H``; the file keeps a
+    single probed horizon's as ``shoot``); ``[]`` where the probe kept none."""
+    if name.startswith("shoot:"):
+        h = name.partition(":")[2]
+        return res.shoot_tried.get(h) or (res.shoot if str(res.shoot_horizon) == h else [])
+    return res.clones.get(name, [])
 
 
 def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:

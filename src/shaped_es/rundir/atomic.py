@@ -83,3 +83,16 @@ def open_append(path: Path, newline: str | None = None):
         raise not_regular(path, mode)
     os.set_blocking(fd, True)
     return os.fdopen(fd, "a", newline=newline)
+
+
+def real_dir(p: Path) -> bool:
+    """A directory that is no symlink (a run directory's own folders; a link is never followed)."""
+    return p.is_dir() and not p.is_symlink()
+
+
+def entries(d: Path) -> list[Path]:
+    """``d``'s entries, sorted; ``[]`` where it cannot be listed."""
+    try:
+        return sorted(d.iterdir())
+    except OSError:
+        return []

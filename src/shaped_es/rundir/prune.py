@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from shaped_es.config import ConfigError, RunConfig
-from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
+from shaped_es.rundir.atomic import StoreError, atomic_write_text, entries, read_regular, real_dir
 from shaped_es.rundir.lock import holder
 from shaped_es.rundir.store import RunStore
 
@@ -74,17 +74,6 @@ class PruneResult:
     notes: list[str] = field(default_factory=list)
 
 
-def _real_dir(p: Path) -> bool:
-    return p.is_dir() and not p.is_symlink()
-
-
-def _listdir(d: Path) -> list[Path]:
-    try:
-        return sorted(d.iterdir())
-    except OSError:
-        return []
-
-
 def _own_file(p: Path) -> bool:
     return not p.is_symlink() and p.is_file()
 
@@ -99,23 +88,23 @@ def plan_prune(store: RunStore) -> PrunePlan:
 
     for name in DATA_DIRS:
         d = root / name
-        if not _real_dir(d):
+        if not real_dir(d):
             continue
         before = len(plan.files)
-        for p in _listdir(d):
+        for p in entries(d):
             (take if _PART_RE.fullmatch(p.name) and _own_file(p) else plan.foreign.append)(p)
         plan.folders.append(d)
         if len(plan.files) > before:
             plan.parts.append(f"{name}/")
             plan.resume_data = True
     traj = root / TRAJECTORIES
-    if _real_dir(traj):
+    if real_dir(traj):
         before = len(plan.files)
-        for gen in _listdir(traj):
-            if not (_GEN_RE.fullmatch(gen.name) and _real_dir(gen)):
+        for gen in entries(traj):
+            if not (_GEN_RE.fullmatch(gen.name) and real_dir(gen)):
                 plan.foreign.append(gen)
                 continue
-            for p in _listdir(gen):
+            for p in entries(gen):
                 (take if _SHARD_RE.fullmatch(p.name) and _own_file(p) else plan.foreign.append)(p)
             plan.folders.append(gen)
         plan.folders.append(traj)
@@ -125,7 +114,7 @@ def plan_prune(store: RunStore) -> PrunePlan:
     gens = store.checkpoints()
     if gens:
         older = set()
-        for p in _listdir(store.ckpt_dir):
+        for p in entries(store.ckpt_dir):
             m = _CKPT_FILE_RE.fullmatch(p.name)
             if m and int(m.group(2)) < gens[-1] and _own_file(p):
                 take(p)

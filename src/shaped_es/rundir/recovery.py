@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from shaped_es.rundir import metrics_csv
-from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_text, check_regular
+from shaped_es.rundir.atomic import StoreError, StoreWarning, atomic_write_text, check_regular, entries, real_dir
 from shaped_es.rundir.checkpoints import _CKPT_RE
 
 # What the run writes, folder by folder (relative to the run directory; ``*`` a ``gen_NNNNNN`` folder):
@@ -42,7 +42,7 @@ class Recovery:
         removed = []
         for folder, pattern in _TMP_RES.items():
             for d in self._run_folders(folder):
-                for p in _listdir(d):
+                for p in entries(d):
                     if pattern.fullmatch(p.name) and p.is_file() and not p.is_symlink():
                         p.unlink(missing_ok=True)
                         removed.append(p)
@@ -78,12 +78,12 @@ class Recovery:
         ``trajectories/gen_NNNNNN``; only real folders (a symlink is not followed)."""
         if folder.endswith("/*"):
             parent = self.root / folder[:-2]
-            found = [p for p in _listdir(parent) if _CKPT_RE.fullmatch(p.name)] if _real_dir(parent) else []
+            found = [p for p in entries(parent) if _CKPT_RE.fullmatch(p.name)] if real_dir(parent) else []
         elif folder == ".":
             return [self.root] if self.root.is_dir() else []
         else:
             found = [self.root / folder]
-        return [p for p in found if _real_dir(p)]
+        return [p for p in found if real_dir(p)]
 
     def recover(self, loaded: Any = ...) -> tuple[dict[str, np.ndarray], dict] | None:
         """Make the run directory consistent before a writer continues it (call with the lock held):
@@ -138,17 +138,6 @@ class Recovery:
                               f"the last row of each generation", StoreWarning, stacklevel=3)
 
         return loaded, repair
-
-
-def _real_dir(p: Path) -> bool:
-    return p.is_dir() and not p.is_symlink()
-
-
-def _listdir(d: Path) -> list[Path]:
-    try:
-        return sorted(d.iterdir())
-    except OSError:
-        return []
 
 
 def _rows_covered(loaded) -> int:
