@@ -243,6 +243,11 @@ class MeanCloneSettings(_Strict):
                                  "next population, sampled around the jump, has a mean return below the one "
                                  "before the jump by more than this many standard errors of the difference; the "
                                  "undone jump counts as a lost judgement for the back-off (0: never undone)")
+    check_episodes: Int = Field(_MEAN.check_episodes, ge=0, le=1000, description="candidate: a winner and the "
+                                "mean run this many more episodes at once (on winning generations only) and the "
+                                "jump needs the paired test again on every episode the winner was not picked on "
+                                "(the extra ones and these): the best of several candidates on two episodes is a "
+                                "winner's curse (0: no check; a plateau's accept_flat win is not checked)")
     confirm: Bool = Field(_MEAN.confirm, description="candidate: a winner is evaluated again beside the next "
                           "generation, on new episodes, and becomes the mean only if it beats the mean's "
                           "return there")

@@ -102,6 +102,10 @@ class MeanCloneConfig:
     revert_margin: float = 0.0  # candidate: > 0: a jump is undone when the next population (sampled around it)
     #                             has a mean return below the population's before the jump by more than this
     #                             many standard errors of the difference (0: jumps are never undone)
+    check_episodes: int = 8  # candidate: a winner and the mean run this many more episodes at once (a second wave,
+    #                          on winning generations only) and the jump needs the paired test again on every
+    #                          episode the winner was not picked on (extra + these): the pick of the best of
+    #                          several candidates on two episodes is a winner's curse (0: no check)
     confirm: bool = False  # candidate: a winner is evaluated again beside the next generation and
     #                        becomes the mean only if it beats the mean's return there
     probe_candidate: bool = True  # candidate: the label probe's best simulated candidate is judged at generation 0
@@ -109,7 +113,7 @@ class MeanCloneConfig:
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
-                or self.extra_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0:
+                or self.extra_episodes < 0 or self.check_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every} "
                              f"accept_margin={self.accept_margin} revert_margin={self.revert_margin}")

@@ -16,6 +16,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import Executor
+from shaped_es.guides.mechanisms.candidate import CHECK_METRIC
 from shaped_es.policies import ObsNorm
 from shaped_es.rollout import policy_episode_tasks, run_task
 
@@ -105,6 +106,7 @@ class Rows:
         returns the rows completed now (this one unless it waits for its test episodes)."""
         master_cpu = time.process_time() - cpu0
         steps = int(sum(r.lengths.sum() for r in results))
+        steps += int(extra.get(CHECK_METRIC) or 0)  # the guide's own episodes (a candidate's check)
         # work done before generation 0 (the label probe): in its row's totals; a run resumed from a later
         # checkpoint has it in the counters already
         pre_steps, pre_s = self.guide.startup if g == 0 else (0, 0.0)
