@@ -238,3 +238,8 @@ def test_a_runs_line_says_what_its_labels_did(tmp_path):
     assert _outcome(shaped, tmp_path / "paid", 1.5) == (", test 2.50, 1.5 reached at generation 2; candidates "
                                                         "accepted 1 of 3 judged")
     assert _outcome(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""
+    checked = tmp_path / "checked"  # check_episodes: a winner the check did not bear out
+    checked.mkdir()
+    (checked / "metrics.csv").write_text("generation,test_reward_mean,shaping_awake,candidate_accepted,"
+                                         "candidate_gain,check_env_steps\n0,1.0,1,1,1.0,60\n1,2.5,1,0,1.0,60\n")
+    assert _outcome(shaped, checked) == ", test 2.50; candidates accepted 1 of 2 judged (1 more won and lost the check)"

@@ -224,6 +224,10 @@ def test_rows_summary():
     # with a rival frame: the accepted candidates that were the rival's clone (judged and lost: not counted)
     riv = [{**r, "candidate_rival": x} for r, x in zip(seq, ["0", "1", "1", "0", "0", "1"])]
     assert rows_summary(riv)["accepted_rival"] == 2 and rows_summary(seq)["accepted_rival"] is None
+    # with check_episodes: the winners the check did not bear out (a check ran, nothing accepted)
+    checked = [{"candidate_accepted": a, "candidate_gain": "0", "shaping_awake": "1", "check_env_steps": c}
+               for a, c in (("0", "0"), ("0", "80"), ("1", "80"), ("1", "0"), ("0", "80"), ("", ""))]
+    assert rows_summary(checked)["check_lost"] == 2 and "check_lost" not in rows_summary(seq)
 
 
 def test_the_final_summary_counts_the_jumps_the_budget_saw_fall(tmp_path, monkeypatch):

@@ -127,7 +127,7 @@ class _Host:
     def __init__(self, n, accept, **cfg):
         # the rule alone: no extra episodes, the jump replaces the ES update (unless a test says otherwise)
         self.mean_clone_cfg = MeanCloneConfig(**{"accept": accept, "scales": (0.5, 1.0), "extra_episodes": 0,
-                                                 "keep_step": False, "check_episodes": 0, **cfg})
+                                                 "keep_step": False, **cfg})
         self.labels = _Labels()
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
@@ -178,7 +178,7 @@ def test_confirm_jumps_only_to_a_winner_that_beats_the_mean_again(monkeypatch):
     n, P = 3, 4
     host = _Host(n, "best")
     host.mean_clone_cfg = MeanCloneConfig(scales=(1.0,), confirm=True, accept="best", extra_episodes=0,
-                                          keep_step=False, check_episodes=0)  # one candidate a generation
+                                          keep_step=False)  # one candidate a generation
     es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
     mech = MeanCandidate(host)
     step = np.ones(n)

@@ -82,7 +82,7 @@ class _Host:  # a stub shaped guide: the probe's candidate, no labels trained ye
     def __init__(self, n, candidate):
         from shaped_es.shaping.settings import MeanCloneConfig
 
-        self.mean_clone_cfg = MeanCloneConfig(accept="mean", extra_episodes=0, check_episodes=0)
+        self.mean_clone_cfg = MeanCloneConfig(accept="mean", extra_episodes=0)
         self.labels = type("L", (), {"ready": False})()
         self.rivals = []
         self.probe_candidate = candidate

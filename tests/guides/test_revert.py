@@ -18,7 +18,6 @@ class _Labels:
 class _Host:
     def __init__(self, n, margin=1.0):
         self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False,
-                                              check_episodes=0,
                                               revert_margin=margin)
         self.labels = _Labels()
         self.rivals = []

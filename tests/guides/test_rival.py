@@ -87,8 +87,7 @@ class _Labels:
 
 class _Host:
     def __init__(self, n):
-        self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False,
-                                              check_episodes=0)
+        self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False)
         self.labels = _Labels()
         self.rivals = [type("R", (), {"ready": True, "labels": f"rival labels {v}", "variant": v})()
                        for v in (FRAME, SERVO)]

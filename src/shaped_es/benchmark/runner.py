@@ -274,6 +274,8 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
         return out + f"; {never}"
     if summary and summary["candidates_judged"]:  # what shaping did, as the progress bar's "labels A/J"
         out += f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
+        if summary.get("check_lost"):  # check_episodes: winners the check did not bear out
+            out += f" ({summary['check_lost']} more won and lost the check)"
     return out
 
 

@@ -216,7 +216,8 @@ def _num(v) -> float | None:
 
 def rows_summary(rows: list[dict]) -> dict | None:
     """What shaping did over a run's metrics rows (None: no candidate columns, not a candidate run):
-    candidates judged and accepted, their mean return gain, acceptances after which the population's mean
+    candidates judged and accepted (and with check_episodes, ``check_lost``: winners on the judged episodes
+    that lost the check), their mean return gain, acceptances after which the population's mean
     return (``train_reward_mean``) fell (the jumps :meth:`LabelBudget.judge` counts as lost with
     ``judge_jumps``), generations backed off; with rivals, how many accepted were each one's clone."""
     if not rows or "candidate_accepted" not in rows[0]:
@@ -236,6 +237,9 @@ def rows_summary(rows: list[dict]) -> dict | None:
     out = {"candidates_judged": len(acc), "candidates_accepted": int(sum(acc)),
            "mean_gain": float(np.mean(gains)) if gains else None, "accepted_then_fell": fell,
            "generations_backed_off": asleep}
+    if "check_env_steps" in rows[0]:  # check_episodes: winners the check's episodes did not bear out
+        out["check_lost"] = sum(1 for r in rows if (_num(r.get("check_env_steps")) or 0) > 0
+                                and _num(r.get("candidate_accepted")) == 0)
     if "jump_reverted" in rows[0]:  # revert_margin: jumps the next population undid
         out["jumps_reverted"] = sum(1 for r in rows if _num(r.get("jump_reverted")) == 1)
     # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's

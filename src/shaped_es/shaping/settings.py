@@ -102,7 +102,7 @@ class MeanCloneConfig:
     revert_margin: float = 0.0  # candidate: > 0: a jump is undone when the next population (sampled around it)
     #                             has a mean return below the population's before the jump by more than this
     #                             many standard errors of the difference (0: jumps are never undone)
-    check_episodes: int = 8  # candidate: a winner and the mean run this many more episodes at once (a second wave,
+    check_episodes: int = 0  # candidate: a winner and the mean run this many more episodes at once (a second wave,
     #                          on winning generations only) and the jump needs the paired test again on every
     #                          episode the winner was not picked on (extra + these): the pick of the best of
     #                          several candidates on two episodes is a winner's curse (0: no check)
