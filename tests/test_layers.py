@@ -23,9 +23,8 @@ LAYERS: list[tuple[str, ...]] = [
     # reports (progress, TensorBoard, W&B, warnings in error.log, callbacks), YAML with bounded aliases
     ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
-    ("env_probe", "config_keys", "config_text"),  # an env before its first rollout; how a config key is spelt
-    # (merge, did you mean); a config's text read as data (YAML files, --set flags)
-    ("config", "rollout"),
+    ("env_probe",),  # an env before its first rollout
+    ("config", "rollout"),  # config/: the schema, how a key is spelt, a config's text read as data
     ("rundir",),  # the run directory: atomic writes, one writer, metrics.csv, checkpoints, run meta
     ("run_loop",),  # the run loop every method shares (lock, restore, rows, checkpoints)
     ("baselines",),  # PPO: knows nothing of ES

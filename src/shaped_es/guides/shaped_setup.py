@@ -55,7 +55,7 @@ def mphi_config(cfg: RunConfig, pos_dim: int):
 
 def from_section(cls, section, **resolved):
     """The shaping dataclass ``cls`` from its config ``section``: every field both have, then ``resolved``
-    (the section's defaults are the dataclass's own, ``config.py``)."""
+    (the section's defaults are the dataclass's own, ``config/shaping.py``)."""
     names = [f.name for f in dataclasses.fields(cls) if f.name in type(section).model_fields]
     return cls(**{n: getattr(section, n) for n in names if n not in resolved}, **resolved)
 

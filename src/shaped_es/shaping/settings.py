@@ -2,7 +2,7 @@
 (:class:`CloningConfig`).
 
 These dataclasses are the one source of their defaults: the run config's ``shaping.inverse_dynamics``
-and ``shaping.cloning`` sections (``config.py``) read their defaults from here, and
+and ``shaping.cloning`` sections (``config/shaping.py``) read their defaults from here, and
 ``guides/shaped.py`` builds these from a run's sections (``frame: auto`` resolved there, the seed
 derived from the root seed). This module imports neither torch nor ``config`` (the layers: shaping
 lies below config).
