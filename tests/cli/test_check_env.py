@@ -122,3 +122,35 @@ def test_the_threshold_line_is_benchmarks_at_the_kwargs_reward_scale():
     """A built-in env with a rescaled reward has no default threshold in benchmark; check-env says the same."""
     checks = check_env("CarNav-v0", {"step_penalty": 0.5}, episodes=1, max_steps=20)
     assert _status(checks)["threshold"] == NO
+
+
+class SteeredPoint(Point):
+    """The point with a scripted controller: straight to the origin (the waypoint)."""
+
+    def waypoint_controller(self, obs, info):
+        return np.clip(-10.0 * np.asarray(info["position"]), -1, 1).astype(np.float32)
+
+
+class BrokenController(Point):
+    def waypoint_controller(self, obs, info):
+        raise RuntimeError("no gains set")
+
+
+gym.register("CheckPoint-steered-v0", entry_point=SteeredPoint, max_episode_steps=20)
+gym.register("CheckPoint-brokenctl-v0", entry_point=BrokenController, max_episode_steps=20)
+
+
+def test_the_controller_line_says_what_it_returns_against_zero_and_random_actions():
+    """A new user measured their controller's, zero action's and random actions' returns by hand to set a
+    threshold; the controller's line gives them (10 episodes each, seeds 0-9) and 0.9 x the controller's."""
+    detail = next(c for c in check_env("CheckPoint-steered-v0") if c.name == "controller").detail
+    got = {k: float(v) for k, v in (p.rsplit(" ", 1) for p in
+                                     detail.split("returns over 10 episodes: ")[1].split(" (0.9")[0].split(", "))}
+    assert set(got) == {"it", "zero action", "random actions"}
+    assert got["it"] > got["zero action"] and got["it"] > got["random actions"]  # it steers to the origin
+    env = gym.make("CheckPoint-steered-v0")  # zero action: the point stays; its return by hand, same seeds
+    zero = np.mean([20 * -np.linalg.norm(env.reset(seed=s)[0]) for s in range(10)])
+    assert got["zero action"] == pytest.approx(zero, abs=0.01)
+    assert f"0.9 x its return, {0.9 * got['it']:.2f}" in detail
+    broken = next(c for c in check_env("CheckPoint-brokenctl-v0") if c.name == "controller")
+    assert broken.status == OK and "raised RuntimeError: no gains set" in broken.detail

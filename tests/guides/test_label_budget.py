@@ -69,6 +69,8 @@ def test_the_back_off_note_is_one_short_line():
                            "try shaped-es check-env CarNav-v0 --labels; compare --set shaping.labels=controller, "
                            "--method vanilla / cmaes")
     assert without == with_oracle.replace("--set shaping.labels=controller, ", "")
+    # a run on the controller's labels (a new user's oracle was told to try them): only the baselines
+    assert never.note("CarNav-v0", True, "controller").endswith("shaping_awake); compare --method vanilla / cmaes")
     assert len(with_oracle) <= NOTE_MAX and len(without) <= 250
     once = LabelBudget(patience=8, max_sleep=32)  # a new user's car: its one win (generation 0) solved the task
     for accepted in [True] + [False] * 8:

@@ -128,3 +128,20 @@ def test_a_longer_clip_that_never_binds_does_not_stand():
     assert name == "both" and "a query clip of 4 stands only where the clip changes the labels (here both's" in why
     bound = {**returns, "both+clip4": eps(1.0) + 0.001}  # the clip changed them: it stands
     assert choose_targets(bound, "both", eps(0.5), clones, ["both+clip4"], "+clip4")[0] == "both+clip4"
+
+
+def test_the_shooting_rival_stays_where_it_beats_zero_action_or_every_candidate():
+    """A new user's drone: zero action hovers (return 0) and every simulated candidate loses to it, the shooting
+    labels' least (-2.6 against -3.3); runs that dropped that rival solved no seed in 30 generations, runs that
+    kept it solved in 7-29. The Reacher's: the shooting candidate below zero action and below the best variant's
+    (dropped, as before: an extra row that never wins cost it 2 of 8 solved seeds)."""
+    from shaped_es.guides.probe_choice import keep_shoot
+
+    def eps(m):
+        return np.array([m + 0.1 * (-1) ** k for k in range(10)])
+    drone = {"both": eps(-3.3), "world+clip2": eps(-4.2)}
+    assert keep_shoot(eps(-2.6), eps(0.0), drone)  # the best candidate of all
+    assert not keep_shoot(eps(-2.6), eps(0.0), drone, keep_best=False)  # the gate alone
+    assert not keep_shoot(eps(-18.3), eps(-12.6), {"world+clip2": eps(-16.9)})  # the Reacher's seed 0
+    assert keep_shoot(eps(3.0), eps(0.0), {"both": eps(9.0)})  # above zero action: kept, as always
+    assert not keep_shoot(eps(-1.0), eps(0.0), {})  # nothing to compare with: the gate alone

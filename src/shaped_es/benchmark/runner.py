@@ -252,7 +252,7 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
 
 
 def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
-    """``, test 8.67`` (the run's last test reward), where it reached the threshold (:func:`_reached`), and
+    """``, last test reward 8.67``, where it reached the threshold (:func:`_reached`), and
     for a candidate run ``; candidates accepted 3 of 23 judged``, or ``; no candidate accepted ...`` where its
     labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed neither
     until the report. ``""`` where the run has no rows."""
@@ -264,7 +264,7 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
         return ""
     last = rows[-1].get("test_reward_mean") if rows else None
     try:
-        out = f", test {float(last):.2f}" if last not in (None, "") else ""
+        out = f", last test reward {float(last):.2f}" if last not in (None, "") else ""
     except (TypeError, ValueError):
         out = ""
     out += _reached(cfg, root, threshold) if rows else ""

@@ -55,6 +55,14 @@ class InverseDynamicsSettings(_Strict):
                                "path's last steps past the waypoint (w + k (w - the waypoint before it)), as pure "
                                "pursuit looks past its waypoint (a car circles a waypoint inside its turning "
                                "circle); 0: at the waypoint (docs/benchmarks/shoot_ahead_v10)")
+    shoot_keep_best: Bool = Field(True, description="with frame auto, the label probe also keeps the shooting "
+                                  "rival where its simulated candidate, though not above zero action, has the best "
+                                  "mean return of every simulated candidate (a body whose zero action is a safe "
+                                  "policy, a hovering drone, drops every learned variant against it; "
+                                  "docs/benchmarks/shoot_keep_best_v17)")
+    shoot_cost: Literal["min", "mean"] = Field("min", description="the shooting labels score a held action's "
+                                               "predicted path by its nearest pass to the aim (min) or its mean "
+                                               "distance to it (mean)")
     shoot_probe_horizons: tuple[Annotated[Int, Field(ge=1, le=64)], ...] = Field(
         (8, 16), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "

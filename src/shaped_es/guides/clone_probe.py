@@ -115,4 +115,4 @@ def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, ho
     for trs in data:
         m.add(trs)
         m.train()
-    return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead)
+    return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead, cfg.shaping.inverse_dynamics.shoot_cost)

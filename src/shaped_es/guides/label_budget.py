@@ -140,10 +140,12 @@ class LabelBudget:
         return bool(self._first_streak() and len(self.spreads) >= HEAVY_MIN
                     and float(np.median(self.spreads)) > self.heavy)
 
-    def note(self, env: str, has_controller: bool) -> str:
+    def note(self, env: str, has_controller: bool, labels: str = "mphi") -> str:
         """The line a run prints when it first sleeps: what happened, what sleeping costs, what to try (the env's
-        controller labels only where ``has_controller``); README.md's back-off ("backs off") says more."""
-        oracle = "--set shaping.labels=controller, " if has_controller else ""
+        controller labels only where ``has_controller`` and the run's ``labels`` are M_phi's: a new user's
+        controller-label run was told to try the controller's labels); README.md's back-off ("backs off") says
+        more."""
+        oracle = "--set shaping.labels=controller, " if has_controller and labels == "mphi" else ""
         n = min(self.losses, self.patience) or self.patience
         far = (f" by a median of {np.median(self.spreads):.1f} population spreads" if n < self.patience
                and self.spreads else "")
@@ -154,6 +156,8 @@ class LabelBudget:
         # drone, a 3-link arm) read the older "they paid before: the search may now outpace them" as all is well
         # where they had stalled below zero action's return
         once = "if it stalls, " if self.accepted else ""
+        if labels != "mphi":  # check-env --labels probes M_phi's labels, not these
+            return head + f"; {once}compare --method vanilla / cmaes"
         return head + f"; {once}try shaped-es check-env {env} --labels; compare {oracle}--method vanilla / cmaes"
 
     def summary(self) -> dict:

@@ -38,9 +38,18 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
     lost = "" if res.shoot_on else ", not above zero action"
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
+    if kept_as_best(res) and any(n.startswith("shooting") for n in rivals):
+        shoot = "; the shooting candidate is below zero action but the best simulated one: its rival runs"
     return (f"labels: {variant_text(name)} ({why}){score}{shoot}"
             + (f"; rivals: {', '.join(rivals)}" if rivals else "")
             + f"; see {FILE}, shaped-es check-env {env} --labels")
+
+
+def kept_as_best(res: ProbeResult) -> bool:
+    """The shooting rival runs though its simulated candidate is not above zero action: it is the best of every
+    simulated candidate (``shoot_keep_best``, ``guides/label_probe.py``)."""
+    return bool(res.shoot_on and res.shoot and res.zero_action
+                and not beats(np.array(res.shoot), np.array(res.zero_action))[0])
 
 
 def _best_text(res: ProbeResult, chosen: str) -> str:
@@ -109,7 +118,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
-    kept = "; the shooting rival drives above it, and a run keeps it"  # then the labels' own verdict matters less
+    kept = ("; the shooting rival's candidate, though not above it either, is the best simulated one, and a run "
+            "keeps that rival" if kept_as_best(res) else "; the shooting rival drives above it, and a run keeps it")
     if gain > 2 * se:
         verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
                    f"enough: a run's candidate must beat the ES mean, which soon beats zero action too)")
@@ -130,7 +140,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
         details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
-                       f"that rival")
+                       f"that rival" + (" (the best simulated candidate of all)" if kept_as_best(res) else ""))
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")

@@ -91,7 +91,7 @@ from shaped_es.rollout import make_env, to_space
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
 from shaped_es.guides.clone_probe import clone_rounds_many, roll_out, shoot_labels
-from shaped_es.guides.probe_choice import beats, best_beating, choose_targets, clone_beats
+from shaped_es.guides.probe_choice import beats, best_beating, choose_targets, clone_beats, keep_shoot
 from shaped_es.guides.probe_variants import long_variants, variant_name, variants
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
@@ -282,7 +282,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         best, _ = best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
                                 lambda a, b: clone_beats(a, b, scale))
         horizon, shoot = int(best), tried[best]
-        shoot_on = beats(np.array(shoot), zero)[0]
+        shoot_on = keep_shoot(np.array(shoot), zero, {k: np.array(v) for k, v in clones.items()}, mp.shoot_keep_best)
     simulated = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}  # every simulated candidate's returns
     by_name = dict(zip([variant_name(*v) for v in vs] + [f"shoot:{h}" for h in horizons], thetas))
     long_tag = f"+clip{mp.probe_clip_long:g}" if len(vs) > len(base) else None

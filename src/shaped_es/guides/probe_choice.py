@@ -141,3 +141,16 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
                    f"by {by:.2f})")
         return one, f"{why}; {name}'s simulated candidate did beat the default's clearly, but {what} only {own}"
     return name, reason
+
+
+def keep_shoot(shoot: np.ndarray, zero: np.ndarray, clones: dict[str, np.ndarray], keep_best: bool = True) -> bool:
+    """Whether a run keeps the shooting rival: its simulated candidate's returns ``shoot`` ``(E,)`` beat zero
+    action's ``zero`` ``(E,)`` by two paired standard errors, or (``keep_best``) its mean is above every
+    variant's simulated candidate's (``clones``, name -> ``(E,)``). The second: on a body whose zero action is
+    a safe policy (a hovering drone) every learned candidate loses to it at generation 0; the shooting labels'
+    then drove the new user's drone to the threshold in 7-29 generations where the runs that dropped them
+    solved no seed in 30 (``docs/benchmarks/shoot_keep_best_v17``)."""
+    if beats(shoot, zero)[0]:
+        return True
+    return bool(keep_best and clones and np.mean(shoot) > max(np.mean(v) for v in clones.values()))
+

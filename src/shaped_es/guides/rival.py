@@ -112,11 +112,12 @@ def shoot_on(cfg) -> bool:
 
 
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
-                seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR, ahead: float = 0.0) -> MphiTrack:
+                seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR, ahead: float = 0.0,
+                cost: str = "min") -> MphiTrack:
     """The shooting labels' forward model (M_phi's training settings, its own seed), labels and data parts."""
     model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
                         seed=seeding.derive_seed(seed, seeding.SHAPING, key))
-    return MphiTrack(model, ShootLabels(model, ahead), Path(root) / folder)
+    return MphiTrack(model, ShootLabels(model, ahead, cost), Path(root) / folder)
 
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
@@ -140,11 +141,12 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         h = shoot_horizon or base
         both = shoot_base and h != base and cfg.shaping.inverse_dynamics.shoot_keep_base
         ahead = cfg.shaping.inverse_dynamics.shoot_ahead
-        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead)
+        cost = cfg.shaping.inverse_dynamics.shoot_cost
+        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead, cost=cost)
         out.append(Rival(SHOOT, shoot_name(h) if both else "shooting", track, "shoot/", "shoot/parts"))
         if both:
             track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, base, root, cfg.seed, SHOOT_BASE_KEY,
-                                SHOOT_BASE_DIR, ahead)
+                                SHOOT_BASE_DIR, ahead, cost)
             out.append(Rival(SHOOT_BASE, shoot_name(base), track, "shoot_base/", "shoot_base/parts"))
     return out
 

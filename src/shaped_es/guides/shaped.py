@@ -363,7 +363,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         first time."""
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
-            note = self.budget.note(self.cfg.env, self.has_controller)
+            note = self.budget.note(self.cfg.env, self.has_controller, self.sh.labels)
             print(f"shaped-es: {self.run_name}: note: {note}", file=sys.stderr)
 
     def _warn_untrained(self, generation: int) -> None:

@@ -47,6 +47,7 @@ from shaped_es.shaping.mphi_inputs import episode_end, waypoint_before
 HORIZON = 4  # steps a candidate action is held
 GRID = 5  # candidate values per action dimension (-1, -0.5, 0, 0.5, 1) while GRID ** act <= MAX_CANDIDATES
 MAX_CANDIDATES = 64
+COSTS = ("min", "mean")  # how a candidate's predicted path is scored against the aim (ShootLabels)
 CANDIDATE_SEED = 1_000_023  # the random corners' stream (fixed: the same candidates in every run)
 
 
@@ -108,8 +109,10 @@ class ShootLabels(ForwardLabels):
     max_rows = 4096  # ... of this many rows drawn from the mean's DAgger set (guides/mechanisms/candidate.py)
     ROWS = 4096  # states per model pass (K x ROWS rows: a few MB, cache-sized)
 
-    def __init__(self, model: ForwardChunk, ahead: float = 0.0):
-        self.model, self.ahead = model, float(ahead)
+    def __init__(self, model: ForwardChunk, ahead: float = 0.0, cost: str = "min"):
+        if cost not in COSTS:
+            raise ValueError(f"shooting cost must be one of {COSTS}, got {cost!r}")
+        self.model, self.ahead, self.cost = model, float(ahead), cost
         self.candidates = candidate_actions(model.ctrl_dim)  # (K, act)
 
     def inputs(self, tr: Transitions) -> np.ndarray:
@@ -133,7 +136,9 @@ class ShootLabels(ForwardLabels):
                         np.repeat(A, b, axis=0))  # (K b, h d) scaled paths, every candidate held
             f = f.reshape(K, b, m.horizon, m.pos_dim)  # (K b, h d) -> (K, b, h, d)
             f -= ei[None, :, None, :]
-            miss = np.einsum("kbhd,kbhd->kbh", f, f).min(axis=-1)  # (K, b) squared nearest pass
+            d2 = np.einsum("kbhd,kbhd->kbh", f, f)  # (K, b, h) squared distances to the aim
+            # min: the nearest pass (squared); mean: the path's mean distance (a body that must not fly past)
+            miss = d2.min(axis=-1) if self.cost == "min" else np.sqrt(d2).mean(axis=-1)  # (K, b)
             out[i : i + b] = A[miss.argmin(axis=0)]
         return out.reshape(*lead, m.ctrl_dim)
 
