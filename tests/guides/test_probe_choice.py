@@ -145,3 +145,19 @@ def test_the_shooting_rival_stays_where_it_beats_zero_action_or_every_candidate(
     assert not keep_shoot(eps(-18.3), eps(-12.6), {"world+clip2": eps(-16.9)})  # the Reacher's seed 0
     assert keep_shoot(eps(3.0), eps(0.0), {"both": eps(9.0)})  # above zero action: kept, as always
     assert not keep_shoot(eps(-1.0), eps(0.0), {})  # nothing to compare with: the gate alone
+
+
+def test_the_default_choice_names_the_closest_candidate_and_what_kept_it_out():
+    """A new user's hovercraft: both+clip2's simulated candidate 4.18 against the chosen both's -0.89, and the
+    line said only that none beats it clearly; it now names the closest and the test it failed."""
+    rng = np.random.default_rng(0)
+    returns = {"both": np.full(10, 1.0), "both+clip2": np.full(10, 1.0)}
+    zero = np.full(10, 0.0) + 0.01 * rng.standard_normal(10)
+    noisy = np.array([30.0, -20, 25, -15, 20, -10, 15, -5, 12, 3])  # mean 5.5, half the episodes worse
+    clones = {"both": np.zeros(10), "both+clip2": noisy}
+    name, why = choose(returns, "both", zero, clones)
+    assert name == "both" and "(closest: frame=both, query_clip=2's 5.50 against 0.00, signed-rank p " in why
+    assert "needs < 0.05)" in why
+    small = {"both": np.zeros(10), "both+clip2": np.full(10, 0.01) + 0.001 * np.arange(10)}  # consistent, tiny
+    assert "a gain below 5% of the probe's return spread" in choose(returns, "both", zero, small)[1]
+    assert "closest" not in choose(returns, "both", zero, {"both": np.ones(10), "both+clip2": np.zeros(10)})[1]

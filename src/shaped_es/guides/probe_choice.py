@@ -46,6 +46,22 @@ def clone_beats(a: np.ndarray, b: np.ndarray, scale: float) -> tuple[bool, float
     return bool(wilcoxon(diff, alternative="greater").pvalue < CLONE_P), gain
 
 
+def _closest(clones: dict[str, np.ndarray], incumbent: str, scale: float) -> str:
+    """`` (closest: both+clip2's 4.18 against -0.89, signed-rank p 0.06, needs < 0.05)``: the simulated candidate
+    with the best mean above the incumbent's, and what kept it out (a new user read the choice as arbitrary);
+    ``""`` where none is above."""
+    own = float(np.mean(clones[incumbent]))
+    name = max(clones, key=lambda k: float(np.mean(clones[k])))
+    if name == incumbent or float(np.mean(clones[name])) <= own:
+        return ""
+    diff = np.asarray(clones[name], np.float64) - np.asarray(clones[incumbent], np.float64)  # (E,)
+    if diff.mean() < MIN_SHARE * scale:
+        why = f"a gain below {MIN_SHARE:.0%} of the probe's return spread ({MIN_SHARE * scale:.2f})"
+    else:
+        why = f"signed-rank p {wilcoxon(diff, alternative='greater').pvalue:.2f}, needs < {CLONE_P:g}"
+    return f" (closest: {variant_text(name)}'s {np.mean(clones[name]):.2f} against {own:.2f}, {why})"
+
+
 def best_beating(returns: dict[str, np.ndarray], incumbent: str, test=beats) -> tuple[str, float]:
     """The variant that beats ``incumbent`` by the most (by ``test``), and by how much; ``(incumbent, 0)``
     if none does."""
@@ -63,6 +79,7 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
     ``clone_probe.ROUNDS`` DAgger rounds) beats the incumbent's by the most, by two paired standard
     errors; else the incumbent, unless zero action drives the body better than its labels (by two paired
     standard errors): then the variant whose labels beat the incumbent's by the most, if one does."""
+    closest = ""
     if clones:
         seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), zero)])  # every return
         scale = float(seen.max() - seen.min()) if seen.size else 0.0
@@ -71,13 +88,14 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
             return best, (f"its simulated candidate (the initial mean cloned toward its labels, {ROUNDS} DAgger "
                           f"rounds) beats the default's ({variant_text(incumbent)}) by {gain:.2f} return "
                           f"(signed-rank p < {CLONE_P:g}, at least {MIN_SHARE:.0%} of the probe's return spread)")
+        closest = _closest(clones, incumbent, scale)
     worse, by = beats(zero, returns[incumbent])
     if not worse:
-        return incumbent, ("the default: no variant's simulated candidate clearly beats its own, and zero action "
-                           "does not beat its labels by 2 paired standard errors")
+        return incumbent, (f"the default: no variant's simulated candidate clearly beats its own{closest}, and zero "
+                           f"action does not beat its labels by 2 paired standard errors")
     best, best_gain = best_beating(returns, incumbent)
     if best == incumbent:
-        return best, (f"the default: no variant's simulated candidate clearly beats its own; zero action beats "
+        return best, (f"the default: no variant's simulated candidate clearly beats its own{closest}; zero action beats "
                       f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
                       f"standard errors")
     return best, (f"zero action beats the default's labels ({variant_text(incumbent)}) by {by:.2f} return; "
