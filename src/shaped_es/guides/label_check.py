@@ -33,8 +33,10 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
         score = (f": {what} {np.mean(own):.2f}, below zero action's {np.mean(zero):.2f}" if below
                  else f": {what} {np.mean(own):.2f} vs zero action {np.mean(zero):.2f}")
         best = _best_text(res, name)
-        if below and best:  # a new user read "below zero action" as broken labels, a line before the probe's
-            score += f"; best: {best}, judged at generation 0"  # (its shooting clone won there)
+        # a new user read "below zero action" as broken labels, a line before the probe's best candidate won at
+        # generation 0; another read the two candidates' numbers as contradictory: the best is named either way
+        if best:
+            score += f"; best: {best}, judged at generation 0"
     lost = "" if res.shoot_on else ", not above zero action"
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
