@@ -62,6 +62,10 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     assert "below zero action's -1.20; best: shooting 16 steps 6.37, judged at generation 0; rivals" in told
     assert len(f"shaped-es: {told}") <= LINE_MAX
     assert "; best: " not in probe_line(replace(best, candidate="both"), "CarNav-v0", rivals)
+    # a new user's hovercraft: the chosen candidate not below zero action, the best far above it (6.38 against
+    # -0.89 on the next line read as a contradiction): named too
+    above = probe_line(replace(res, candidate="shoot:16"), "CarNav-v0", rivals)
+    assert "candidate -0.19 vs zero action -1.20; best: shooting 16 steps 6.37, judged at generation 0" in above
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
     assert "(the default's labels, frame=both, lost to zero action): labels -0.39 vs zero action" in probe_line(
         lost, "ReacherWay-v0", rivals)
