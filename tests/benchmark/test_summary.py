@@ -63,6 +63,8 @@ def test_summary_values(runs):
     assert ours["final_test_reward_ci"] is None  # one seed: no interval
     assert van["final_test_reward_iqm"] == 5.0 and 4.0 <= van["final_test_reward_iqm_ci"][0] <= 5.0
     assert cma["final_test_reward_iqm_ci"] == [2.0, 2.0] and ours["final_test_reward_iqm_ci"] is None
+    # the late reward: each seed's mean over its last 10 evaluations (here all of them; a missing one skipped)
+    assert van["late_test_reward_per_seed"] == [pytest.approx(7 / 3), 3.5] and ours["late_test_reward_iqm"] == 6.0
     # no config (no env): the best baseline's (not 'shaped') final mean = vanilla's 5.0
     assert s["threshold"] == {"value": 5.0, "method": "vanilla", "reference": "shaped",
                               "source": "best baseline's final mean test reward"}
@@ -232,3 +234,13 @@ def test_settings_show_what_each_method_uses_as_plain_values(runs, tmp_path):
     assert settings("vanilla", rollout={"test_policy": "best"})["tested policy"] == "best"
     assert "tested policy" not in ppo  # PPO tests its own policy
     assert "alpha 0.9; eta 0.01" in table and '"' not in table and "`" not in table
+
+
+def test_the_late_reward_is_the_mean_of_the_last_ten_evaluations():
+    from shaped_es.benchmark.summary import LATE_EVALUATIONS, late_rewards
+
+    tests = np.arange(15, dtype=float)  # 0..14
+    tests[13] = np.nan  # not evaluated there
+    got = late_rewards([{"test_reward_mean": tests}, {"test_reward_mean": np.full(3, np.nan)}])
+    assert LATE_EVALUATIONS == 10 and got[0] == pytest.approx(np.mean([4, 5, 6, 7, 8, 9, 10, 11, 12, 14]))
+    assert np.isnan(got[1])

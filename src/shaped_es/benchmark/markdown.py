@@ -14,7 +14,7 @@ from pathlib import Path
 
 from shaped_es.benchmark.grouping import method_settings, plain, report_env
 from shaped_es.benchmark.shaping_summary import probe_choices, shaping_lines
-from shaped_es.benchmark.summary import load_runs, summarize
+from shaped_es.benchmark.summary import LATE_EVALUATIONS, load_runs, summarize
 from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
@@ -41,6 +41,13 @@ def _reward(s: dict) -> str:
     if ci is None:
         return _num(mean)
     return f"{_num(mean)} ± {_num((ci[1] - ci[0]) / 2)}"
+
+
+def _late(s: dict) -> str:
+    """The late reward's IQM and interval (``–`` in a summary.json from before it)."""
+    if "late_test_reward_iqm" not in s:
+        return "–"
+    return f"{_num(s['late_test_reward_iqm'])} {_interval(s['late_test_reward_iqm_ci'])}"
 
 
 def _interval(ci, digits: int = 2) -> str:
@@ -153,12 +160,14 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
                        {k: s["successes"] for k, s in methods.items()})
     out += ["## Final test reward and cost per run", "",
             "IQM: interquartile mean of the seeds' final test rewards (mean of the middle 50%), robust to a "
-            "stray seed; mean ± the Student-t half width. Best test reward: each seed's best, mean over seeds. "
-            "Costs: a whole run, mean over seeds.", ""]
+            "stray seed; mean ± the Student-t half width. Late reward: the IQM of each seed's mean over its last "
+            f"{LATE_EVALUATIONS} test evaluations (steadier than the last alone). Best test reward: each seed's "
+            "best, mean over seeds. Costs: a whole run, mean over seeds.", ""]
     header = ["method", "seeds", f"final reward IQM [{level:.0%} CI]", f"final reward mean (± {level:.0%} CI)",
-              "best test reward", "generations", "env steps", "CPU time (s)", "wall time (s)"]
+              f"late reward IQM [{level:.0%} CI]", "best test reward", "generations", "env steps", "CPU time (s)",
+              "wall time (s)"]
     rows = [[k, str(s["seeds"]), f"{_num(s['final_test_reward_iqm'])} {_interval(s['final_test_reward_iqm_ci'])}",
-             _reward(s), _num(s["best_test_reward_mean"]), _num(s["generations"], 0), _num(s["env_steps"], 0),
+             _reward(s), _late(s), _num(s["best_test_reward_mean"]), _num(s["generations"], 0), _num(s["env_steps"], 0),
              _num(s["cpu_time_s"], 1), _num(s["wall_time_s"], 1)] for k, s in methods.items()]
     out += [*_table(header, rows), ""]
     out += shaping_lines(methods, {k: s["wall_time_s"] for k, s in methods.items()})

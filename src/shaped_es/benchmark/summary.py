@@ -127,6 +127,20 @@ def final_rewards(runs: list[Metrics]) -> list[float]:
     return [last_finite(m.get("test_reward_mean", np.full(1, np.nan))) for m in runs]
 
 
+LATE_EVALUATIONS = 10  # the late reward: each seed's mean over its last this many test evaluations
+
+
+def late_rewards(runs: list[Metrics]) -> list[float]:
+    """Each seed's mean test reward over its last :data:`LATE_EVALUATIONS` evaluations (fewer where it has
+    fewer): steadier than the last one alone, which a new user's lander showed swinging by seeds' luck."""
+    out = []
+    for m in runs:
+        v = np.asarray(m.get("test_reward_mean", np.full(1, np.nan)), np.float64)
+        v = v[np.isfinite(v)][-LATE_EVALUATIONS:]  # (<= LATE_EVALUATIONS,)
+        out.append(float(v.mean()) if v.size else math.nan)
+    return out
+
+
 def run_generations(m: Metrics) -> int:
     g = m.get("generation")
     return int(np.nanmax(g)) + 1 if g is not None and np.isfinite(g).any() else 0
@@ -136,6 +150,8 @@ def summarize_method(runs: list[Metrics], threshold: float, level: float, resamp
     finals = final_rewards(runs)
     mean, half = t_interval(finals, level)
     robust = iqm_with_ci(finals, level, resamples)
+    late = late_rewards(runs)
+    late_robust = iqm_with_ci(late, level, resamples)
     tt = time_to_threshold(runs, threshold)
     successes = int(sum(tt["reached"]))
     phases = sorted({k for m in runs for k in m if PHASE_COLUMN.match(k)})
@@ -146,6 +162,9 @@ def summarize_method(runs: list[Metrics], threshold: float, level: float, resamp
         "final_test_reward_iqm": robust["iqm"],
         "final_test_reward_iqm_ci": robust["ci"],
         "final_test_reward_per_seed": finals,
+        "late_test_reward_iqm": late_robust["iqm"],  # each seed's last LATE_EVALUATIONS evaluations' mean
+        "late_test_reward_iqm_ci": late_robust["ci"],
+        "late_test_reward_per_seed": late,
         "best_test_reward_mean": _mean(last_finite(m["test_reward_best_so_far"]) for m in runs
                                        if "test_reward_best_so_far" in m),
         "successes": successes,
