@@ -221,3 +221,19 @@ def test_a_missing_info_key_is_named():
     with pytest.raises(ConfigError, match=r"its reset info has no 'waypoint' \(see the README"):
         waypoint_dim(cfg, probe)
     assert waypoint_dim(cfg, EnvProbe(4, 2, 100, reset_info={"position": [0.0, 0.0], "waypoint": [1.0, 0.0]})) == 2
+
+
+def test_a_controller_label_run_says_where_its_labels_come_from_once(tmp_path, capsys):
+    """A new user's controller-label runs printed nothing about their labels (an M_phi run prints the probe's
+    line); a resumed run does not say it again."""
+    from helpers import train
+    from test_mechanisms import TINY
+
+    sh = {**TINY["shaping"], "labels": "controller"}
+    store = train(tmp_path / "run", {**TINY, "generations": 1, "shaping": sh})
+    err = capsys.readouterr().err
+    assert err.count("labels: the env's waypoint_controller, the oracle") == 1
+    assert "(shaping.labels=controller: no label probe, no rival labels)" in err
+    Trainer(build_config({**TINY, "generations": 2, "shaping": sh}), store, progress=False).run()  # resumed
+    assert len(store.read_metrics()) == 2
+    assert "labels: the env's waypoint_controller" not in capsys.readouterr().err

@@ -81,6 +81,9 @@ from shaped_es.shaping.trajectories import delete_generations, run_root, write_s
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_check import candidate_line, probe_line
+
+LABEL_TEXT = {"controller": "the env's waypoint_controller, the oracle: what labels can give at most",
+              "reference": "a finished run's policy (shaping.reference_run)"}
 from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
@@ -145,6 +148,10 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         if probe_res is not None:  # the probe's choice, and the rivals beside it
             print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
                   file=sys.stderr)
+        elif self.sh.labels != "mphi" and not Path(store.metrics_path).exists():  # a new run: say where labels
+            # come from (a new user's controller-label runs printed nothing about their labels)
+            print(f"shaped-es: {self.run_name}: labels: {LABEL_TEXT[self.sh.labels]} (shaping.labels="
+                  f"{self.sh.labels}: no label probe, no rival labels)", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None
