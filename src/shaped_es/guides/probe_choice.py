@@ -39,11 +39,18 @@ def clone_beats(a: np.ndarray, b: np.ndarray, scale: float) -> tuple[bool, float
     the paired differences at :data:`CLONE_P`, and a mean gain of at least :data:`MIN_SHARE` of ``scale``
     (the spread of every return the probe saw: a consistent 0.25 on a task whose returns span 90 is no
     better candidate)."""
+    gain, p = _clone_test(a, b, scale)
+    return bool(p is not None and p < CLONE_P), gain
+
+
+def _clone_test(a: np.ndarray, b: np.ndarray, scale: float) -> tuple[float, float | None]:
+    """``(mean gain of a over b, the signed-rank p-value)``; p None where the gain is below :data:`MIN_SHARE` of
+    ``scale`` or every paired difference is zero (no test: ``a`` does not beat ``b``)."""
     diff = np.asarray(a, np.float64) - np.asarray(b, np.float64)  # (E,)
     gain = float(diff.mean())
     if gain < MIN_SHARE * scale or not np.any(diff != 0):
-        return False, gain
-    return bool(wilcoxon(diff, alternative="greater").pvalue < CLONE_P), gain
+        return gain, None
+    return gain, float(wilcoxon(diff, alternative="greater").pvalue)
 
 
 def _closest(clones: dict[str, np.ndarray], incumbent: str, scale: float) -> str:
@@ -54,11 +61,11 @@ def _closest(clones: dict[str, np.ndarray], incumbent: str, scale: float) -> str
     name = max(clones, key=lambda k: float(np.mean(clones[k])))
     if name == incumbent or float(np.mean(clones[name])) <= own:
         return ""
-    diff = np.asarray(clones[name], np.float64) - np.asarray(clones[incumbent], np.float64)  # (E,)
-    if diff.mean() < MIN_SHARE * scale:
+    _, p = _clone_test(clones[name], clones[incumbent], scale)  # what clone_beats asked
+    if p is None:
         why = f"a gain below {MIN_SHARE:.0%} of the probe's return spread ({MIN_SHARE * scale:.2f})"
     else:
-        why = f"signed-rank p {wilcoxon(diff, alternative='greater').pvalue:.2f}, needs < {CLONE_P:g}"
+        why = f"signed-rank p {p:.2f}, needs < {CLONE_P:g}"
     return f" (closest: {variant_text(name)}'s {np.mean(clones[name]):.2f} against {own:.2f}, {why})"
 
 
