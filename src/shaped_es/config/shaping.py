@@ -9,7 +9,8 @@ from pydantic import Field, model_validator
 
 from shaped_es.config.scalars import Bool, Float, Int, _Strict
 from shaped_es.methods import MECHANISMS
-from shaped_es.shaping.settings import ACCEPT_RULES, LABEL_SOURCES, CloningConfig, InverseDynamicsConfig, MeanCloneConfig
+from shaped_es.shaping.settings import (ACCEPT_RULES, LABEL_SOURCES, SHOOT_COSTS, CloningConfig, InverseDynamicsConfig,
+                                        MeanCloneConfig)
 
 # The shaping sections take their defaults from the shaping layer's dataclasses (one truth); guides/shaped.py
 # builds those from these sections. tests/test_config.py fails if a shared field's default differs.
@@ -60,7 +61,7 @@ class InverseDynamicsSettings(_Strict):
                                   "mean return of every simulated candidate (a body whose zero action is a safe "
                                   "policy, a hovering drone, drops every learned variant against it; "
                                   "docs/benchmarks/shoot_keep_best_v17)")
-    shoot_cost: Literal["min", "mean"] = Field("min", description="the shooting labels score a held action's "
+    shoot_cost: Literal[SHOOT_COSTS] = Field("min", description="the shooting labels score a held action's "
                                                "predicted path by its nearest pass to the aim (min) or its mean "
                                                "distance to it (mean: a new user's drone 6/10 solved against 3/10, "
                                                "the kart 1.42x and UR5Reach-v0 1.20x the generations; "

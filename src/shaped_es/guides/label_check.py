@@ -47,6 +47,15 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
             + f"; see {FILE}, shaped-es check-env {env} --labels")
 
 
+SOURCE_TEXT = {"controller": "the env's waypoint_controller, the oracle: what labels can give at most",
+               "reference": "a finished run's policy (shaping.reference_run)"}
+
+
+def source_line(labels: str) -> str:
+    """A run's one line on labels that are not M_phi's (no probe, so no probe line): where they come from."""
+    return f"labels: {SOURCE_TEXT[labels]} (shaping.labels={labels}: no label probe, no rival labels)"
+
+
 def kept_as_best(res: ProbeResult) -> bool:
     """The shooting rival runs though its simulated candidate is not above zero action: it is the best of every
     simulated candidate (``shoot_keep_best``, ``guides/label_probe.py``)."""

@@ -80,10 +80,7 @@ from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.shaping.trajectories import delete_generations, run_root, write_shard
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
-from shaped_es.guides.label_check import candidate_line, probe_line
-
-LABEL_TEXT = {"controller": "the env's waypoint_controller, the oracle: what labels can give at most",
-              "reference": "a finished run's policy (shaping.reference_run)"}
+from shaped_es.guides.label_check import candidate_line, probe_line, source_line
 from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
@@ -150,8 +147,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
                   file=sys.stderr)
         elif self.sh.labels != "mphi" and not Path(store.metrics_path).exists():  # a new run: say where labels
             # come from (a new user's controller-label runs printed nothing about their labels)
-            print(f"shaped-es: {self.run_name}: labels: {LABEL_TEXT[self.sh.labels]} (shaping.labels="
-                  f"{self.sh.labels}: no label probe, no rival labels)", file=sys.stderr)
+            print(f"shaped-es: {self.run_name}: {source_line(self.sh.labels)}", file=sys.stderr)
         self.mechanism = resolve(MECHANISMS[self.sh.mechanism])(self)
         self.step_norm = np.zeros(2)  # (count, mean) of training displacement norms (kept rows), for query_clip
         self._thread: threading.Thread | None = None

@@ -43,11 +43,11 @@ from shaped_es.shaping.forward_servo import ForwardLabels, ForwardServo
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.inverse_dynamics import RunningNorm
 from shaped_es.shaping.mphi_inputs import episode_end, waypoint_before
+from shaped_es.shaping.settings import SHOOT_COSTS
 
 HORIZON = 4  # steps a candidate action is held
 GRID = 5  # candidate values per action dimension (-1, -0.5, 0, 0.5, 1) while GRID ** act <= MAX_CANDIDATES
 MAX_CANDIDATES = 64
-COSTS = ("min", "mean")  # how a candidate's predicted path is scored against the aim (ShootLabels)
 CANDIDATE_SEED = 1_000_023  # the random corners' stream (fixed: the same candidates in every run)
 
 
@@ -110,8 +110,8 @@ class ShootLabels(ForwardLabels):
     ROWS = 4096  # states per model pass (K x ROWS rows: a few MB, cache-sized)
 
     def __init__(self, model: ForwardChunk, ahead: float = 0.0, cost: str = "min"):
-        if cost not in COSTS:
-            raise ValueError(f"shooting cost must be one of {COSTS}, got {cost!r}")
+        if cost not in SHOOT_COSTS:
+            raise ValueError(f"shooting cost must be one of {SHOOT_COSTS}, got {cost!r}")
         self.model, self.ahead, self.cost = model, float(ahead), cost
         self.candidates = candidate_actions(model.ctrl_dim)  # (K, act)
 
