@@ -90,6 +90,24 @@ def test_the_back_off_note_is_one_short_line():
     assert len(note) <= NOTE_MAX
 
 
+def test_the_back_off_note_on_a_run_past_the_threshold_says_so_without_advice():
+    """A new user read the note on a run already at the env's threshold as a warning: with the run's latest test
+    reward at or above the env's reward threshold, the note says so (nothing to fix) in place of the advice;
+    below it, or without a threshold, it is the note as before, word for word."""
+    b = LabelBudget(patience=8, max_sleep=32)
+    for _ in range(8):
+        b.judge(False, 0.0)
+    before = b.note("CarNav-v0", True)
+    for past in (None, (199.9, 200.0)):  # no threshold (or no test yet); below it
+        assert b.note("CarNav-v0", True, past=past) == before
+    for test in (200.0, 228.4):  # at or above
+        note = b.note("CarNav-v0", True, past=(test, 200.0))
+        assert note == before.split("; try ")[0] + (
+            f"; the run already scores {test:.2f}, at or above CarNav-v0's reward threshold 200: the labels' "
+            "candidates no longer beat the search and sleeping saves their price (nothing to fix)")
+        assert "check-env" not in note and "compare" not in note and "\n" not in note
+
+
 def test_a_never_winning_streak_lost_by_a_median_of_more_than_the_spread_sleeps_early():
     """heavy: before the first sleep and any win, 3 losses in a row whose median is more than ``heavy`` of the
     population's spreads sleep without waiting for the patience, for twice the first sleep (as after a failed
@@ -313,6 +331,25 @@ def test_useless_labels_back_off_say_so_once_and_cost_little(tmp_path, capsys):
     vanilla = train(tmp_path / "vanilla", {**CFG, "method": "vanilla", "shaping": {}}).read_metrics()
     # env steps stand for the price: the candidates' episodes are the shaped run's extra rollouts
     assert int(rows[-1]["env_steps"]) <= 1.2 * int(vanilla[-1]["env_steps"])
+
+
+# the same env with a threshold every run passes (its returns are above -100): the note's past-threshold branch
+gym.register("NoisyWaypointsSolved-v0", entry_point=NoisyWaypoints, max_episode_steps=10, reward_threshold=-100.0)
+
+
+def test_a_run_past_its_envs_threshold_says_so_in_its_back_off_note(tmp_path, capsys):
+    """The guide reads the env's registered reward_threshold once and, when it first sleeps, the latest test
+    reward metrics.csv holds: at or above the threshold, the note says nothing is wrong."""
+    cfg = {**CFG, "env": "NoisyWaypointsSolved-v0", "generations": 12}
+    rows = train(tmp_path / "solved", cfg).read_metrics()
+    note = next(ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("shaped-es: solved: note: "))
+    asleep = next(int(r["generation"]) for r in rows if r["shaping_awake"] == "0")
+    # the note prints in the generation before the first asleep one, after the rows before it were written
+    last = [float(r["test_reward_mean"]) for r in rows[:asleep - 1] if r["test_reward_mean"]][-1]
+    assert last >= -100.0
+    assert note.endswith(f"shaping_awake); the run already scores {last:.2f}, at or above NoisyWaypointsSolved-v0's "
+                         f"reward threshold -100: the labels' candidates no longer beat the search and sleeping "
+                         f"saves their price (nothing to fix)")
 
 
 def test_resume_is_exact_across_a_crash_while_asleep(tmp_path, monkeypatch):

@@ -4,6 +4,7 @@ keeps its choice for a resume, and refuses a damaged probe file in one line."""
 
 import json
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -511,3 +512,57 @@ def test_generation_0s_line_says_why_its_shooting_horizon_is_not_the_rivals():
     same = ProbeResult("both", None, {"both": [1.0, 2.0]}, 10, 0.1, "the default", [0.0, 0.0], {"both": [1.0, 2.0]},
                        [5.0, 6.0], True, 16, {"4": [3.0, 3.0], "16": [5.0, 6.0]}, "shoot:16")
     assert "rival holds" not in candidate_line(same, True)
+
+
+class FallingPoint(gym.Env):
+    """A point that falls (0.05 a step) toward a floor at y = -1, where its episode ends with -10 (a 2-D lander's
+    crash): zero action ends every episode early; pushed up toward its waypoint (0, 1), it lasts the 50 steps."""
+
+    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
+    action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
+
+    def _info(self):
+        return {"position": self.x.copy(), "waypoint": np.array([0.0, 1.0], np.float32)}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = self.np_random.uniform(-0.5, 0.5, 2).astype(np.float32)
+        return self.x.copy(), self._info()
+
+    def step(self, action):
+        self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32) - np.array([0.0, 0.05], np.float32), -10, 10)
+        if self.x[1] < -1:
+            return self.x.copy(), -10.0, True, False, self._info()
+        return self.x.copy(), -0.1 * float(np.linalg.norm(self.x - [0.0, 1.0])), False, False, self._info()
+
+
+gym.register("FallingPoint-v0", entry_point=FallingPoint, max_episode_steps=50)
+
+
+def test_check_labels_says_beating_a_zero_action_that_crashes_says_little(monkeypatch):
+    """A new user's 2-D lander: zero action crashed, so any labels "drive the body better than zero action" and
+    the verdict read as good news. Where zero action ends most of the probe's episodes early, the verdict says so
+    (counted on the probe's own episodes: their returns are the probe's zero_action)."""
+    from shaped_es.guides import label_check
+
+    out = label_check.check_labels("FallingPoint-v0")
+    assert out["zero_action_ended_early"] == 10 and np.mean(out["zero_action"]) < -10
+    best = variant_name(out["chosen"]["frame"], out["chosen"]["query_clip"], out["chosen"]["chunk"])
+    gain = np.mean(out["returns"][best]) - np.mean(out["zero_action"])
+    assert out["verdict"] == (
+        f"{best}'s labels beat zero action by {gain:.2f} return, but zero action ends early on 10 of 10 episodes "
+        "(before the 50-step limit: a crash, a fall): beating it says little; a run's candidate must beat the ES "
+        f"mean, which soon beats zero action too (paired over 10 episodes; the probe took {out['env_steps']} env "
+        "steps)")
+    assert "drive the body" not in out["verdict"]
+    # labels that lose even to it: the verdict as before, and that zero action is a low bar
+    zero = out["zero_action"]
+    res = ProbeResult("world", None, {"both": [z - 5.0 for z in zero], "world": [z - 4.0 + 0.01 * k for k, z in
+                                                                                enumerate(zero)]},
+                      100, 0.1, "the default", zero, {}, [], False)
+    monkeypatch.setattr(label_check, "probe", lambda *a, **k: res)
+    verdict = label_check.check_labels("FallingPoint-v0")["verdict"]
+    assert verdict.startswith("world's labels drive the body worse than zero action (by ")
+    assert ("--method vanilla / cmaes; and zero action ends early on 10 of 10 episodes (before the 50-step limit: a "
+            "crash, a fall), a low bar (paired over 10 episodes; ") in verdict
+    # where zero action lasts its episodes (PointVel-v0), the verdict is as before: tests/cli/test_cli_info.py

@@ -140,11 +140,14 @@ class LabelBudget:
         return bool(self._first_streak() and len(self.spreads) >= HEAVY_MIN
                     and float(np.median(self.spreads)) > self.heavy)
 
-    def note(self, env: str, has_controller: bool, labels: str = "mphi") -> str:
+    def note(self, env: str, has_controller: bool, labels: str = "mphi",
+             past: tuple[float, float] | None = None) -> str:
         """The line a run prints when it first sleeps: what happened, what sleeping costs, what to try (the env's
         controller labels only where ``has_controller`` and the run's ``labels`` are M_phi's: a new user's
         controller-label run was told to try the controller's labels); README.md's back-off ("backs off") says
-        more."""
+        more. ``past``: (the run's latest test reward, the env's reward threshold) when that reward is at or
+        above the threshold: the line says so instead of advice (a new user read the note on a run already past
+        the threshold as a warning)."""
         oracle = "--set shaping.labels=controller, " if has_controller and labels == "mphi" else ""
         n = min(self.losses, self.patience) or self.patience
         far = (f" by a median of {np.median(self.spreads):.1f} population spreads" if n < self.patience
@@ -155,6 +158,10 @@ class LabelBudget:
         # after a win ("won N of J" says how many): the advice is for a run that stalls. Two new users' runs (a
         # drone, a 3-link arm) read the older "they paid before: the search may now outpace them" as all is well
         # where they had stalled below zero action's return
+        if past is not None and past[0] >= past[1]:  # solved: the search outpaces the labels, as it should
+            return head + (f"; the run already scores {past[0]:.2f}, at or above {env}'s reward threshold "
+                           f"{past[1]:g}: the labels' candidates no longer beat the search and sleeping saves "
+                           f"their price (nothing to fix)")
         once = "if it stalls, " if self.accepted else ""
         if labels != "mphi":  # check-env --labels probes M_phi's labels, not these
             return head + f"; {once}compare --method vanilla / cmaes"

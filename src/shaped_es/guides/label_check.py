@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import EPISODES, ProbeResult, probe
+from shaped_es import seeding
+from shaped_es.guides.label_probe import EPISODES, PROBE_KEY, ProbeResult, drive, probe
 from shaped_es.guides.probe_choice import beats, paired
 from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
@@ -131,7 +132,15 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     gain, se = paired(res.returns[best], res.zero_action)
     kept = ("; the shooting rival's candidate, though not above it either, is the best simulated one, and a run "
             "keeps that rival" if kept_as_best(res) else "; the shooting rival drives above it, and a run keeps it")
-    if gain > 2 * se:
+    limit = min((n for n in (env_probe.time_limit, cfg.rollout.max_steps) if n), default=None)
+    # a new user's lander: zero action crashed, so any labels beat it, and the verdict read as good news
+    early = zero_ended_early(cfg, spec, limit, res.zero_action)
+    low = (f"zero action ends early on {early} of {EPISODES} episodes (before the {limit}-step limit: a crash, a "
+           f"fall)" if early is not None and 2 * early > EPISODES else "")
+    if gain > 2 * se and low:
+        verdict = (f"{best}'s labels beat zero action by {gain:.2f} return, but {low}: beating it says little; a "
+                   f"run's candidate must beat the ES mean, which soon beats zero action too")
+    elif gain > 2 * se:
         verdict = (f"{best}'s labels drive the body: they beat zero action by {gain:.2f} return (necessary, not "
                    f"enough: a run's candidate must beat the ES mean, which soon beats zero action too)")
     elif -gain > 2 * se:
@@ -144,6 +153,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
         verdict = (f"{best}'s labels, driving the body step by step, are not clearly better or worse than zero "
                    f"action ({gain:+.2f} return, 2 standard errors {2 * se:.2f})"
                    + (kept if res.shoot_on else ": its candidates may rarely win (a run then backs off)"))
+    if low and not gain > 2 * se:
+        verdict += f"; and {low}, a low bar"
     details = []  # one line each, before the verdict
     if res.clones.get(best):  # the frame was chosen on this, not on the labels' own return
         details.append(f"{best}'s simulated candidate (what the frame was chosen on) "
@@ -155,12 +166,32 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")
+    out["zero_action_ended_early"] = early  # of the EPISODES (None: no step limit to end before)
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
             "env_steps": res.env_steps, "seconds": res.seconds, "details": details,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
+
+
+def zero_ended_early(cfg, spec, limit: int | None, zero_action: list[float]) -> int | None:
+    """How many of the probe's zero-action episodes (its seeds, its zero action) ended before ``limit`` steps,
+    the env's time limit or ``rollout.max_steps``: terminated, by a crash or a fall. The probe keeps their
+    returns only (``zero_action``), so they are driven again, one at a time (label_probe.drive, its steps);
+    None without a limit, or where those returns are not the probe's (not its episodes)."""
+    if not limit:
+        return None
+    seeds = [seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)]  # probe's
+
+    def zero(s, q):
+        return np.zeros((s.shape[0], spec.act_dim), np.float32)
+
+    runs = [drive(cfg, zero, "world", np.array([s])) for s in seeds]  # ((1,) return, steps) each
+    if len(zero_action) != EPISODES or not np.allclose([float(r[0]) for r, _ in runs], zero_action,
+                                                        rtol=1e-9, atol=1e-9):
+        return None
+    return int(sum(n < limit for _, n in runs))
 
 
 def _against_zero(returns: list[float], zero: list[float]) -> str:

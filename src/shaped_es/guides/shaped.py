@@ -72,6 +72,7 @@ from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
+from shaped_es.rundir import metrics_csv
 from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.shared_rows import SharedRows
@@ -119,6 +120,12 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
+        # the back-off note says when the run is already past the env's threshold (the one the train command's
+        # threshold line uses: its registered reward_threshold at this reward scale; None: none, or not found)
+        from shaped_es.benchmark.summary import env_threshold  # here: the guide's module stays light to import
+
+        self._threshold = env_threshold(cfg)
+        self._metrics_path = Path(store.metrics_path)  # its latest test reward: the last row written
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor)
@@ -366,8 +373,23 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         first time."""
         self.mechanism.sleep()
         if self.budget.sleeps == 1:
-            note = self.budget.note(self.cfg.env, self.has_controller, self.sh.labels)
+            note = self.budget.note(self.cfg.env, self.has_controller, self.sh.labels, self._past_threshold())
             print(f"shaped-es: {self.run_name}: note: {note}", file=sys.stderr)
+
+    def _past_threshold(self) -> tuple[float, float] | None:
+        """(the latest test reward the progress line reported, the env's threshold) when the env has a
+        threshold and that reward is at or above it; else None. Read once, for the back-off note, from the
+        rows metrics.csv holds now (a row whose test episodes are still running is not there yet)."""
+        if self._threshold is None:
+            return None
+        try:
+            rows = metrics_csv.read_table(self._metrics_path)[1]
+            tests = [float(r["test_reward_mean"]) for r in rows if r.get("test_reward_mean") not in (None, "")]
+        except Exception:  # noqa: BLE001 - unreadable: the note reads as it does without a threshold
+            return None
+        if not tests or not np.isfinite(tests[-1]) or tests[-1] < self._threshold[0]:
+            return None
+        return tests[-1], self._threshold[0]
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
