@@ -48,6 +48,8 @@ from shaped_es.benchmark.grouping import (  # noqa: F401
 )
 from shaped_es.benchmark.shaping_summary import shaping_summary
 from shaped_es.config import RunConfig
+from shaped_es.envs.thresholds import (  # noqa: F401 (their home is the env layer; benchmark's names)
+    DEFAULT_THRESHOLDS, REWARD_SCALE_KEYS, builtin_threshold, env_threshold, spec_threshold, threshold_of)
 from shaped_es.report.aggregate import RESAMPLES, iqm_with_ci, probability_of_improvement, ratio_of_means
 from shaped_es.report.plots import load_metrics
 from shaped_es.report.stats import t_interval
@@ -56,18 +58,6 @@ Metrics = dict[str, np.ndarray]
 REFERENCE = "shaped"  # the paper's method: the fallback threshold is the best of the *other* methods
 PHASE_COLUMN = re.compile(r"^(time_.+_s|gen_time_s|rollout_time_s)$")
 COST_COLUMNS = ("wall_time_s", "cpu_time_s", "env_steps")
-# Success thresholds of the built-in envs at their default reward scale (any preset or env setting that
-# rescales the reward, e.g. preset=paper or max_steps, falls back to the best baseline's final mean):
-# - CarNav-v0: +M/H per route waypoint, M = 250 over the whole route, -0.1 a step: 200 = the route
-#   driven to (nearly) its end; stalling or crashing scores about -25 (docs/benchmarks/carnav).
-# - UR5Reach-v0: +1 per Bezier waypoint (M = H = 100), -0.1 a step, -50 on a collision: 40 = half the
-#   path followed without a collision (the hand-written follower scores 90, standing still about -4);
-#   in docs/benchmarks/ur5 the final rewards of 3 seeds x 3 methods spread 9.6-61.9 and 7 of 9 end above it.
-DEFAULT_THRESHOLDS = {
-    "CarNav-v0": (200.0, "CarNav-v0 default: the route driven"),
-    "UR5Reach-v0": (40.0, "UR5Reach-v0 default: half the Bezier path followed without a collision"),
-}
-REWARD_SCALE_KEYS = ("preset", "max_steps", "num_waypoints", "step_penalty", "collision_penalty")
 
 
 def load_runs(dirs: list[Path], generations: int | None = None) -> list[Metrics]:
@@ -194,60 +184,6 @@ def pick_target(finals: dict[str, float], reference: str = REFERENCE) -> dict:
         return {"value": math.nan, "method": None, "reference": reference}
     best = max(pool, key=pool.get)
     return {"value": pool[best], "method": best, "reference": reference if reference in finals else None}
-
-
-def env_threshold(cfg: RunConfig | None) -> tuple[float, str] | None:
-    """The env's default success threshold at this config's reward scale (:func:`threshold_of`)."""
-    return None if cfg is None else threshold_of(cfg.env, cfg.env_kwargs)
-
-
-def threshold_of(env_id: str, env_kwargs: dict | None = None) -> tuple[float, str] | None:
-    """The default success threshold of ``env_id`` made with ``env_kwargs``, if it has one at that reward
-    scale: a built-in env's (:func:`builtin_threshold`), else the ``reward_threshold`` of any other env's
-    Gymnasium spec."""
-    env = env_id.rsplit(":", 1)[-1]
-    from shaped_es.envs import BUILTIN
-
-    if env in BUILTIN:
-        kwargs = env_kwargs or {}
-        rescaled = [k for k in REWARD_SCALE_KEYS if k in kwargs and not (k == "preset" and kwargs[k] == "default")]
-        return None if rescaled else builtin_threshold(env)
-    return spec_threshold(env_id)
-
-
-def spec_threshold(env_id: str) -> tuple[float, str] | None:
-    """The ``reward_threshold`` registered with the Gymnasium spec of ``env_id`` (``module:Id``: the module
-    imported first, as making the env does) and where it comes from; None when the spec has none or the
-    id cannot be looked up here."""
-    import importlib
-
-    import gymnasium as gym
-
-    module, _, name = env_id.rpartition(":")
-    try:
-        if module:
-            importlib.import_module(module)
-        thr = gym.spec(name).reward_threshold
-    except (Exception, SystemExit):  # noqa: BLE001 - not importable or registered here: none of its own
-        return None
-    if thr is None or not math.isfinite(float(thr)):
-        return None
-    return float(thr), f"{env_id} reward_threshold (registered with its Gymnasium spec)"
-
-
-def builtin_threshold(env: str) -> tuple[float, str] | None:
-    """A built-in env's success threshold at its default reward scale and where it comes from: the
-    ``reward_threshold`` registered with its EnvSpec (``envs.BUILTIN``; its reason in the env module's
-    docstring), CarNav-v0's and UR5Reach-v0's with their reasons here. None for any other env."""
-    from shaped_es.envs import BUILTIN
-
-    env = env.rsplit(":", 1)[-1]
-    if env in DEFAULT_THRESHOLDS:
-        return DEFAULT_THRESHOLDS[env]
-    entry = BUILTIN.get(env)
-    if entry is None or entry[2] is None:
-        return None
-    return float(entry[2]), f"{env} reward_threshold (registered; its reason in the env's docstring)"
 
 
 def resolve_threshold(threshold: float | None, finals: dict[str, float], cfg: RunConfig | None = None,

@@ -143,7 +143,7 @@ def _time_limit(env: gym.Env) -> Check:
 def _threshold(env_id: str, env_kwargs: dict | None) -> Check:
     """The success threshold ``benchmark`` and ``report`` use by default, at these kwargs' reward scale (a new
     user's was missing and nothing said so)."""
-    from shaped_es.benchmark.summary import threshold_of
+    from shaped_es.envs.thresholds import threshold_of
 
     thr = threshold_of(env_id, env_kwargs)
     if thr is not None:

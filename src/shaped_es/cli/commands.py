@@ -140,7 +140,7 @@ def _run(cfg, store, a, probe=None) -> int:
 
     from shaped_es.trained.video import with_video
 
-    from shaped_es.benchmark.summary import env_threshold
+    from shaped_es.envs.thresholds import env_threshold
     from shaped_es.monitor.threshold import ThresholdNotice
 
     thr = env_threshold(cfg)  # (value, where it comes from) or None

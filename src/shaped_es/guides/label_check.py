@@ -6,8 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es import seeding
-from shaped_es.guides.label_probe import EPISODES, PROBE_KEY, ProbeResult, drive, probe
+from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, probe_seeds
 from shaped_es.guides.probe_choice import beats, paired
 from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
@@ -182,7 +181,7 @@ def zero_ended_early(cfg, spec, limit: int | None, zero_action: list[float]) -> 
     None without a limit, or where those returns are not the probe's (not its episodes)."""
     if not limit:
         return None
-    seeds = [seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)]  # probe's
+    seeds = probe_seeds(cfg)  # (EPISODES,)
 
     def zero(s, q):
         return np.zeros((s.shape[0], spec.act_dim), np.float32)

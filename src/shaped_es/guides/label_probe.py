@@ -145,6 +145,12 @@ class ProbeResult:
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
 
 
+def probe_seeds(cfg: RunConfig) -> np.ndarray:
+    """The seeds ``(EPISODES,)`` of the probe's episodes: every variant, zero action and each simulated candidate
+    is driven on these (``check-env --labels`` drives zero action on them again)."""
+    return np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
+
+
 def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None):
     """The probe's recorded rollouts: per generation, members around ``x0`` and babblers (on the run's
     ``executor``'s workers if given); returns ``(transitions per generation, env steps)``."""
@@ -234,7 +240,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     t0 = time.perf_counter()
     x0 = seeding.initial_mean(spec, cfg.seed)
     data, steps = collect(cfg, spec, x0, executor)
-    seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
+    seeds = probe_seeds(cfg)
     mp = cfg.shaping.inverse_dynamics
     chunk_len = mp.probe_chunk if mphi_cfg.targets == "one_step" else 0
     base = variants(mp.query_clip, chunk_len)

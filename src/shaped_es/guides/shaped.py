@@ -69,6 +69,7 @@ from shaped_es.config import RunConfig
 from shaped_es.data import PackedTransitions, join_packed
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import rollout_and_store
+from shaped_es.envs.thresholds import env_threshold
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
@@ -122,8 +123,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         # the back-off note says when the run is already past the env's threshold (the one the train command's
         # threshold line uses: its registered reward_threshold at this reward scale; None: none, or not found)
-        from shaped_es.benchmark.summary import env_threshold  # here: the guide's module stays light to import
-
         self._threshold = env_threshold(cfg)
         self._metrics_path = Path(store.metrics_path)  # its latest test reward: the last row written
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line

@@ -1,7 +1,7 @@
 """The env's threshold during a run: one line when the test reward first reaches it, and where the final
 JSON says when (``shaped-es train`` / ``resume``; ``benchmark`` and ``report`` count it in their tables).
 
-The threshold is the one ``benchmark`` uses (``benchmark.summary.env_threshold``: the env's registered
+The threshold is the one ``benchmark`` uses (``envs.thresholds.env_threshold``: the env's registered
 ``reward_threshold``, a user's env's included); the command line passes it in, so this layer does not read
 the benchmark's. A resumed run that had already reached it says nothing again.
 """
