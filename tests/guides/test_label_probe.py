@@ -441,6 +441,34 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
         assert strip_time(store.read_metrics()) == strip_time(full)
 
 
+@pytest.mark.parametrize("on", [True, False])
+def test_where_the_probe_could_not_judge_two_shooting_horizons_run_scored_by_their_mean(tmp_path, on):
+    """No simulated candidate beat zero action (a body whose zero action is safe): the shooting rival runs at the
+    probe's horizon and the probed one nearest it, both scoring paths by their mean distance, named so in the
+    probe line's rivals; ``shoot_unjudged: false``: the chosen horizon alone, by its nearest pass."""
+    from shaped_es.guides.label_check import probe_line
+    from shaped_es.guides.rival import names as rival_names
+
+    over = {**POINT, "shaping": {"inverse_dynamics": {"shoot_unjudged": on}}}
+    tried = {"4": [-3.0, -3.1, -2.9, -3.2], "8": [-4.0] * 4, "16": [-5.0, -5.1, -4.9, -5.2]}
+    saved = {**GOOD, "returns": {"both": [-1.0] * 4}, "clones": {"both": [-2.0, -2.1, -1.9, -2.2]},
+             "zero_action": [0.0, 0.1, -0.1, 0.0], "shoot": tried["4"], "shoot_on": True, "shoot_horizon": 4,
+             "shoot_tried": tried}
+    res = ProbeResult(**saved)
+    assert res.unjudged() and res.unjudged_shooting() == (8, "mean")
+    assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).unjudged_shooting() is None  # judged
+    cfg, store = new_run(tmp_path / "run", over)
+    (tmp_path / "run" / FILE).write_text(json.dumps(saved))
+    rivals = Trainer(cfg, store, progress=False).guide.rivals
+    shoot = {r.name: (r.track.mphi.horizon, r.track.labels.cost) for r in rivals if r.name.startswith("shooting")}
+    expected = ({"shooting (4 steps, mean distance)": (4, "mean"), "shooting (8 steps, mean distance)": (8, "mean")}
+                if on else {"shooting": (4, "min")})
+    assert shoot == expected
+    line = probe_line(res, "PointVel-v0", rival_names(rivals))
+    assert "no candidate beats zero action (the probe cannot judge): the shooting rival runs" in line
+    assert ("rivals: waypoint frame, servo, shooting (4 and 8 steps, mean distance)" in line) == on
+
+
 def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):
     """Envs without a batched core are driven episode by episode through Gymnasium."""
     from shaped_es.config import build_config

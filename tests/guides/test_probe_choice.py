@@ -161,3 +161,31 @@ def test_the_default_choice_names_the_closest_candidate_and_what_kept_it_out():
     small = {"both": np.zeros(10), "both+clip2": np.full(10, 0.01) + 0.001 * np.arange(10)}  # consistent, tiny
     assert "a gain below 5% of the probe's return spread" in choose(returns, "both", zero, small)[1]
     assert "closest" not in choose(returns, "both", zero, {"both": np.ones(10), "both+clip2": np.zeros(10)})[1]
+
+
+def test_where_no_candidate_beats_zero_action_the_probe_cannot_judge_and_the_shooting_rival_stays():
+    """The drone's seeds where a variant's candidate came first among losers: every simulated candidate below zero
+    action (unjudged), and ``keep_unjudged`` keeps the shooting rival; one candidate above zero action by 2
+    paired standard errors and the probe judges as before."""
+    from shaped_es.guides.probe_choice import keep_shoot, unjudged
+
+    def eps(m):
+        return np.array([m + 0.1 * (-1) ** k for k in range(10)])
+    clones, tried = {"both": eps(-1.5), "world": eps(-4.0)}, {"4": eps(-3.0), "8": eps(-4.4)}
+    assert unjudged(eps(0.0), {**clones, **tried})
+    assert not keep_shoot(eps(-3.0), eps(0.0), clones, keep_best=True)  # a variant's came first: dropped
+    assert keep_shoot(eps(-3.0), eps(0.0), clones, True, keep_unjudged=True, tried=tried)
+    judged = {**clones, "both": eps(1.0)}  # a variant's candidate above zero action: the probe judges
+    assert not unjudged(eps(0.0), judged) and not keep_shoot(eps(-3.0), eps(0.0), judged, True, True, tried)
+    assert not keep_shoot(eps(-3.0), eps(0.0), clones, True, True, {**tried, "16": eps(2.0)})  # a horizon's above
+    assert not unjudged(eps(0.0), {})  # nothing simulated: nothing to say
+
+
+def test_the_second_horizon_is_the_probed_one_nearest_the_choice():
+    from shaped_es.guides.probe_choice import nearest_horizon
+
+    assert nearest_horizon(4, [4, 8, 16]) == 8
+    assert nearest_horizon(8, [4, 8, 16]) == 4  # 4 steps away, 16 is 8
+    assert nearest_horizon(16, [4, 8, 16]) == 8
+    assert nearest_horizon(6, [4, 8]) == 4  # a tie: the shorter
+    assert nearest_horizon(4, [4]) is None

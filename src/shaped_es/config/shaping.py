@@ -61,6 +61,11 @@ class InverseDynamicsSettings(_Strict):
                                   "mean return of every simulated candidate (a body whose zero action is a safe "
                                   "policy, a hovering drone, drops every learned variant against it; "
                                   "docs/benchmarks/shoot_keep_best_v17)")
+    shoot_unjudged: Bool = Field(True, description="with frame auto, where no simulated candidate of the label "
+                                 "probe beats zero action (it cannot judge: a body whose zero action is a safe policy), "
+                                 "the shooting rival runs anyway, its paths scored by their mean distance to the aim, "
+                                 "at the probe's horizon and at the probed horizon nearest it (two rivals): the run's "
+                                 "selection judges them (docs/benchmarks/shoot_unjudged_v18)")
     shoot_cost: Literal[SHOOT_COSTS] = Field("min", description="the shooting labels score a held action's "
                                                "predicted path by its nearest pass to the aim (min) or its mean "
                                                "distance to it (mean: a new user's drone 6/10 solved against 3/10, "

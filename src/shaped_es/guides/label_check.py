@@ -41,10 +41,24 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
     if kept_as_best(res) and any(n.startswith("shooting") for n in rivals):
-        shoot = "; the shooting candidate is below zero action but the best simulated one: its rival runs"
+        shoot = ("; no candidate beats zero action (the probe cannot judge): the shooting rival runs"
+                 if res.unjudged() else "; the shooting candidate is below zero action but the best simulated one: "
+                 "its rival runs")
     return (f"labels: {variant_text(name)} ({why}){score}{shoot}"
-            + (f"; rivals: {', '.join(rivals)}" if rivals else "")
+            + (f"; rivals: {', '.join(_merged(list(rivals)))}" if rivals else "")
             + f"; see {FILE}, shaped-es check-env {env} --labels")
+
+
+def _merged(rivals: list[str]) -> list[str]:
+    """The rivals' names with two shooting horizons of one path score as one: ``shooting (4 and 8 steps, mean
+    distance)`` (the probe line stays short)."""
+    shoot = [n for n in rivals if n.startswith("shooting (")]
+    if len(shoot) != 2:
+        return rivals
+    (a, _, ra), (b, _, rb) = (n[len("shooting ("):].partition(" steps") for n in shoot)
+    if ra != rb:
+        return rivals
+    return [n for n in rivals if n not in shoot] + [f"shooting ({a} and {b} steps{ra}"]
 
 
 SOURCE_TEXT = {"controller": "the env's waypoint_controller, the oracle: what labels can give at most",
@@ -58,7 +72,8 @@ def source_line(labels: str) -> str:
 
 def kept_as_best(res: ProbeResult) -> bool:
     """The shooting rival runs though its simulated candidate is not above zero action: it is the best of every
-    simulated candidate (``shoot_keep_best``, ``guides/label_probe.py``)."""
+    simulated candidate (``shoot_keep_best``), or none is above zero action (``shoot_unjudged``;
+    ``guides/label_probe.py``)."""
     return bool(res.shoot_on and res.shoot and res.zero_action
                 and not beats(np.array(res.shoot), np.array(res.zero_action))[0])
 
@@ -129,8 +144,11 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
-    kept = ("; the shooting rival's candidate, though not above it either, is the best simulated one, and a run "
-            "keeps that rival" if kept_as_best(res) else "; the shooting rival drives above it, and a run keeps it")
+    kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_as_best(res) else
+            "; no simulated candidate beats zero action, so the probe cannot judge, and a run keeps the shooting rival "
+            "(its paths scored by their mean distance, at two horizons)" if res.unjudged() else
+            "; the shooting rival's candidate, though not above it either, is the best simulated one, and a run "
+            "keeps that rival")
     limit = min((n for n in (env_probe.time_limit, cfg.rollout.max_steps) if n), default=None)
     # a new user's lander: zero action crashed, so any labels beat it, and the verdict read as good news
     early = zero_ended_early(cfg, spec, limit, res.zero_action)
@@ -161,7 +179,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
         details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
-                       f"that rival" + (" (the best simulated candidate of all)" if kept_as_best(res) else ""))
+                       f"that rival" + ("" if not kept_as_best(res) else " (no simulated candidate beats zero action)"
+                                         if res.unjudged() else " (the best simulated candidate of all)"))
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")

@@ -91,7 +91,8 @@ from shaped_es.rollout import make_env, to_space
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
 from shaped_es.guides.clone_probe import clone_rounds_many, roll_out, shoot_labels
-from shaped_es.guides.probe_choice import beats, best_beating, choose_targets, clone_beats, keep_shoot
+from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets, clone_beats, keep_shoot,
+                                          nearest_horizon, unjudged)
 from shaped_es.guides.probe_variants import long_variants, variant_name, variants
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
@@ -143,6 +144,18 @@ class ProbeResult:
         base = next(iter(self.shoot_tried), None)
         return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
+
+    def unjudged(self) -> bool:
+        """Whether no simulated candidate beat zero action (``probe_choice.unjudged``): the probe could not judge."""
+        sims = {**self.clones, **self.shoot_tried, **({"shoot": self.shoot} if self.shoot else {})}
+        return bool(self.zero_action) and unjudged(np.array(self.zero_action), {k: np.array(v) for k, v in sims.items()})
+
+    def unjudged_shooting(self) -> tuple[int | None, str] | None:
+        """Where the shooting rival runs and the probe could not judge (:meth:`unjudged`): ``(second horizon, path
+        score)``, the probed horizon nearest the chosen one (None: one probed) and the mean distance; else None."""
+        if not (self.shoot_on and self.unjudged()):
+            return None
+        return nearest_horizon(self.shoot_horizon, [int(h) for h in self.shoot_tried]), "mean"
 
 
 def probe_seeds(cfg: RunConfig) -> np.ndarray:
@@ -288,7 +301,8 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         best, _ = best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
                                 lambda a, b: clone_beats(a, b, scale))
         horizon, shoot = int(best), tried[best]
-        shoot_on = keep_shoot(np.array(shoot), zero, {k: np.array(v) for k, v in clones.items()}, mp.shoot_keep_best)
+        shoot_on = keep_shoot(np.array(shoot), zero, {k: np.array(v) for k, v in clones.items()}, mp.shoot_keep_best,
+                              mp.shoot_unjudged, {k: np.array(v) for k, v in tried.items()})
     simulated = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}  # every simulated candidate's returns
     by_name = dict(zip([variant_name(*v) for v in vs] + [f"shoot:{h}" for h in horizons], thetas))
     long_tag = f"+clip{mp.probe_clip_long:g}" if len(vs) > len(base) else None

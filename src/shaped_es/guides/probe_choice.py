@@ -168,14 +168,34 @@ def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndar
     return name, reason
 
 
-def keep_shoot(shoot: np.ndarray, zero: np.ndarray, clones: dict[str, np.ndarray], keep_best: bool = True) -> bool:
+def unjudged(zero: np.ndarray, simulated: dict[str, np.ndarray]) -> bool:
+    """Whether the probe's numbers cannot judge the label sources: no simulated candidate (``simulated``, name ->
+    ``(E,)``: every variant's and every shooting horizon's) beats zero action's returns ``zero`` ``(E,)`` by two
+    paired standard errors. Seen where zero action is a safe policy (a hovering drone, an arm held still) and
+    every candidate cloned from the crashing or flailing initial mean loses to it, the sources that later pay
+    too."""
+    return bool(simulated) and not any(beats(v, zero)[0] for v in simulated.values())
+
+
+def keep_shoot(shoot: np.ndarray, zero: np.ndarray, clones: dict[str, np.ndarray], keep_best: bool = True,
+               keep_unjudged: bool = False, tried: dict[str, np.ndarray] | None = None) -> bool:
     """Whether a run keeps the shooting rival: its simulated candidate's returns ``shoot`` ``(E,)`` beat zero
-    action's ``zero`` ``(E,)`` by two paired standard errors, or (``keep_best``) its mean is above every
-    variant's simulated candidate's (``clones``, name -> ``(E,)``). The second: on a body whose zero action is
-    a safe policy (a hovering drone) every learned candidate loses to it at generation 0; the shooting labels'
-    then drove the new user's drone to the threshold in 7-29 generations where the runs that dropped them
-    solved no seed in 30 (``docs/benchmarks/shoot_keep_best_v17``)."""
+    action's ``zero`` ``(E,)`` by two paired standard errors; or (``keep_best``) its mean is above every
+    variant's simulated candidate's (``clones``, name -> ``(E,)``); or (``keep_unjudged``) no simulated candidate
+    (the variants' ``clones`` and every shooting horizon's, ``tried``) beats zero action: :func:`unjudged`. The
+    second: on a body whose zero action is a safe policy (a hovering drone) every learned candidate loses to it
+    at generation 0; the shooting labels' then drove the new user's drone to the threshold in 7-29 generations
+    where the runs that dropped them solved no seed in 30 (``docs/benchmarks/shoot_keep_best_v17``). The third:
+    there the best mean is a draw among losers too (the drone's seeds where a variant's came first solved 2 of 9
+    in 30 generations; ``docs/benchmarks/shoot_unjudged_v18``)."""
     if beats(shoot, zero)[0]:
+        return True
+    if keep_unjudged and unjudged(zero, {**clones, **(tried or {}), "shoot": shoot}):
         return True
     return bool(keep_best and clones and np.mean(shoot) > max(np.mean(v) for v in clones.values()))
 
+
+def nearest_horizon(chosen: int, probed: list[int]) -> int | None:
+    """The probed horizon nearest ``chosen`` in steps, other than it (the shorter on a tie); None if none."""
+    others = sorted(h for h in set(probed) if h != chosen)
+    return min(others, key=lambda h: abs(h - chosen)) if others else None

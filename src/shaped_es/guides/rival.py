@@ -121,11 +121,14 @@ def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int
 
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
-           shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False) -> list[Rival]:
+           shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False,
+           unjudged: tuple[int | None, str] | None = None) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
     probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides),
     ``shoot_horizon`` the horizon it chose (None: the config's), and ``shoot_base`` whether the config's
-    horizon also runs beside a longer chosen one (its candidate beat zero action too)."""
+    horizon also runs beside a longer chosen one (its candidate beat zero action too); ``unjudged``: where
+    the probe could not judge (``ProbeResult.unjudged_shooting``), the second horizon that runs beside the
+    chosen one (variant 4; None: none) and the path score of both."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -142,20 +145,25 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         both = shoot_base and h != base and cfg.shaping.inverse_dynamics.shoot_keep_base
         ahead = cfg.shaping.inverse_dynamics.shoot_ahead
         cost = cfg.shaping.inverse_dynamics.shoot_cost
+        if unjudged is not None:  # the probe could not judge: a second horizon beside its choice, paths by their mean
+            second, cost = unjudged
+            both, base = second is not None, second
         track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead, cost=cost)
-        out.append(Rival(SHOOT, shoot_name(h) if both else "shooting", track, "shoot/", "shoot/parts"))
+        out.append(Rival(SHOOT, shoot_name(h, cost) if both else "shooting", track, "shoot/", "shoot/parts"))
         if both:
             track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, base, root, cfg.seed, SHOOT_BASE_KEY,
                                 SHOOT_BASE_DIR, ahead, cost)
-            out.append(Rival(SHOOT_BASE, shoot_name(base), track, "shoot_base/", "shoot_base/parts"))
+            out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track, "shoot_base/", "shoot_base/parts"))
     return out
 
 
-def shoot_name(horizon: int) -> str:
-    """A shooting rival's name with its horizon: ``shooting (8 steps)``."""
-    return f"shooting ({horizon} steps)"
+def shoot_name(horizon: int, cost: str = "min") -> str:
+    """A shooting rival's name with its horizon (and its path score where it is not the nearest pass):
+    ``shooting (8 steps)``, ``shooting (8 steps, mean distance)``."""
+    return f"shooting ({horizon} steps{', mean distance' if cost == 'mean' else ''})"
 
 
 def names(rivals: list[Rival]) -> list[str]:
     """The rivals' names for the probe's line, the shooting labels' with their horizon: ``shooting (8 steps)``."""
-    return [shoot_name(r.track.mphi.horizon) if r.name == "shooting" else r.name for r in rivals]
+    return [shoot_name(r.track.mphi.horizon, r.track.labels.cost) if r.name == "shooting" else r.name
+            for r in rivals]

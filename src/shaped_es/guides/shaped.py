@@ -120,6 +120,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         probe_res = None  # a fresh probe's result, printed once the rivals are known
         shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
+        unjudged = None  # where the probe could not judge: the shooting rival's second horizon and path score
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         # the back-off note says when the run is already past the env's threshold (the one the train command's
         # threshold line uses: its registered reward_threshold at this reward scale; None: none, or not found)
@@ -135,6 +136,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             self.startup = (res.env_steps, res.seconds)
             probe_res = res if fresh else None
             shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
+            unjudged = res.unjudged_shooting() if mp.shoot_unjudged else None  # the probe could not judge
             self._probe_res = res
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
@@ -147,7 +149,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # the shooting labels (where the probe found their clone driving the body)
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
-                                                          shoot_h, shoot_base)
+                                                          shoot_h, shoot_base, unjudged)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
             print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
                   file=sys.stderr)
