@@ -542,6 +542,21 @@ def test_generation_0s_line_says_why_its_shooting_horizon_is_not_the_rivals():
     assert "rival holds" not in candidate_line(same, True)
 
 
+
+def test_generation_0s_line_says_which_test_the_probes_candidate_failed():
+    """A new user's blimp: the line said "lost to the initial mean" where the candidate had beaten the mean by 5
+    and lost to generation 0's best member (it must beat both)."""
+    from shaped_es.guides.label_check import candidate_line
+
+    res = ProbeResult("world", None, {"world": [1.0, 2.0]}, 10, 0.1, "r", [0.0, 0.0], {"world": [5.0, 5.5]},
+                      candidate="world")
+    assert "lost to the initial mean (-1.00 against 0.50): not counted" in candidate_line(res, False, (-1.0, 0.5, 2.0))
+    member = candidate_line(res, False, (3.05, -0.90, 5.35))
+    assert "beat the initial mean (3.05 against -0.90) but not generation 0's best member (5.35" in member
+    assert "lost to" not in member
+    assert "not by the acceptance rule" in candidate_line(res, False, (3.0, 2.9, 1.0))
+    assert "lost to the initial mean: not counted" in candidate_line(res, False)  # nothing to say which
+
 class FallingPoint(gym.Env):
     """A point that falls (0.05 a step) toward a floor at y = -1, where its episode ends with -10 (a 2-D lander's
     crash): zero action ends every episode early; pushed up toward its waypoint (0, 1), it lasts the 50 steps."""

@@ -148,7 +148,9 @@ def _threshold(env_id: str, env_kwargs: dict | None) -> Check:
     thr = threshold_of(env_id, env_kwargs)
     if thr is not None:
         return Check("threshold", OK, f"{thr[0]:g}, benchmark's and report's success threshold: {thr[1]}")
-    return Check("threshold", NO, "no reward_threshold registered at this reward scale (optional: benchmark then "
+    why = ("registered" if not env_kwargs else "at these env settings (a built-in env's settings that change its "
+           "reward have none)")
+    return Check("threshold", NO, f"no reward_threshold {why} (optional: benchmark then "
                                   "measures success at the best baseline's final reward; register one, or pass "
                                   "--threshold)")
 

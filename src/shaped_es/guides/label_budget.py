@@ -145,7 +145,7 @@ class LabelBudget:
         """The line a run prints when it first sleeps: what happened, what sleeping costs, what to try (the env's
         controller labels only where ``has_controller`` and the run's ``labels`` are M_phi's: a new user's
         controller-label run was told to try the controller's labels); README.md's back-off ("backs off") says
-        more. ``past``: (the run's latest test reward, the env's reward threshold) when that reward is at or
+        more. ``past``: (the run's best test reward so far, the env's reward threshold) when that reward is at or
         above the threshold: the line says so instead of advice (a new user read the note on a run already past
         the threshold as a warning)."""
         oracle = "--set shaping.labels=controller, " if has_controller and labels == "mphi" else ""
@@ -159,8 +159,8 @@ class LabelBudget:
         # drone, a 3-link arm) read the older "they paid before: the search may now outpace them" as all is well
         # where they had stalled below zero action's return
         if past is not None and past[0] >= past[1]:  # solved: the search outpaces the labels, as it should
-            return head + (f"; the run already scores {past[0]:.2f}, at or above {env}'s reward threshold "
-                           f"{past[1]:g}: the labels' candidates no longer beat the search and sleeping saves "
+            return head + (f"; the run has reached {env}'s reward threshold {past[1]:g} (best test reward "
+                           f"{past[0]:.2f}): the labels' candidates no longer beat the search and sleeping saves "
                            f"their price (nothing to fix)")
         once = "if it stalls, " if self.accepted else ""
         if labels != "mphi":  # check-env --labels probes M_phi's labels, not these

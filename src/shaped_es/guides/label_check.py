@@ -91,13 +91,25 @@ def _best_text(res: ProbeResult, chosen: str) -> str:
     return f"{f'shooting {h} steps' if h else name} {np.mean(vals):.2f}"
 
 
-def candidate_line(res: ProbeResult, won: bool) -> str:
+def candidate_line(res: ProbeResult, won: bool, returns: tuple[float, float, float] | None = None) -> str:
     """What became of the probe's best simulated candidate (guides/probe_candidate.py), judged beside generation
-    0: its labels, its mean return on the probe's episodes, ``won``; ``""`` where the probe kept none."""
+    0: its labels, its mean return on the probe's episodes, ``won``; ``returns``: (its return, the initial mean's,
+    generation 0's best member's) as judged, which say which test it failed (a new user's blimp read "lost to the
+    initial mean" where it had beaten the mean by 5 and lost to a member); ``""`` where the probe kept none."""
     if res.candidate is None:
         return ""
-    verdict = ("won: it is the search's mean now (its test reward shows from the next generation's test)" if won else
-               "lost to the initial mean: not counted against the labels, the run goes on as without it")
+    rest = "not counted against the labels, the run goes on as without it"
+    if won:
+        verdict = "won: it is the search's mean now (its test reward shows from the next generation's test)"
+    elif returns is None or not returns[0] > returns[1]:
+        verdict = "lost to the initial mean" + (f" ({returns[0]:.2f} against {returns[1]:.2f})" if returns else "")
+        verdict += f": {rest}"
+    elif not returns[0] > returns[2]:
+        verdict = (f"beat the initial mean ({returns[0]:.2f} against {returns[1]:.2f}) but not generation 0's best "
+                   f"member ({returns[2]:.2f}; a jump must beat what the search sampled around the mean): {rest}")
+    else:
+        verdict = (f"beat the initial mean's return ({returns[0]:.2f} against {returns[1]:.2f}) but not by the "
+                   f"acceptance rule (shaping.mean_clone.accept): {rest}")
     return f"the label probe's best simulated candidate ({candidate_what(res)}) {verdict}"
 
 

@@ -341,7 +341,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
         if self.mechanism.free_judgement:
             won = bool(out.get("candidate_accepted"))
-            print(f"shaped-es: {self.run_name}: generation 0: {candidate_line(self._probe_res, won)}",
+            judged_at = ((float(out["candidate_return"]), float(out["mean_return"]), float(np.max(fitness)))
+                         if "candidate_return" in out and "mean_return" in out else None)  # what it was judged on
+            print(f"shaped-es: {self.run_name}: generation 0: {candidate_line(self._probe_res, won, judged_at)}",
                   file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now
             verdict.append(self._verdict(out, fitness))
@@ -378,9 +380,10 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             print(f"shaped-es: {self.run_name}: note: {note}", file=sys.stderr)
 
     def _past_threshold(self) -> tuple[float, float] | None:
-        """(the latest test reward the progress line reported, the env's threshold) when the env has a
-        threshold and that reward is at or above it; else None. Read once, for the back-off note, from the
-        rows metrics.csv holds now (a row whose test episodes are still running is not there yet)."""
+        """(the best test reward the progress line reported so far, the env's threshold) when the env has a
+        threshold and the run has reached it (a new user's blimp reached it at generation 7 and read the note
+        at generation 40, its latest test just below, as a warning); else None. Read once, for the back-off note,
+        from the rows metrics.csv holds now (a row whose test episodes are still running is not there yet)."""
         if self._threshold is None:
             return None
         try:
@@ -388,9 +391,10 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             tests = [float(r["test_reward_mean"]) for r in rows if r.get("test_reward_mean") not in (None, "")]
         except Exception:  # noqa: BLE001 - unreadable: the note reads as it does without a threshold
             return None
-        if not tests or not np.isfinite(tests[-1]) or tests[-1] < self._threshold[0]:
+        best = max((t for t in tests if np.isfinite(t)), default=None)
+        if best is None or best < self._threshold[0]:
             return None
-        return tests[-1], self._threshold[0]
+        return best, self._threshold[0]
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
