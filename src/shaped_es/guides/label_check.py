@@ -40,7 +40,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
     lost = "" if res.shoot_on else ", not above zero action"
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
-    if kept_as_best(res) and any(n.startswith("shooting") for n in rivals):
+    if kept_below_zero(res) and any(n.startswith("shooting") for n in rivals):
         shoot = ("; no candidate beats zero action (the probe cannot judge): the shooting rival runs"
                  if res.unjudged() else "; the shooting candidate is below zero action but the best simulated one: "
                  "its rival runs")
@@ -70,10 +70,10 @@ def source_line(labels: str) -> str:
     return f"labels: {SOURCE_TEXT[labels]} (shaping.labels={labels}: no label probe, no rival labels)"
 
 
-def kept_as_best(res: ProbeResult) -> bool:
+def kept_below_zero(res: ProbeResult) -> bool:
     """The shooting rival runs though its simulated candidate is not above zero action: it is the best of every
-    simulated candidate (``shoot_keep_best``), or none is above zero action (``shoot_unjudged``;
-    ``guides/label_probe.py``)."""
+    simulated candidate (``shoot_keep_best``), or none is above zero action (``shoot_unjudged``, then
+    ``res.unjudged()``; ``guides/label_probe.py``)."""
     return bool(res.shoot_on and res.shoot and res.zero_action
                 and not beats(np.array(res.shoot), np.array(res.zero_action))[0])
 
@@ -156,7 +156,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
-    kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_as_best(res) else
+    kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_below_zero(res) else
             "; no simulated candidate beats zero action, so the probe cannot judge, and a run keeps the shooting rival "
             "(its paths scored by their mean distance, at two horizons)" if res.unjudged() else
             "; the shooting rival's candidate, though not above it either, is the best simulated one, and a run "
@@ -191,7 +191,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
         details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
-                       f"that rival" + ("" if not kept_as_best(res) else " (no simulated candidate beats zero action)"
+                       f"that rival" + ("" if not kept_below_zero(res) else " (no simulated candidate beats zero action)"
                                          if res.unjudged() else " (the best simulated candidate of all)"))
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "

@@ -122,10 +122,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         unjudged = None  # where the probe could not judge: the shooting rival's second horizon and path score
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
-        # the back-off note says when the run is already past the env's threshold (the one the train command's
-        # threshold line uses: its registered reward_threshold at this reward scale; None: none, or not found)
-        self._threshold = env_threshold(cfg)
-        self._metrics_path = Path(store.metrics_path)  # its latest test reward: the last row written
+        self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
         if mp.frame == "auto" and pos_dim >= 2 and self.sh.labels == "mphi":  # guides/label_probe.py
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor)
@@ -384,7 +381,10 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         threshold and the run has reached it (a new user's blimp reached it at generation 7 and read the note
         at generation 40, its latest test just below, as a warning); else None. Read once, for the back-off note,
         from the rows metrics.csv holds now (a row whose test episodes are still running is not there yet)."""
-        if self._threshold is None:
+        # the threshold the train command's line uses (the env's registered reward_threshold at these settings;
+        # None: none, or not found), looked up here: only a run that sleeps needs it
+        threshold = env_threshold(self.cfg)
+        if threshold is None:
             return None
         try:
             rows = metrics_csv.read_table(self._metrics_path)[1]
@@ -392,9 +392,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         except Exception:  # noqa: BLE001 - unreadable: the note reads as it does without a threshold
             return None
         best = max((t for t in tests if np.isfinite(t)), default=None)
-        if best is None or best < self._threshold[0]:
+        if best is None or best < threshold[0]:
             return None
-        return best, self._threshold[0]
+        return best, threshold[0]
 
     def _warn_untrained(self, generation: int) -> None:
         if self._warned or generation + 1 < WARN_AFTER:
