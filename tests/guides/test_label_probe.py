@@ -51,7 +51,8 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
                     "-0.19 vs zero action -1.20; rivals: waypoint frame, servo, shooting (4 steps); see "
                     "label_probe.json, shaped-es check-env CarNav-v0 --labels")
     dropped = f"shaped-es: {probe_line(replace(res, shoot_on=False), 'CarNav-v0', rivals[:2])}"
-    assert "; shooting rival dropped (4 steps, not above zero action); rivals: waypoint frame, servo; " in dropped
+    assert "; shooting rival dropped (4 steps, not above zero action; another is); rivals: " in dropped
+    assert len(dropped) <= LINE_MAX
     # the default kept; the default's labels lost to zero action (no clones: the labels' own return)
     kept = probe_line(replace(res, query_clip=None, reason="the default: ..."), "CarNav-v0", rivals)
     assert ("query_clip=none (the default choice): candidate -19.19, below zero action's -1.20; "
@@ -295,7 +296,7 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
     assert "(actions held 4 steps: no longer horizon is clearly better: 8 steps" in horizon_text(res)
-    assert "; shooting rival dropped (4 steps, not above zero action)" in probe_line(res)
+    assert "; shooting rival dropped (4 steps, not above zero action; another is)" in probe_line(res)
     seen.clear()
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))
@@ -609,3 +610,32 @@ def test_check_labels_says_beating_a_zero_action_that_crashes_says_little(monkey
     assert ("--method vanilla / cmaes; and zero action ends early on 10 of 10 episodes (before the 50-step limit: a "
             "crash, a fall), a low bar (paired over 10 episodes; ") in verdict
     # where zero action lasts its episodes (PointVel-v0), the verdict is as before: tests/cli/test_cli_info.py
+
+
+def test_a_passed_over_variant_neither_judges_nor_drops_the_shooting_rival():
+    """A new user's quadrotor: a chunk variant the probe passed over had the one candidate above zero action, so
+    the probe read as able to judge and the shooting rival (below zero action) was dropped, where every seed
+    without it kept the rival. A probe's ``passed`` extensions are left out of :meth:`ProbeResult.unjudged`;
+    the probe line and check-env say which candidate above zero action dropped a rival."""
+    from dataclasses import replace
+    from shaped_es.guides.label_check import _drop_text
+
+    def eps(m):
+        return [m + 0.01 * (k - 4.5) for k in range(10)]
+    zero, shoot = eps(0.0), eps(-0.5)
+    clones = {"both": eps(-0.9), "both+chunk4": eps(1.6)}
+    res = ProbeResult("both", None, {"both": eps(-1.5), "both+chunk4": eps(0.6)}, 100, 1.0, "the default", zero,
+                      clones, shoot, True, 8, {"4": eps(-5.0), "8": shoot}, passed=["+chunk"])
+    assert res.standing() == {"both": clones["both"]} and res.unjudged()
+    assert res.unjudged_shooting() == (4, "mean")
+    before = replace(res, passed=[])  # a probe from before: every clone counts
+    assert not before.unjudged() and before.unjudged_shooting() is None
+    dropped = replace(before, shoot_on=False)
+    assert _drop_text(dropped) == (", where frame=both, targets=chunk (4 steps), query_clip=none's simulated "
+                                   "candidate is (1.60): the probe can judge")
+    assert "(8 steps, not above zero action; another is)" in probe_line(dropped)
+    assert _drop_text(replace(res, shoot_on=False)) == ""  # only the passed-over variant was above zero action
+    raw = json.dumps({k: v for k, v in res.__dict__.items() if k != "candidate_params"}).encode()
+    assert probe_file.parse(raw).passed == ["+chunk"]
+    with pytest.raises(ValueError, match="bad passed"):
+        probe_file.parse(raw.replace(b'"passed": ["+chunk"]', b'"passed": [4]'))

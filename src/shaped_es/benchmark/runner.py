@@ -335,6 +335,10 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
     extra = {"benchmark": record, "this_invocation": status}
     paths = write_report(out / "report.md", groups, configs, generations=spec.generations,
                          title=f"Benchmark on {spec.env}", extra=extra, threshold=spec.threshold)
+    from shaped_es.benchmark.verdict import verdict_lines
+
+    for line in verdict_lines(json.loads(Path(paths["summary"]).read_text())):  # the report's verdict, in brief
+        log(f"[benchmark] {line}")
     shown = {d.name for dirs in groups.values() for d in dirs}
     left = sorted(p.name for p in (out / "runs").iterdir() if p.is_dir() and p.name not in shown)
     if left:  # a rerun with fewer methods or seeds: its page shows this invocation's runs only

@@ -102,7 +102,7 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
            "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
            "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
-           "simulated candidate loses to zero action), and says in how many runs it ran where not all.", "",
+           "simulated candidate is not above zero action while another simulated candidate is), and says in how many runs it ran where not all.", "",
            "| method | judged | accepted (probe / own / frame / servo / shoot / shoot base) | mean gain | backed off per run "
            "| runs with none accepted |",
            "|---|---|---|---|---|---|"]

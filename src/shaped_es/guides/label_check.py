@@ -37,7 +37,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
         # generation 0; another read the two candidates' numbers as contradictory: the best is named either way
         if best:
             score += f"; best: {best}, judged at generation 0"
-    lost = "" if res.shoot_on else ", not above zero action"
+    lost = "" if res.shoot_on else ", not above zero action" + ("; another is" if _drop_text(res) else "")
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
     if kept_below_zero(res) and any(n.startswith("shooting") for n in rivals):
@@ -68,6 +68,20 @@ SOURCE_TEXT = {"controller": "the env's waypoint_controller, the oracle: what la
 def source_line(labels: str) -> str:
     """A run's one line on labels that are not M_phi's (no probe, so no probe line): where they come from."""
     return f"labels: {SOURCE_TEXT[labels]} (shaping.labels={labels}: no label probe, no rival labels)"
+
+
+def _drop_text(res: ProbeResult) -> str:
+    """Why a dropped shooting rival was dropped though below zero action was not enough (``shoot_unjudged``): the
+    simulated candidate that beats zero action, a standing variant's or another horizon's (a new user read
+    "not above zero action" where other seeds below it kept the rival)."""
+    zero = np.array(res.zero_action)
+    sims = {**{variant_text(k): v for k, v in res.standing().items()},
+            **{f"shooting, {h} steps": v for h, v in res.shoot_tried.items()}}
+    above = {k: float(np.mean(v)) for k, v in sims.items() if len(v) == len(zero) and beats(np.array(v), zero)[0]}
+    if not above:
+        return ""
+    name = max(above, key=above.get)
+    return f", where {name}'s simulated candidate is ({above[name]:.2f}): the probe can judge"
 
 
 def kept_below_zero(res: ProbeResult) -> bool:
@@ -191,7 +205,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
         details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
-                       f"that rival" + ("" if not kept_below_zero(res) else " (no simulated candidate beats zero action)"
+                       f"that rival" + (_drop_text(res) if not res.shoot_on else "" if not kept_below_zero(res) else " (no simulated candidate beats zero action)"
                                          if res.unjudged() else " (the best simulated candidate of all)"))
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "

@@ -137,6 +137,13 @@ class ProbeResult:
     # M_phi's chunk length where the chosen variant trains on chunk targets (targets=chunk, horizon=chunk);
     # None: the configured targets (one-step; a probe from before probe_chunk)
     chunk: int | None = None
+    # the probe's extensions passed over (the chosen variant lacks them: "+chunk", "+clip4"): their simulated
+    # candidates neither keep nor drop the shooting rival nor count in :meth:`unjudged` ([]: a probe from before)
+    passed: list[str] = field(default_factory=list)
+
+    def standing(self) -> dict[str, list[float]]:
+        """The simulated candidates of the variants not passed over (``clones`` without :attr:`passed`'s)."""
+        return {k: v for k, v in self.clones.items() if not any(t in k for t in self.passed)}
 
     def keeps_base(self) -> bool:
         """Whether the shooting labels at the first probed horizon (``shoot_horizon``) also run, beside the
@@ -146,8 +153,9 @@ class ProbeResult:
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
 
     def unjudged(self) -> bool:
-        """Whether no simulated candidate beat zero action (``probe_choice.unjudged``): the probe could not judge."""
-        sims = {**self.clones, **self.shoot_tried, **({"shoot": self.shoot} if self.shoot else {})}
+        """Whether no simulated candidate of a variant not passed over, nor of any shooting horizon, beat zero action
+        (``probe_choice.unjudged``): the probe could not judge."""
+        sims = {**self.standing(), **self.shoot_tried, **({"shoot": self.shoot} if self.shoot else {})}
         return bool(self.zero_action) and unjudged(np.array(self.zero_action), {k: np.array(v) for k, v in sims.items()})
 
     def unjudged_shooting(self) -> tuple[int | None, str] | None:
@@ -295,14 +303,6 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         steps += n
     for h, (r, n) in zip(horizons, sims[len(vs):]):
         tried[str(h)], steps = [float(v) for v in r], steps + n
-    if horizons:
-        seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), *tried.values(), zero)])
-        scale = float(seen.max() - seen.min())
-        best, _ = best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
-                                lambda a, b: clone_beats(a, b, scale))
-        horizon, shoot = int(best), tried[best]
-        shoot_on = keep_shoot(np.array(shoot), zero, {k: np.array(v) for k, v in clones.items()}, mp.shoot_keep_best,
-                              mp.shoot_unjudged, {k: np.array(v) for k, v in tried.items()})
     simulated = {**clones, **{f"shoot:{h}": v for h, v in tried.items()}}  # every simulated candidate's returns
     by_name = dict(zip([variant_name(*v) for v in vs] + [f"shoot:{h}" for h in horizons], thetas))
     long_tag = f"+clip{mp.probe_clip_long:g}" if len(vs) > len(base) else None
@@ -310,9 +310,20 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
                                   {k: np.array(v) for k, v in clones.items()},
                                   probe_candidate.rank(simulated, by_name), long_tag)
     frame, clip, chunk = next(v for v in vs if variant_name(*v) == name)
-    # the extensions passed over: generation 0's candidate is chosen without their clones too
+    # the extensions passed over: generation 0's candidate and the shooting rival's test are decided without
+    # their clones (a variant the run does not use neither keeps nor drops a rival it does use; a new user's
+    # quadrotor: a passed-over chunk variant's clone beat zero action and so dropped the shooting rival)
     passed = [t for t in ("+chunk", long_tag) if t and t not in name]
+    standing = {k: np.array(v) for k, v in clones.items() if not any(t in k for t in passed)}
+    if horizons:
+        seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), *tried.values(), zero)])
+        scale = float(seen.max() - seen.min())
+        best, _ = best_beating({k: np.array(v) for k, v in tried.items()}, str(mp.shoot_horizon),
+                                lambda a, b: clone_beats(a, b, scale))
+        horizon, shoot = int(best), tried[best]
+        shoot_on = keep_shoot(np.array(shoot), zero, standing, mp.shoot_keep_best, mp.shoot_unjudged,
+                              {k: np.array(v) for k, v in tried.items()})
     top = probe_candidate.best({k: v for k, v in simulated.items() if not any(t in k for t in passed)}, by_name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
-                       *(top if top is not None else (None, None)), chunk)
+                       *(top if top is not None else (None, None)), chunk, passed)

@@ -44,6 +44,7 @@ def parse(raw: bytes) -> ProbeResult:
          and all(isinstance(v, list) for v in d.get("shoot_tried", {}).values()), "shoot_tried"),
         (d.get("candidate") is None or isinstance(d.get("candidate"), str), "candidate"),
         (d.get("chunk") is None or (type(d.get("chunk")) is int and 1 <= d["chunk"] <= 64), "chunk"),
+        (isinstance(d.get("passed", []), list) and all(isinstance(v, str) for v in d.get("passed", [])), "passed"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:

@@ -1,0 +1,37 @@
+"""The benchmark's verdict lines (benchmark/verdict.py): each method against Vanilla-ES, from the summary."""
+
+from shaped_es.benchmark.verdict import verdict_lines
+
+
+def _method(successes, wall, late, shaping=None):
+    return {"seeds": 5, "successes": successes, "wall_time_s": wall, "late_test_reward_iqm": late,
+            **({"shaping": shaping} if shaping else {})}
+
+
+def _summary(shaped, vanilla, ratios=None):
+    return {"threshold": {"value": 9.0}, "methods": {"shaped": shaped, "vanilla": vanilla},
+            "ratios_to_threshold": {"shaped": {"vanilla": ratios or {}}}}
+
+
+def test_a_run_that_gained_nothing_says_so_and_its_price():
+    """A new user's quadrotor: no seed of either reached the threshold, shaped cost 2.65x the wall time; the
+    terminal said only where report.md was."""
+    sh = {"candidates_judged": 231, "candidates_accepted": 41, "runs_without_acceptance": 1, "runs": 5}
+    lines = verdict_lines(_summary(_method(0, 26.5, 1.61, sh), _method(0, 10.0, 1.84)))
+    assert lines == ["shaped vs vanilla: 0/5 vs 0/5 seeds reached 9; neither reached it; whole runs' wall time "
+                     "2.65x; late test reward IQM 1.61 vs 1.84; candidates accepted 41 of 231 (1 of 5 runs none: "
+                     "vanilla's own steps there)"]
+
+
+def test_ratios_to_the_threshold_with_their_intervals():
+    ratios = {"generations": {"ratio": 0.5, "ci": [0.31, 0.78]}, "wall_time_s": {"ratio": 1.73, "ci": [1.25, 2.41]}}
+    (line,) = verdict_lines(_summary(_method(5, 19.4, 9.23), _method(4, 10.0, 9.41), ratios))
+    assert line.startswith("shaped vs vanilla: 5/5 vs 4/5 seeds reached 9; generations to it 0.50x [0.31, 0.78]; "
+                           "wall time to it 1.73x [1.25, 2.41]; whole runs' wall time 1.94x")
+
+
+def test_the_first_method_is_the_baseline_without_vanilla_and_one_method_has_no_verdict():
+    s = {"threshold": {"value": 1.0}, "methods": {"cmaes": _method(1, 2.0, 0.5), "shaped": _method(2, 4.0, 0.7)}}
+    (line,) = verdict_lines(s)
+    assert line.startswith("shaped vs cmaes: 2/5 vs 1/5 seeds reached 1;") and "whole runs' wall time 2.00x" in line
+    assert verdict_lines({"threshold": {"value": 1.0}, "methods": {"shaped": _method(1, 2.0, 0.5)}}) == []
