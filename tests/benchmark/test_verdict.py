@@ -35,3 +35,16 @@ def test_the_first_method_is_the_baseline_without_vanilla_and_one_method_has_no_
     (line,) = verdict_lines(s)
     assert line.startswith("shaped vs cmaes: 2/5 vs 1/5 seeds reached 1;") and "whole runs' wall time 2.00x" in line
     assert verdict_lines({"threshold": {"value": 1.0}, "methods": {"shaped": _method(1, 2.0, 0.5)}}) == []
+
+
+def test_the_suite_counts_run_lines_only():
+    """A suite's progress counts runs by their lines; the verdict lines and the page's note are not runs (a
+    suite of one seed a task printed "2/1 runs")."""
+    from shaped_es.benchmark.suite import RUN_LINE
+
+    assert RUN_LINE.match("[benchmark] shaped_s1: new (20.2 s), last test reward 229.06")
+    assert RUN_LINE.match("[benchmark] lean[x=1]_s12: resumed (3.0 s)")
+    for msg in ("[benchmark] shaped vs vanilla: 5/5 vs 4/5 seeds reached 9",
+                "[benchmark] report.md shows this invocation's methods and seeds; DIR/runs also holds shaped_s1 (1)",
+                "[benchmark] estimate: shaped ~1 min"):
+        assert not RUN_LINE.match(msg)

@@ -442,6 +442,41 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
         assert strip_time(store.read_metrics()) == strip_time(full)
 
 
+def test_with_shoot_unjudged_all_the_third_probed_horizon_runs_too_and_resumes_exactly(tmp_path, monkeypatch):
+    """``shoot_unjudged_all``: where the probe could not judge, the probed horizon neither the chosen one nor the
+    nearest holds runs as a third shooting rival (variant 6, its own model, data parts and gain column); its
+    acceptances count with ``accepted_shoot_base``; a run crashed mid-way resumes row for row."""
+    over = {**POINT, "generations": 3}  # shoot_unjudged_all: the default
+    tried = {"4": [-3.0, -3.1, -2.9, -3.2], "8": [-4.0] * 4, "16": [-5.0, -5.1, -4.9, -5.2]}
+    saved = {**GOOD, "returns": {"both": [-1.0] * 4}, "clones": {"both": [-2.0, -2.1, -1.9, -2.2]},
+             "zero_action": [0.0, 0.1, -0.1, 0.0], "shoot": tried["4"], "shoot_on": True, "shoot_horizon": 4,
+             "shoot_tried": tried}
+    res = ProbeResult(**saved)
+    assert res.unjudged_shooting() == (8, "mean") and res.third_horizon() == 16
+    assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).third_horizon() is None
+    assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).third_horizon() is None  # judged
+
+    def fresh(name):
+        cfg, store = new_run(tmp_path / name, over)
+        (tmp_path / name / FILE).write_text(json.dumps(saved))
+        return cfg, store
+    cfg, store = fresh("full")
+    trainer = Trainer(cfg, store, progress=False)
+    shoot = {r.name: (r.variant, r.track.mphi.horizon) for r in trainer.guide.rivals if r.name.startswith("shooting")}
+    assert shoot == {"shooting (4 steps, mean distance)": (3, 4), "shooting (8 steps, mean distance)": (4, 8),
+                     "shooting (16 steps, mean distance)": (6, 16)}
+    from shaped_es.guides.rival import names as rival_names
+    assert "; rivals: waypoint frame, servo, shooting (4, 8 and 16 steps, mean distance); see " in probe_line(
+        res, "PointVel-v0", rival_names(trainer.guide.rivals))
+    trainer.run()
+    full = store.read_metrics()
+    assert "shoot_third_gain" in full[0] and (tmp_path / "full" / "mphi_data_shoot_third").is_dir()
+    cfg, store = fresh("crashed")
+    run_until_crash(monkeypatch, cfg, store, 2)
+    Trainer(cfg, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)
+
+
 @pytest.mark.parametrize("on", [True, False])
 def test_where_the_probe_could_not_judge_two_shooting_horizons_run_scored_by_their_mean(tmp_path, on):
     """No simulated candidate beat zero action (a body whose zero action is safe): the shooting rival runs at the
@@ -450,7 +485,7 @@ def test_where_the_probe_could_not_judge_two_shooting_horizons_run_scored_by_the
     from shaped_es.guides.label_check import probe_line
     from shaped_es.guides.rival import names as rival_names
 
-    over = {**POINT, "shaping": {"inverse_dynamics": {"shoot_unjudged": on}}}
+    over = {**POINT, "shaping": {"inverse_dynamics": {"shoot_unjudged": on, "shoot_unjudged_all": False}}}
     tried = {"4": [-3.0, -3.1, -2.9, -3.2], "8": [-4.0] * 4, "16": [-5.0, -5.1, -4.9, -5.2]}
     saved = {**GOOD, "returns": {"both": [-1.0] * 4}, "clones": {"both": [-2.0, -2.1, -1.9, -2.2]},
              "zero_action": [0.0, 0.1, -0.1, 0.0], "shoot": tried["4"], "shoot_on": True, "shoot_horizon": 4,

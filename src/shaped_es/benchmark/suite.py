@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import sys
 import time
 from dataclasses import dataclass
@@ -40,6 +41,7 @@ DEFAULT_SUITE = "waypoints"
 DEFAULT_METHODS = ("shaped", "vanilla", "cmaes")
 REFERENCE = "shaped"
 BASELINE = "vanilla"
+RUN_LINE = re.compile(r"\[benchmark\] \S+_s\d+: ")  # run_benchmark's line for one run (METHOD_sSEED: ...)
 ACCEPT_COLUMN, GAIN_COLUMN = "candidate_accepted", "candidate_gain"
 
 
@@ -125,7 +127,7 @@ def run_suite(out: str | Path, suite: str = DEFAULT_SUITE, tasks: list[str] | No
 
         def task_log(msg, env=spec.env):
             nonlocal done
-            if msg.startswith("[benchmark] ") and ":" in msg and "estimate" not in msg:
+            if RUN_LINE.match(msg):  # a run's line (not the estimate's, the verdict's or the page's note)
                 done += 1
                 elapsed = time.perf_counter() - t0
                 log(f"[suite] {done}/{n_runs} runs ({elapsed:.0f} s) {env} {msg.removeprefix('[benchmark] ')}")

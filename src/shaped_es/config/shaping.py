@@ -9,7 +9,7 @@ from pydantic import Field, model_validator
 
 from shaped_es.config.scalars import Bool, Float, Int, _Strict
 from shaped_es.methods import MECHANISMS
-from shaped_es.shaping.settings import (ACCEPT_RULES, LABEL_SOURCES, SHOOT_COSTS, CloningConfig, InverseDynamicsConfig,
+from shaped_es.shaping.settings import (ACCEPT_RULES, LABEL_SOURCES, SHOOT_COSTS, SHOOT_MODELS, CloningConfig, InverseDynamicsConfig,
                                         MeanCloneConfig)
 
 # The shaping sections take their defaults from the shaping layer's dataclasses (one truth); guides/shaped.py
@@ -66,11 +66,21 @@ class InverseDynamicsSettings(_Strict):
                                  "the shooting rival runs anyway, its paths scored by their mean distance to the aim, "
                                  "at the probe's horizon and at the probed horizon nearest it (two rivals): the run's "
                                  "selection judges them (docs/benchmarks/shoot_unjudged_v18)")
+    shoot_unjudged_all: Bool = Field(True, description="with shoot_unjudged, where the probe cannot judge, the "
+                                     "shooting rival runs at every probed horizon (4, 8 and 16: three rivals), not "
+                                     "only the chosen one and the one nearest it (a new user's quadrotor needs 16 "
+                                     "steps where the probe chose 4 or 8: 5/5 seeds solved against 0/5; "
+                                     "docs/benchmarks/shoot_unjudged_all_v19); false: those two")
     shoot_cost: Literal[SHOOT_COSTS] = Field("min", description="the shooting labels score a held action's "
                                                "predicted path by its nearest pass to the aim (min) or its mean "
                                                "distance to it (mean: a new user's drone 6/10 solved against 3/10, "
                                                "the kart 1.42x and UR5Reach-v0 1.20x the generations; "
                                                "docs/benchmarks/shoot_keep_best_v17)")
+    shoot_model: Literal[SHOOT_MODELS] = Field("chunk", description="the shooting labels' forward model: chunk (the "
+                                               "h-step displacement from the state and the mean recorded action) or "
+                                               "rollout (one step of the whole observation and the position, rolled "
+                                               "out h steps with the action held: a body that is far from linear "
+                                               "over h steps, a quadrotor tilting to move; shaping/forward_rollout.py)")
     shoot_probe_horizons: tuple[Annotated[Int, Field(ge=1, le=64)], ...] = Field(
         (8, 16), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "

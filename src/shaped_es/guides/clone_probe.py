@@ -111,7 +111,7 @@ def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, ho
     """The shooting labels (``shaping/forward_shoot.py``) trained on the label probe's data (``data``: its
     recorded steps per generation); ``horizon``: the steps an action is held (None: the config's)."""
     h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
-    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h)
+    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h, kind=cfg.shaping.inverse_dynamics.shoot_model)
     for trs in data:
         m.add(trs)
         m.train()

@@ -165,6 +165,15 @@ class ProbeResult:
             return None
         return nearest_horizon(self.shoot_horizon, [int(h) for h in self.shoot_tried]), "mean"
 
+    def third_horizon(self) -> int | None:
+        """Where the probe could not judge: the probed horizon neither the chosen one nor the second holds (the
+        longest such; None: fewer than three probed, or the probe could judge)."""
+        two = self.unjudged_shooting()
+        if two is None:
+            return None
+        rest = sorted(int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0]))
+        return rest[-1] if rest else None
+
 
 def probe_seeds(cfg: RunConfig) -> np.ndarray:
     """The seeds ``(EPISODES,)`` of the probe's episodes: every variant, zero action and each simulated candidate

@@ -47,12 +47,15 @@ RIVAL_KEY = 1_000_021  # seed key of the rival frame's model (its init and minib
 SERVO_KEY = 1_000_022  # seed key of the servo's forward model
 SHOOT_KEY = 1_000_024  # seed key of the shooting labels' forward model
 SHOOT_BASE_KEY = 1_000_026  # seed key of the shooting labels' model at shoot_horizon beside a longer one
+SHOOT_THIRD_KEY = 1_000_027  # seed key of the shooting labels' model at the third probed horizon (unjudged, all)
 DIR = "mphi_data_rival"
 SERVO_DIR = "mphi_data_servo"
 SHOOT_DIR = "mphi_data_shoot"
 SHOOT_BASE_DIR = "mphi_data_shoot_base"
+SHOOT_THIRD_DIR = "mphi_data_shoot_third"
 FRAME, SERVO, SHOOT, SHOOT_BASE = 1, 2, 3, 4  # variant ids: the candidate_rival column's values (0: own labels;
 #                                              5: generation 0's probe candidate, mechanisms/candidate.PROBE)
+SHOOT_THIRD = 6  # the shooting labels at the third probed horizon (shoot_unjudged_all)
 
 
 @dataclass
@@ -113,22 +116,24 @@ def shoot_on(cfg) -> bool:
 
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
                 seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR, ahead: float = 0.0,
-                cost: str = "min") -> MphiTrack:
-    """The shooting labels' forward model (M_phi's training settings, its own seed), labels and data parts."""
+                cost: str = "min", kind: str = "chunk") -> MphiTrack:
+    """The shooting labels' forward model (M_phi's training settings, its own seed; ``kind``: ``shoot_model``),
+    labels and data parts."""
     model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
-                        seed=seeding.derive_seed(seed, seeding.SHAPING, key))
+                        seed=seeding.derive_seed(seed, seeding.SHAPING, key), kind=kind)
     return MphiTrack(model, ShootLabels(model, ahead, cost), Path(root) / folder)
 
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
            shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False,
-           unjudged: tuple[int | None, str] | None = None) -> list[Rival]:
+           unjudged: tuple[int | None, str] | None = None, third: int | None = None) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
     probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides),
     ``shoot_horizon`` the horizon it chose (None: the config's), and ``shoot_base`` whether the config's
     horizon also runs beside a longer chosen one (its candidate beat zero action too); ``unjudged``: where
     the probe could not judge (``ProbeResult.unjudged_shooting``), the second horizon that runs beside the
-    chosen one (variant 4; None: none) and the path score of both."""
+    chosen one (variant 4; None: none) and the path score of both; ``third``: there, with ``shoot_unjudged_all``,
+    the probed horizon neither of them holds (variant 6; None: none)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -148,12 +153,17 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if unjudged is not None:  # the probe could not judge: a second horizon beside its choice, paths by their mean
             second, cost = unjudged
             both, base = second is not None, second
-        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead, cost=cost)
+        kind = cfg.shaping.inverse_dynamics.shoot_model
+        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead, cost=cost, kind=kind)
         out.append(Rival(SHOOT, shoot_name(h, cost) if both else "shooting", track, "shoot/", "shoot/parts"))
         if both:
             track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, base, root, cfg.seed, SHOOT_BASE_KEY,
-                                SHOOT_BASE_DIR, ahead, cost)
+                                SHOOT_BASE_DIR, ahead, cost, kind)
             out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track, "shoot_base/", "shoot_base/parts"))
+        if unjudged is not None and third is not None:
+            track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, third, root, cfg.seed, SHOOT_THIRD_KEY,
+                                SHOOT_THIRD_DIR, ahead, cost, kind)
+            out.append(Rival(SHOOT_THIRD, shoot_name(third, cost), track, "shoot_third/", "shoot_third/parts"))
     return out
 
 

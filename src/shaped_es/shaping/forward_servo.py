@@ -89,13 +89,21 @@ class ForwardServo(InverseDynamics):
                 step = float(np.linalg.norm(dp[:, -self.pos_dim:], axis=1).mean())  # the last displacement's
                 self.step_scale = TARGET_SCALE * step if step > 0 else 1.0
                 self.query_scale = float(np.median(np.linalg.norm(np.concatenate(qs), axis=1))) or 1.0
-            y = np.clip(dp / (self.step_scale or 1.0), -0.99, 0.99).astype(np.float32)  # (N, out)
+                self._fix_scales(dp)
+            y = np.clip(dp / self._target_scale(), -0.99, 0.99).astype(np.float32)  # (N, out)
             self.norm.update(x)
             self._append(x, y)
             size = self.dataset_size
         return {"episodes": float(episodes), "kept_episodes": float(kept),
                 "kept_fraction": kept / episodes if episodes else 0.0,
                 "added": float(x.shape[0]), "dataset_size": float(size)}
+
+    def _fix_scales(self, dp: np.ndarray) -> None:
+        """Further target scales fixed by the first data ``dp`` ``(N, out)`` (none here: one displacement)."""
+
+    def _target_scale(self):
+        """What the targets are divided by: the step scale (a model with other outputs: one per output)."""
+        return self.step_scale or 1.0
 
     def _pairs(self, tr: Transitions, good: np.ndarray):
         """One recording's ``(inputs (T', obs + act), displacements (T', d), queries w - p (T', d))`` over

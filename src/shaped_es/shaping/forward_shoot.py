@@ -43,7 +43,8 @@ from shaped_es.shaping.forward_servo import ForwardLabels, ForwardServo
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.inverse_dynamics import RunningNorm
 from shaped_es.shaping.mphi_inputs import episode_end, waypoint_before
-from shaped_es.shaping.settings import SHOOT_COSTS
+from shaped_es.shaping.forward_rollout import ForwardRollout
+from shaped_es.shaping.settings import SHOOT_COSTS, SHOOT_MODELS
 
 HORIZON = 4  # steps a candidate action is held
 GRID = 5  # candidate values per action dimension (-1, -0.5, 0, 0.5, 1) while GRID ** act <= MAX_CANDIDATES
@@ -132,9 +133,13 @@ class ShootLabels(ForwardLabels):
         for i in range(0, n, self.ROWS):
             si, ei = s[i : i + self.ROWS], err[i : i + self.ROWS]
             b = si.shape[0]
-            f = m.label(np.broadcast_to(si, (K, b, m.obs_dim)).reshape(-1, m.obs_dim),
-                        np.repeat(A, b, axis=0))  # (K b, h d) scaled paths, every candidate held
-            f = f.reshape(K, b, m.horizon, m.pos_dim)  # (K b, h d) -> (K, b, h, d)
+            if isinstance(m, ForwardRollout):  # h one-step predictions, in the waypoint space's units
+                f = m.paths(np.broadcast_to(si, (K, b, m.obs_dim)).reshape(-1, m.obs_dim), np.repeat(A, b, axis=0))
+                f = f.reshape(K, b, m.horizon, m.pos_dim) / (m.step_scale or 1.0)  # (K b, h, d) -> (K, b, h, d)
+            else:
+                f = m.label(np.broadcast_to(si, (K, b, m.obs_dim)).reshape(-1, m.obs_dim),
+                            np.repeat(A, b, axis=0))  # (K b, h d) scaled paths, every candidate held
+                f = f.reshape(K, b, m.horizon, m.pos_dim)  # (K b, h d) -> (K, b, h, d)
             f -= ei[None, :, None, :]
             d2 = np.einsum("kbhd,kbhd->kbh", f, f)  # (K, b, h) squared distances to the aim
             # min: the nearest pass (squared); mean: the path's mean distance (a body that must not fly past)
@@ -144,8 +149,10 @@ class ShootLabels(ForwardLabels):
 
 
 def shoot_model(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int = HORIZON,
-                seed: int | None = None) -> ForwardChunk:
-    """The chunk forward model with M_phi's training settings (world frame; ``seed``: its own, else
-    M_phi's)."""
+                seed: int | None = None, kind: str = "chunk") -> ForwardChunk | ForwardRollout:
+    """The shooting labels' forward model with M_phi's training settings (world frame; ``seed``: its own, else
+    M_phi's): ``kind`` ``chunk`` (:class:`ForwardChunk`) or ``rollout`` (``forward_rollout.py``)."""
+    if kind not in SHOOT_MODELS:
+        raise ValueError(f"shooting model must be one of {SHOOT_MODELS}, got {kind!r}")
     cfg = replace(mphi_cfg, frame="world", targets="one_step", **({} if seed is None else {"seed": seed}))
-    return ForwardChunk(obs_dim, pos_dim, act_dim, cfg, horizon=horizon)
+    return (ForwardChunk if kind == "chunk" else ForwardRollout)(obs_dim, pos_dim, act_dim, cfg, horizon=horizon)

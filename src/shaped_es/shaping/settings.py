@@ -18,6 +18,7 @@ from shaped_es.shaping.frames import FRAMES
 TARGETS = ("one_step", "hindsight", "matched", "chunk")
 LABEL_SOURCES = ("mphi", "reference", "controller")  # shaping/labels.py
 ACCEPT_RULES = ("best", "mean", "paired", "best_paired")
+SHOOT_MODELS = ("chunk", "rollout")  # the shooting labels' forward model (forward_shoot.py, forward_rollout.py)
 SHOOT_COSTS = ("min", "mean")  # how the shooting labels score a held action's path (shaping/forward_shoot.py)
 FILTERS = ("total", "positive", "none")
 QUERY_SCALES = ("raw", "own_step")
