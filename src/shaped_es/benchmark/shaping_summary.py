@@ -1,8 +1,8 @@
 """What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
 judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
-own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4 the shooting labels at 4 steps
-beside a longer horizon; ``guides/rival.py``; 5 the label probe's candidate, judged at generation 0: blank there
-in runs from before that value), their mean gain over the mean, the
+own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4 and 6 the shooting labels at a
+second and third horizon (counted together as ``shoot_base``); ``guides/rival.py``; 5 the label probe's candidate,
+judged at generation 0: blank there in runs from before that value), their mean gain over the mean, the
 generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
 (those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""
 
@@ -97,8 +97,8 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
     out = ["## What shaping did", "",
            "Candidates judged and accepted, pooled over seeds (accepted: the label probe's candidate at generation 0 "
            "/ by the run's own labels / the rival "
-           "frame's / the servo's / the shooting labels' / the shooting labels' at shoot_horizon beside a longer "
-           "horizon the probe chose), the mean gain of the judged candidate over the mean (return, on every "
+           "frame's / the servo's / the shooting labels' / the shooting labels' at their other horizons where the probe "
+           "cannot judge or beside a longer chosen one), the mean gain of the judged candidate over the mean (return, on every "
            "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
            "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
