@@ -228,12 +228,13 @@ def test_a_runs_line_says_what_its_labels_did(tmp_path):
         (root / "metrics.csv").write_text("\n".join(rows) + "\n")
         return root
 
-    shaped = SimpleNamespace(method="shaped", env="CartPole-v1", env_kwargs={})  # no threshold registered
-    assert _outcome(shaped, run("never", [0, 0, 0])) == (", last test reward 2.50; no candidate accepted in 3 judged "
-                                                         "generations: vanilla's own steps")
+    shaped = SimpleNamespace(method="shaped", env="CartPole-v1", env_kwargs={})  # its registered threshold: 475
+    assert _outcome(shaped, run("never", [0, 0, 0])) == (", last test reward 2.50, 475 not reached; no candidate "
+                                                         "accepted in 3 judged generations: vanilla's own steps")
     assert _outcome(SimpleNamespace(method="shaped_cmaes", env="CartPole-v1", env_kwargs={}),
                     run("never_cma", [0])).endswith("cmaes's own steps")
-    assert _outcome(shaped, run("paid", [0, 1, 0])) == ", last test reward 2.50; candidates accepted 1 of 3 judged"
+    assert _outcome(shaped, run("paid", [0, 1, 0])) == (", last test reward 2.50, 475 not reached; candidates "
+                                                        "accepted 1 of 3 judged")
     # the threshold benchmark uses (given, else the env's), where a test reward met it: generations done
     assert _outcome(shaped, tmp_path / "paid", 1.5) == (", last test reward 2.50, 1.5 reached at generation 2; candidates "
                                                         "accepted 1 of 3 judged")
@@ -242,4 +243,5 @@ def test_a_runs_line_says_what_its_labels_did(tmp_path):
     checked.mkdir()
     (checked / "metrics.csv").write_text("generation,test_reward_mean,shaping_awake,candidate_accepted,"
                                          "candidate_gain,check_env_steps\n0,1.0,1,1,1.0,60\n1,2.5,1,0,1.0,60\n")
-    assert _outcome(shaped, checked) == ", last test reward 2.50; candidates accepted 1 of 2 judged (1 more won and lost the check)"
+    assert _outcome(shaped, checked) == (", last test reward 2.50, 475 not reached; candidates accepted 1 of 2 judged "
+                                         "(1 more won and lost the check)")

@@ -44,7 +44,7 @@ def test_a_rival_dropped_in_some_runs_is_told_apart_from_one_that_never_won():
     s = shaping_summary([a, b])
     assert s["runs_with_rival"] == {"rival_frame": 0, "servo": 2, "shoot": 1, "shoot_base": 0}
     text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
-    assert "| shaped | 4 | 1 (0 / 0 / \u2013 / 1 / 0 (1/2 runs) / \u2013) |" in text
+    assert "| shaped | 4 | 1 (0 / 0 / \u2013 / 1 / 0 (ran in 1/2 runs) / \u2013) |" in text
 
 
 def test_generation_0s_probe_candidate_is_counted_apart_from_the_labels():

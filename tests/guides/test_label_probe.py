@@ -501,7 +501,7 @@ def test_where_the_probe_could_not_judge_two_shooting_horizons_run_scored_by_the
                 if on else {"shooting": (4, "min")})
     assert shoot == expected
     line = probe_line(res, "PointVel-v0", rival_names(rivals))
-    assert "no candidate beats zero action (the probe cannot judge): the shooting rival runs" in line
+    assert "no candidate clearly beats zero action (the probe cannot judge): the shooting rival runs" in line
     assert ("rivals: waypoint frame, servo, shooting (4 and 8 steps, mean distance)" in line) == on
 
 

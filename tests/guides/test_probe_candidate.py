@@ -48,7 +48,7 @@ def test_a_losing_probe_candidate_changes_nothing_but_its_episodes(tmp_path, mon
     monkeypatch.setattr(probe_candidate, "best", bad)
     rows = train(tmp_path / "on", POINT).read_metrics()
     err = capsys.readouterr().err  # which test it failed is label_check.candidate_line's (test_label_probe.py)
-    assert "not counted against the labels, the run goes on as without it" in err and "won: it is" not in err
+    assert "not counted by the back-off (it shows in labels A/J), the run goes on as without it" in err and "won: it is" not in err
     off = train(tmp_path / "off", OFF).read_metrics()
     assert rows[0]["candidate_accepted"] == "0"
     for key in ("train_reward_mean", "test_reward_mean", "mphi_dataset_size", "candidate_accepted"):

@@ -290,7 +290,9 @@ def _reached(cfg: RunConfig, root: Path, threshold: float | None) -> str:
         threshold = found[0] if found else None
     metrics = load_metrics(root) if threshold is not None else None
     hit = first_reach(metrics, threshold) if metrics else None
-    return f", {threshold:g} reached at generation {hit['generations']:.0f}" if hit else ""
+    if hit:
+        return f", {threshold:g} reached at generation {hit['generations']:.0f}"
+    return f", {threshold:g} not reached" if metrics else ""  # a new user read the missing clause as nothing
 
 
 def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, log=None,

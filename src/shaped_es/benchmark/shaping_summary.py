@@ -82,11 +82,11 @@ def _steps(item: tuple[str, int]) -> tuple[int, str]:
 
 
 def _count(s: dict, key: str) -> str:
-    """A rival's accepted count for the report: \u2013 if it ran in no run, ``n (k/N runs)`` if in some."""
+    """A rival's accepted count for the report: \u2013 if it ran in no run, ``n (ran in k/N runs)`` if in some."""
     n, ran, runs = s["accepted_by_variant"].get(key, 0), s.get("runs_with_rival", {}).get(key), s["runs"]
     if ran is None or ran == runs:  # a summary from before the count, or the rival ran everywhere
         return str(n)
-    return "\u2013" if ran == 0 else f"{n} ({ran}/{runs} runs)"
+    return "\u2013" if ran == 0 else f"{n} (ran in {ran}/{runs} runs)"
 
 
 def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None) -> list[str]:

@@ -41,9 +41,9 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
     if kept_below_zero(res) and any(n.startswith("shooting") for n in rivals):
-        shoot = ("; no candidate beats zero action (the probe cannot judge): the shooting rival runs"
-                 if res.unjudged() else "; the shooting candidate is below zero action but the best simulated one: "
-                 "its rival runs")
+        shoot = ("; no candidate clearly beats zero action (the probe cannot judge): the shooting rival runs"
+                 if res.unjudged() else "; the shooting candidate is not clearly above zero action but above every "
+                 "variant's: its rival runs")
     return (f"labels: {variant_text(name)} ({why}){score}{shoot}"
             + (f"; rivals: {', '.join(_merged(list(rivals)))}" if rivals else "")
             + f"; see {FILE}, shaped-es check-env {env} --labels")
@@ -114,7 +114,7 @@ def candidate_line(res: ProbeResult, won: bool, returns: tuple[float, float, flo
     initial mean" where it had beaten the mean by 5 and lost to a member); ``""`` where the probe kept none."""
     if res.candidate is None:
         return ""
-    rest = "not counted against the labels, the run goes on as without it"
+    rest = "not counted by the back-off (it shows in labels A/J), the run goes on as without it"
     if won:
         verdict = "won: it is the search's mean now (its test reward shows from the next generation's test)"
     elif returns is None or not returns[0] > returns[1]:
@@ -136,7 +136,8 @@ def candidate_what(res: ProbeResult) -> str:
     if name.startswith("shoot:"):
         h = name.partition(":")[2]
         what = f"the shooting labels', actions held {h} steps"
-        if res.shoot_on and res.shoot_horizon is not None and str(res.shoot_horizon) != h:  # a new user read the
+        if (res.shoot_on and res.shoot_horizon is not None and str(res.shoot_horizon) != h
+                and not res.unjudged()):  # (where it cannot judge, the rivals hold several horizons) a new user read the
             # probe line's rival horizon and this one as a contradiction: the rival's horizon needs a clear win
             what += (f" (best by its mean; the run's shooting rival holds {res.shoot_horizon} steps, which {h} did not "
                      "beat clearly)")
@@ -175,7 +176,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     horizons = ("every probed horizon" if cfg.shaping.inverse_dynamics.shoot_unjudged_all and res.third_horizon()
                 else "two horizons")
     kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_below_zero(res) else
-            "; no simulated candidate beats zero action, so the probe cannot judge, and a run keeps the shooting rival "
+            "; no simulated candidate clearly beats zero action, so the probe cannot judge, and a run keeps the shooting rival "
             f"(its paths scored by their mean distance, at {horizons})" if res.unjudged() else
             "; the shooting rival's candidate, though not above it either, is the best simulated one, and a run "
             "keeps that rival")
@@ -209,8 +210,9 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
         details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
-                       f"that rival" + (_drop_text(res) if not res.shoot_on else "" if not kept_below_zero(res) else " (no simulated candidate beats zero action)"
-                                         if res.unjudged() else " (the best simulated candidate of all)"))
+                       f"that rival" + (_drop_text(res) if not res.shoot_on else "" if not kept_below_zero(res) else
+                                        f" (no simulated candidate clearly beats zero action: it runs at {horizons})"
+                                        if res.unjudged() else " (its candidate is above every variant's)"))
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")

@@ -99,7 +99,7 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
     worse, by = beats(zero, returns[incumbent])
     if not worse:
         return incumbent, (f"the default: no variant's simulated candidate clearly beats its own{closest}, and zero "
-                           f"action does not beat its labels by 2 paired standard errors")
+                           f"action does not beat its labels (driving the body step by step) by 2 paired standard errors")
     best, best_gain = best_beating(returns, incumbent)
     if best == incumbent:
         return best, (f"the default: no variant's simulated candidate clearly beats its own{closest}; zero action beats "
