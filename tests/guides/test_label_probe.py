@@ -381,13 +381,19 @@ def test_generation_0s_candidate_is_none_of_an_extension_the_probe_passed_over(m
     assert res.candidate is not None and tag not in res.candidate
 
 
+def _run_with_probe(root, over, saved):
+    """A new run at ``root`` whose label probe file is ``saved``: the run reads it instead of probing."""
+    cfg, store = new_run(root, over)
+    (root / FILE).write_text(json.dumps(saved))
+    return cfg, store
+
+
 def test_a_run_trains_m_phi_on_the_chunk_targets_the_probe_chose(tmp_path, capsys):
     """The probe file's chunk is the run's M_phi's targets (a resume reads the same file) and the run's line
     names them; its rivals' models keep their own targets."""
-    cfg, store = new_run(tmp_path / "run", POINT)
     saved = {**GOOD, "returns": {"both": [1.0], "both+chunk4+clip2": [2.0]}, "frame": "both", "query_clip": 2.0,
              "chunk": 4}
-    (tmp_path / "run" / FILE).write_text(json.dumps(saved))
+    cfg, store = _run_with_probe(tmp_path / "run", POINT, saved)
     guide = Trainer(cfg, store, progress=False).guide
     assert (guide.mphi_cfg.targets, guide.mphi_cfg.horizon, guide.query_clip) == ("chunk", 4, 2.0)
     assert probe_file.parse(json.dumps(saved).encode()).chunk == 4
@@ -401,17 +407,14 @@ def test_a_run_trains_m_phi_on_the_chunk_targets_the_probe_chose(tmp_path, capsy
 
 def test_a_run_holds_the_shooting_labels_for_the_probes_horizon(tmp_path):
     """The probe file's horizon is the shooting rival's model's (a resume reads the same file)."""
-    cfg, store = new_run(tmp_path / "run", POINT)
     saved = {**GOOD, "returns": {"both": [1.0]}, "shoot": [1.0], "shoot_on": True, "shoot_horizon": 16}
-    (tmp_path / "run" / FILE).write_text(json.dumps(saved))
+    cfg, store = _run_with_probe(tmp_path / "run", POINT, saved)
     guide = Trainer(cfg, store, progress=False).guide
     shoot = [r for r in guide.rivals if r.name == "shooting"]
     assert len(shoot) == 1 and shoot[0].track.mphi.horizon == 16
 
 
 @pytest.mark.parametrize("keep", [True, False])
-
-
 def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action(tmp_path, keep, monkeypatch):
     """The probe chose 16 steps and the 4-step candidate also beat zero action: both shooting rivals run
     (variant 3 at 16 steps, 4 at 4), each its own model, gain column and checkpoint keys, and a killed run
@@ -422,12 +425,7 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
              "shoot_on": True, "shoot_horizon": 16, "shoot_tried": tried}
     assert ProbeResult(**saved).keeps_base()
     assert not ProbeResult(**{**saved, "shoot_tried": {**tried, "4": [-1.0] * 4}}).keeps_base()  # lost to zero
-
-    def fresh(name):
-        cfg, store = new_run(tmp_path / name, over)
-        (tmp_path / name / FILE).write_text(json.dumps(saved))
-        return cfg, store
-    cfg, store = fresh("full")
+    cfg, store = _run_with_probe(tmp_path / "full", over, saved)
     trainer = Trainer(cfg, store, progress=False)
     names = {r.name: r.track.mphi.horizon for r in trainer.guide.rivals if r.name.startswith("shooting")}
     assert names == ({"shooting (16 steps)": 16, "shooting (4 steps)": 4} if keep else {"shooting": 16})
@@ -436,7 +434,7 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
     assert ("shoot_base_gain" in full[0]) == keep and "shoot_gain" in full[0]
     assert (tmp_path / "full" / "mphi_data_shoot_base").is_dir() == keep
     if keep:
-        cfg, store = fresh("crashed")
+        cfg, store = _run_with_probe(tmp_path / "crashed", over, saved)
         run_until_crash(monkeypatch, cfg, store, 2)
         Trainer(cfg, store, progress=False).run()
         assert strip_time(store.read_metrics()) == strip_time(full)
@@ -455,12 +453,7 @@ def test_with_shoot_unjudged_all_the_third_probed_horizon_runs_too_and_resumes_e
     assert res.unjudged_shooting() == (8, "mean") and res.third_horizon() == 16
     assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).third_horizon() is None
     assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).third_horizon() is None  # judged
-
-    def fresh(name):
-        cfg, store = new_run(tmp_path / name, over)
-        (tmp_path / name / FILE).write_text(json.dumps(saved))
-        return cfg, store
-    cfg, store = fresh("full")
+    cfg, store = _run_with_probe(tmp_path / "full", over, saved)
     trainer = Trainer(cfg, store, progress=False)
     shoot = {r.name: (r.variant, r.track.mphi.horizon) for r in trainer.guide.rivals if r.name.startswith("shooting")}
     assert shoot == {"shooting (4 steps, mean distance)": (3, 4), "shooting (8 steps, mean distance)": (4, 8),
@@ -471,7 +464,7 @@ def test_with_shoot_unjudged_all_the_third_probed_horizon_runs_too_and_resumes_e
     trainer.run()
     full = store.read_metrics()
     assert "shoot_third_gain" in full[0] and (tmp_path / "full" / "mphi_data_shoot_third").is_dir()
-    cfg, store = fresh("crashed")
+    cfg, store = _run_with_probe(tmp_path / "crashed", over, saved)
     run_until_crash(monkeypatch, cfg, store, 2)
     Trainer(cfg, store, progress=False).run()
     assert strip_time(store.read_metrics()) == strip_time(full)
@@ -493,8 +486,7 @@ def test_where_the_probe_could_not_judge_two_shooting_horizons_run_scored_by_the
     res = ProbeResult(**saved)
     assert res.unjudged() and res.unjudged_shooting() == (8, "mean")
     assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).unjudged_shooting() is None  # judged
-    cfg, store = new_run(tmp_path / "run", over)
-    (tmp_path / "run" / FILE).write_text(json.dumps(saved))
+    cfg, store = _run_with_probe(tmp_path / "run", over, saved)
     rivals = Trainer(cfg, store, progress=False).guide.rivals
     shoot = {r.name: (r.track.mphi.horizon, r.track.labels.cost) for r in rivals if r.name.startswith("shooting")}
     expected = ({"shooting (4 steps, mean distance)": (4, "mean"), "shooting (8 steps, mean distance)": (8, "mean")}

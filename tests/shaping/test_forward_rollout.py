@@ -10,7 +10,7 @@ from shaped_es.shaping.forward_rollout import ForwardRollout
 from shaped_es.shaping.forward_shoot import ForwardChunk, ShootLabels, candidate_actions, shoot_model
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
-from test_forward_shoot import ROT, _episodes, _step
+from test_forward_shoot import ROT, _episodes, _held_paths
 
 H = 6
 
@@ -30,11 +30,7 @@ def model():
 def test_the_rolled_out_path_is_the_held_actions(model):
     rng = np.random.default_rng(1)
     v, a = 0.05 * rng.normal(size=(100, 2)), rng.uniform(-1, 1, size=(100, 2))
-    want = np.zeros((100, H, 2))
-    p, vv = np.zeros((100, 2)), v.copy()
-    for j in range(H):
-        p, vv = _step(p, vv, a)
-        want[:, j] = p
+    want = _held_paths(v, a, H)
     got = model.paths(v.astype(np.float32), a.astype(np.float32))  # (100, H, 2)
     assert got.shape == (100, H, 2)
     assert np.abs(got - want).mean() < 0.15 * np.abs(want).mean()

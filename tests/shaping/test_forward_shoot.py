@@ -36,6 +36,16 @@ def _episodes(n_eps=60, T=40, seed=0) -> Transitions:
                        np.zeros(len(st), np.float32))
 
 
+def _held_paths(v: np.ndarray, a: np.ndarray, h: int) -> np.ndarray:
+    """The true displacements ``(N, h, 2)`` from velocities ``v`` ``(N, 2)`` with actions ``a`` ``(N, 2)`` held."""
+    want = np.zeros((len(v), h, 2))
+    p, vv = np.zeros((len(v), 2)), v.copy()
+    for j in range(h):
+        p, vv = _step(p, vv, a)
+        want[:, j] = p
+    return want
+
+
 def _model(seed=0) -> ForwardChunk:
     return ForwardChunk(2, 2, 2, InverseDynamicsConfig(hidden=(32, 32), lr=3e-3, seed=seed), horizon=H)
 
@@ -51,11 +61,7 @@ def model():
 def test_the_model_learns_the_held_action_path(model):
     rng = np.random.default_rng(1)
     v, a = 0.05 * rng.normal(size=(100, 2)), rng.uniform(-1, 1, size=(100, 2))
-    want = np.zeros((100, H, 2))
-    p, vv = np.zeros((100, 2)), v.copy()
-    for j in range(H):
-        p, vv = _step(p, vv, a)
-        want[:, j] = p
+    want = _held_paths(v, a, H)
     got = model.predict(v.astype(np.float32), a.astype(np.float32))  # (100, H, 2)
     assert got.shape == (100, H, 2)
     assert np.abs(got - want).mean() < 0.15 * np.abs(want).mean()

@@ -1,19 +1,10 @@
 """Controllability of the shooting model per horizon: how much the held action moves the predicted end position."""
 import sys, json, numpy as np
-from shaped_es.config import build_config
-from shaped_es.rollout import policy_spec, probe_env
-from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
-from shaped_es.guides.label_probe import collect
 from shaped_es.guides.clone_probe import shoot_labels
-from shaped_es import seeding
+from drive_shoot import probe_setup
 
 def stats(env_id, seed, hs=(4, 8, 16)):
-    cfg = build_config({"env": env_id, "method": "shaped", "seed": seed})
-    ep = probe_env(cfg.env, cfg.env_kwargs, reset=True)
-    spec, d = policy_spec(cfg, ep), waypoint_dim(cfg, ep)
-    mc = mphi_config(cfg, d)
-    x0 = seeding.initial_mean(spec, seed)
-    data, _ = collect(cfg, spec, x0)
+    cfg, spec, d, mc, data, _ = probe_setup(env_id, seed)
     trs = [t for g in data for t in g]
     S = np.concatenate([t.state for t in trs]); P = np.concatenate([t.position for t in trs]); W = np.concatenate([t.waypoint for t in trs])
     rng = np.random.default_rng(0); idx = rng.choice(len(S), min(256, len(S)), replace=False)

@@ -4,7 +4,7 @@ from shaped_es.config import build_config
 from shaped_es.rollout import policy_spec, probe_env, make_env, to_space
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
-from shaped_es.guides.label_probe import collect, EPISODES, PROBE_KEY, drive
+from shaped_es.guides.label_probe import collect, probe_seeds
 from shaped_es.guides.clone_probe import shoot_labels
 from shaped_es import seeding
 
@@ -29,14 +29,19 @@ def drive_shoot(cfg, lab, seeds):
     env.close()
     return np.array(rets)
 
-def run(env_id, seed, hs=(4, 8, 16), costs=("min", "mean")):
-    cfg = build_config({"env": env_id, "method": "shaped", "seed": seed})
+def probe_setup(env_id, seed, inverse_dynamics=None):
+    """A shaped run's config at ``seed`` (``inverse_dynamics``: settings over the defaults), its policy spec,
+    waypoint dimension, M_phi settings, the label probe's recorded data and its episode seeds."""
+    cfg = build_config({"env": env_id, "method": "shaped", "seed": seed,
+                        **({"shaping": {"inverse_dynamics": inverse_dynamics}} if inverse_dynamics else {})})
     ep = probe_env(cfg.env, cfg.env_kwargs, reset=True)
     spec, d = policy_spec(cfg, ep), waypoint_dim(cfg, ep)
-    mc = mphi_config(cfg, d)
-    x0 = seeding.initial_mean(spec, seed)
-    data, _ = collect(cfg, spec, x0)
-    seeds = np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
+    data, _ = collect(cfg, spec, seeding.initial_mean(spec, seed))
+    return cfg, spec, d, mphi_config(cfg, d), data, probe_seeds(cfg)
+
+
+def run(env_id, seed, hs=(4, 8, 16), costs=("min", "mean")):
+    cfg, spec, d, mc, data, seeds = probe_setup(env_id, seed)
     out = {}
     zero = drive_shoot(cfg, type("Z", (), {"ahead": 0.0, "__call__": lambda self, s, q: np.zeros((1, spec.act_dim), np.float32)})(), seeds)
     out["zero"] = zero.tolist()

@@ -54,6 +54,12 @@ def _interval(ci, digits: int = 2) -> str:
     return f"[{_num(ci[0], digits)}, {_num(ci[1], digits)}]" if ci else "–"
 
 
+def ratio_text(d: dict) -> str:
+    """``0.50x [0.31, 0.78]``: a ``ratio_of_means`` result (``n/a`` without a ratio); the report's cells and the
+    benchmark's verdict lines."""
+    return f"{_num(d['ratio'])}x {_interval(d['ci'])}" if d.get("ratio") is not None else "n/a"
+
+
 def _censored(d: dict, digits: int = 1) -> str:
     return f"{_num(d['mean'], digits)} / {_num(d['median'], digits)}"
 
@@ -101,7 +107,7 @@ def _ratio_rows(ratios: dict, level: float, solved: dict[str, int] | None = None
     def cell(d: dict, x: str, y: str) -> str:
         if solved.get(x) == 0 and solved.get(y) == 0:
             return "n/a: no seed of either reached it (every seed censored; more --generations?)"
-        return f"{_num(d['ratio'])}x {_interval(d['ci'])}" if d.get("ratio") is not None else "n/a"
+        return ratio_text(d)
     rows = [[f"{x} / {y}", cell(r["generations"], x, y), cell(r["wall_time_s"], x, y)] for x, y, r in pairs]
     return [f"Ratios of the censored means above, with percentile-bootstrap {level:.0%} intervals (each method's "
             "seeds resampled on their own; below 1: the first method needs less):", "",

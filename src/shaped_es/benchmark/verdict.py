@@ -8,12 +8,9 @@ bootstrap intervals), the late test reward's IQM, and for a shaped method the ca
 
 from __future__ import annotations
 
+from shaped_es.benchmark.markdown import ratio_text
+
 BASELINE = "vanilla"  # what each other method is set against (the first method where it did not run)
-
-
-def _ci(r: dict) -> str:
-    lo, hi = r.get("ci") or (None, None)
-    return f"{r['ratio']:.2f}x" + (f" [{lo:.2f}, {hi:.2f}]" if lo is not None and hi is not None else "")
 
 
 def verdict_lines(summary: dict) -> list[str]:
@@ -34,9 +31,9 @@ def verdict_lines(summary: dict) -> list[str]:
         ratios = (summary.get("ratios_to_threshold") or {}).get(name, {}).get(ref, {})
         if m["successes"] or r["successes"]:
             if ratios.get("generations"):
-                parts.append(f"generations to it {_ci(ratios['generations'])}")
+                parts.append(f"generations to it {ratio_text(ratios['generations'])}")
             if ratios.get("wall_time_s"):
-                parts.append(f"wall time to it {_ci(ratios['wall_time_s'])}")
+                parts.append(f"wall time to it {ratio_text(ratios['wall_time_s'])}")
         else:
             parts.append("neither reached it")
         if m.get("wall_time_s") and r.get("wall_time_s"):

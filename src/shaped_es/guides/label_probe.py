@@ -143,7 +143,7 @@ class ProbeResult:
 
     def standing(self) -> dict[str, list[float]]:
         """The simulated candidates of the variants not passed over (``clones`` without :attr:`passed`'s)."""
-        return {k: v for k, v in self.clones.items() if not any(t in k for t in self.passed)}
+        return not_passed(self.clones, self.passed)
 
     def keeps_base(self) -> bool:
         """Whether the shooting labels at the first probed horizon (``shoot_horizon``) also run, beside the
@@ -173,6 +173,12 @@ class ProbeResult:
             return None
         rest = sorted(int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0]))
         return rest[-1] if rest else None
+
+
+def not_passed(named: dict, passed: list[str]) -> dict:
+    """``named`` (variant or candidate name -> anything) without the names carrying a passed-over extension
+    (``passed``: ``+chunk``, ``+clip4``)."""
+    return {k: v for k, v in named.items() if not any(t in k for t in passed)}
 
 
 def probe_seeds(cfg: RunConfig) -> np.ndarray:
@@ -323,7 +329,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     # their clones (a variant the run does not use neither keeps nor drops a rival it does use; a new user's
     # quadrotor: a passed-over chunk variant's clone beat zero action and so dropped the shooting rival)
     passed = [t for t in ("+chunk", long_tag) if t and t not in name]
-    standing = {k: np.array(v) for k, v in clones.items() if not any(t in k for t in passed)}
+    standing = {k: np.array(v) for k, v in not_passed(clones, passed).items()}
     if horizons:
         seen = np.concatenate([np.ravel(v) for v in (*returns.values(), *clones.values(), *tried.values(), zero)])
         scale = float(seen.max() - seen.min())
@@ -332,7 +338,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         horizon, shoot = int(best), tried[best]
         shoot_on = keep_shoot(np.array(shoot), zero, standing, mp.shoot_keep_best, mp.shoot_unjudged,
                               {k: np.array(v) for k, v in tried.items()})
-    top = probe_candidate.best({k: v for k, v in simulated.items() if not any(t in k for t in passed)}, by_name)
+    top = probe_candidate.best(not_passed(simulated, passed), by_name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
                        *(top if top is not None else (None, None)), chunk, passed)

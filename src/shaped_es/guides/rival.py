@@ -154,16 +154,18 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
             second, cost = unjudged
             both, base = second is not None, second
         kind = cfg.shaping.inverse_dynamics.shoot_model
-        track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, h, root, cfg.seed, ahead=ahead, cost=cost, kind=kind)
-        out.append(Rival(SHOOT, shoot_name(h, cost) if both else "shooting", track, "shoot/", "shoot/parts"))
+
+        def track(horizon: int, key: int, folder: str) -> MphiTrack:
+            return shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, horizon, root, cfg.seed, key, folder, ahead, cost,
+                               kind)
+        out.append(Rival(SHOOT, shoot_name(h, cost) if both else "shooting", track(h, SHOOT_KEY, SHOOT_DIR), "shoot/",
+                         "shoot/parts"))
         if both:
-            track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, base, root, cfg.seed, SHOOT_BASE_KEY,
-                                SHOOT_BASE_DIR, ahead, cost, kind)
-            out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track, "shoot_base/", "shoot_base/parts"))
+            out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track(base, SHOOT_BASE_KEY, SHOOT_BASE_DIR),
+                             "shoot_base/", "shoot_base/parts"))
         if unjudged is not None and third is not None:
-            track = shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, third, root, cfg.seed, SHOOT_THIRD_KEY,
-                                SHOOT_THIRD_DIR, ahead, cost, kind)
-            out.append(Rival(SHOOT_THIRD, shoot_name(third, cost), track, "shoot_third/", "shoot_third/parts"))
+            out.append(Rival(SHOOT_THIRD, shoot_name(third, cost), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
+                             "shoot_third/", "shoot_third/parts"))
     return out
 
 
