@@ -75,7 +75,7 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
         assert len(text) <= LINE_MAX and "\n" not in text
 
 
-def test_the_simulated_candidate_learns_from_good_labels():
+def test_the_simulated_candidate_learns_from_good_labels(monkeypatch):
     """clone_rounds: the initial mean cloned toward labels that head for the waypoint (PointVel-v0's action
     is the velocity) drives better than cloned toward zero labels."""
     from shaped_es.config import build_config
@@ -109,6 +109,21 @@ def test_the_simulated_candidate_learns_from_good_labels():
 
     both = clone_rounds_many(cfg, spec, x0, data, [Head(10.0), Head(0.0)], seeds, [0, 1])
     assert np.array_equal(both[0][0], good) and np.array_equal(both[1][0], zero) and both[0][1] == n
+    # successive halving (probe_keep): after round 1 only the best `keep` and the protected go on; the survivors'
+    # numbers are as without the cut, a cut variant's are its first round's (fewer steps)
+    heads, keys = [Head(10.0), Head(0.0), Head(-10.0)], [0, 1, 2]
+    full_t, cut_t = [], []
+    full = clone_rounds_many(cfg, spec, x0, data, heads, seeds, keys, thetas=full_t)
+    cut = clone_rounds_many(cfg, spec, x0, data, heads, seeds, keys, thetas=cut_t, keep=1, protect=(2,))
+    assert np.array_equal(cut[0][0], full[0][0]) and cut[0][1] == full[0][1]  # the best after round 1
+    assert np.array_equal(cut[2][0], full[2][0]) and np.array_equal(cut_t[2], full_t[2])  # protected
+    assert cut[1][1] < full[1][1] and not np.array_equal(cut_t[1], full_t[1])  # cut after round 1
+    from shaped_es.guides import clone_probe
+
+    monkeypatch.setattr(clone_probe, "ROUNDS", 1)
+    first, first_t = clone_rounds_many(cfg, spec, x0, data, heads, seeds, keys, thetas=(t1 := [])), t1
+    assert np.array_equal(cut[1][0], first[1][0]) and cut[1][1] == first[1][1] and np.array_equal(cut_t[1], first_t[1])
+    monkeypatch.undo()
 
     class Split:  # an executor of 3 workers, in this process: the members split into tasks, the results merged
         workers = 3
@@ -262,7 +277,8 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
         def __init__(self, horizon):
             self.horizon = horizon
 
-    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None, thetas=None):  # frames real, shooters fake
+    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None, thetas=None, keep=0, protect=()):  # frames
+        #                                                                                  real, shooters fake
         own = [(lab, k) for lab, k in zip(labels, keys) if not isinstance(lab, Shooter)]
         own_thetas: list = []
         out = iter(real(cfg, spec, x0, data, [lab for lab, _ in own], seeds, [k for _, k in own], executor,
@@ -440,30 +456,36 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
         assert strip_time(store.read_metrics()) == strip_time(full)
 
 
-def test_with_shoot_unjudged_all_the_third_probed_horizon_runs_too_and_resumes_exactly(tmp_path, monkeypatch):
-    """``shoot_unjudged_all``: where the probe could not judge, the probed horizon neither the chosen one nor the
-    nearest holds runs as a third shooting rival (variant 6, its own model, data parts and gain column); its
-    acceptances count with ``accepted_shoot_base``; a run crashed mid-way resumes row for row."""
+def test_with_shoot_unjudged_all_every_other_probed_horizon_runs_too_and_resumes_exactly(tmp_path, monkeypatch):
+    """``shoot_unjudged_all``: where the probe could not judge, the probed horizons neither the chosen one nor the
+    nearest holds run as more shooting rivals (variants 6 and 7, the longest first, each with its own model, data
+    parts and gain column); their acceptances count with ``accepted_shoot_base``; a run crashed mid-way resumes
+    row for row."""
     over = {**POINT, "generations": 3}  # shoot_unjudged_all: the default
-    tried = {"4": [-3.0, -3.1, -2.9, -3.2], "8": [-4.0] * 4, "16": [-5.0, -5.1, -4.9, -5.2]}
+    tried = {"4": [-3.0, -3.1, -2.9, -3.2], "8": [-4.0] * 4, "16": [-5.0, -5.1, -4.9, -5.2], "32": [-6.0] * 4}
     saved = {**GOOD, "returns": {"both": [-1.0] * 4}, "clones": {"both": [-2.0, -2.1, -1.9, -2.2]},
              "zero_action": [0.0, 0.1, -0.1, 0.0], "shoot": tried["4"], "shoot_on": True, "shoot_horizon": 4,
              "shoot_tried": tried}
     res = ProbeResult(**saved)
-    assert res.unjudged_shooting() == (8, "mean") and res.third_horizon() == 16
-    assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).third_horizon() is None
-    assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).third_horizon() is None  # judged
+    assert res.unjudged_shooting() == (8, "mean") and res.more_horizons() == (32, 16)
+    three = {k: tried[k] for k in ("4", "8", "16")}
+    assert ProbeResult(**{**saved, "shoot_tried": three}).more_horizons() == (16,)
+    assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).more_horizons() == ()
+    assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).more_horizons() == ()  # judged
+    five = {**tried, "64": [-7.0] * 4}  # more than the slots: the longest two
+    assert ProbeResult(**{**saved, "shoot_tried": five}).more_horizons() == (64, 32)
     cfg, store = _run_with_probe(tmp_path / "full", over, saved)
     trainer = Trainer(cfg, store, progress=False)
     shoot = {r.name: (r.variant, r.track.mphi.horizon) for r in trainer.guide.rivals if r.name.startswith("shooting")}
     assert shoot == {"shooting (4 steps, mean distance)": (3, 4), "shooting (8 steps, mean distance)": (4, 8),
-                     "shooting (16 steps, mean distance)": (6, 16)}
+                     "shooting (32 steps, mean distance)": (6, 32), "shooting (16 steps, mean distance)": (7, 16)}
     from shaped_es.guides.rival import names as rival_names
-    assert "; rivals: waypoint frame, servo, shooting (4, 8 and 16 steps, mean distance); see " in probe_line(
+    assert "; rivals: waypoint frame, servo, shooting (4, 8, 16 and 32 steps, mean distance); see " in probe_line(
         res, "PointVel-v0", rival_names(trainer.guide.rivals))
     trainer.run()
     full = store.read_metrics()
-    assert "shoot_third_gain" in full[0] and (tmp_path / "full" / "mphi_data_shoot_third").is_dir()
+    assert "shoot_third_gain" in full[0] and "shoot_fourth_gain" in full[0]
+    assert all((tmp_path / "full" / d).is_dir() for d in ("mphi_data_shoot_third", "mphi_data_shoot_fourth"))
     cfg, store = _run_with_probe(tmp_path / "crashed", over, saved)
     run_until_crash(monkeypatch, cfg, store, 2)
     Trainer(cfg, store, progress=False).run()

@@ -94,6 +94,13 @@ class InverseDynamicsSettings(_Strict):
         "one-step labels do not drive the body better than its labels: a body whose action shows in its position "
         "only a step later (a differential drive's turn rate) has no one-step label for it "
         "(docs/benchmarks/probe_chunk_v15); 0: one-step targets only")
+    probe_keep: Int = Field(
+        0, ge=0, le=64, description="with frame auto, the label probe's simulated candidates go on past their first "
+        "DAgger round only for this many variants with the best mean return, and the default variant (successive "
+        "halving; a variant cut there keeps its first round's returns); 0: every variant runs every round. Measured "
+        "at 6: 0.72-0.75x the probe's env steps, but its choices changed on 35 of 100 probes (UR5Reach-v0 10 of 10: "
+        "a horizon whose clone returned -45 after one round returned 10 after three); docs/benchmarks/"
+        "probe_horizon32_v20")
     probe_clip_long: Float | None = Field(
         4.0, gt=0, description="with frame auto and no query_clip set, the label probe also tries every variant "
         "with the query clipped to this many times the mean training displacement (a third clip beside none and "

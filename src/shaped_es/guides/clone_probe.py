@@ -70,21 +70,30 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
 
 def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions],
                       labels: list[LabelSource], seeds: np.ndarray, keys: list[int],
-                      executor=None, thetas: list | None = None) -> list[tuple[np.ndarray, int]]:
+                      executor=None, thetas: list | None = None, keep: int = 0,
+                      protect: tuple[int, ...] = ()) -> list[tuple[np.ndarray, int]]:
     """:func:`clone_rounds` of several label sources in lock-step, each with its own ``keys[v]``: per round
     one compiled fit of every variant's clone and one batched rollout of them all (the probe's rollouts
     are 10 episodes a variant, where a batched env's per-step overhead dominates), on the run's
     ``executor``'s workers if given (:func:`roll_out`). Every variant's numbers are its own run's: the fit's
     rows and the env's episodes do not interact. ``thetas``: a list that gets each variant's simulated
-    candidate ``(n,)`` float32, the policy whose returns are returned (the last round's clone)."""
+    candidate ``(n,)`` float32, the policy whose returns are returned (the last round's clone).
+
+    ``keep`` > 0 (successive halving): after the first round only the ``keep`` variants with the best mean
+    return, and those in ``protect``, go on; a variant cut there returns its first round's returns, steps and
+    clone (the survivors' numbers are what they are without the cut: variants do not interact)."""
     mc, V = cfg.shaping.mean_clone, len(labels)
     theta = np.repeat(np.asarray(x0, np.float32)[None], V, axis=0)  # (V, n)
     S_all, A_all = zip(*[_labelled(data, lab) for lab in labels])  # per variant (N_v, obs), (N_v, act)
     S_all, A_all = list(S_all), list(A_all)
     seeds = np.asarray(seeds, np.int64)  # (E,)
     rets, steps = np.zeros((V, len(seeds))), np.zeros(V, np.int64)
+    live = list(range(V))  # the variants still in the rounds
     for r in range(ROUNDS):
-        fit = [v for v in range(V) if len(S_all[v])] if mc.steps > 0 else []
+        if r == 1 and 0 < keep < V:
+            ranked = sorted(range(V), key=lambda v: (-float(np.mean(rets[v])), v))
+            live = sorted(set(ranked[:keep]) | {int(p) for p in protect})
+        fit = [v for v in live if len(S_all[v])] if mc.steps > 0 else []
         if fit:
             S = np.empty((mc.steps, len(fit), mc.batch_size, spec.obs_dim), np.float32)  # (steps, V', B, obs)
             A = np.empty((mc.steps, len(fit), mc.batch_size, spec.act_dim), np.float32)  # (steps, V', B, act)
@@ -94,11 +103,12 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
                 S[:, i], A[:, i] = S_all[v][idx], A_all[v][idx]
             theta[fit] = fit_rows(FitTask(spec, theta[fit], S, A, np.ones(len(fit), bool), mc.steps, "adam",
                                           mc.lr, 1))[0]
-        rets, lengths, trs = roll_out(cfg, spec, theta, np.repeat(seeds[None], V, axis=0), 10_000 + r,
-                                      executor)  # seeds (E,) -> (V, E); (V, E), (V, E), one per variant
-        steps += lengths.sum(axis=1)
-        for v in range(V):
-            s_new, a_new = _labelled(trs[v:v + 1], labels[v])
+        r_live, lengths, trs = roll_out(cfg, spec, theta[live], np.repeat(seeds[None], len(live), axis=0),
+                                        10_000 + r, executor)  # seeds (E,) -> (V', E); (V', E), one per variant
+        rets[live] = r_live
+        steps[live] += lengths.sum(axis=1)
+        for i, v in enumerate(live):
+            s_new, a_new = _labelled(trs[i:i + 1], labels[v])
             if len(s_new):
                 S_all[v] = np.concatenate([S_all[v], s_new]) if len(S_all[v]) else s_new  # (N + N', obs)
                 A_all[v] = np.concatenate([A_all[v], a_new]) if len(A_all[v]) else a_new  # (N + N', act)

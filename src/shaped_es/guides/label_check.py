@@ -50,15 +50,15 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
 
 
 def _merged(rivals: list[str]) -> list[str]:
-    """The rivals' names with two or three shooting horizons of one path score as one: ``shooting (4 and 8 steps,
-    mean distance)``, ``shooting (4, 8 and 16 steps, mean distance)`` (the probe line stays short)."""
+    """The rivals' names with several shooting horizons of one path score as one, shortest first: ``shooting (4
+    and 8 steps, mean distance)``, ``shooting (4, 8, 16 and 32 steps, mean distance)`` (the probe line stays short)."""
     shoot = [n for n in rivals if n.startswith("shooting (")]
     if len(shoot) < 2:
         return rivals
     parts = [n[len("shooting ("):].partition(" steps") for n in shoot]
     if len({p[2] for p in parts}) != 1:
         return rivals
-    steps = [p[0] for p in parts]
+    steps = sorted((p[0] for p in parts), key=int)
     return ([n for n in rivals if n not in shoot]
             + [f"shooting ({', '.join(steps[:-1])} and {steps[-1]} steps{parts[0][2]}"])
 
@@ -173,7 +173,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
-    horizons = ("every probed horizon" if cfg.shaping.inverse_dynamics.shoot_unjudged_all and res.third_horizon()
+    horizons = ("every probed horizon" if cfg.shaping.inverse_dynamics.shoot_unjudged_all and res.more_horizons()
                 else "two horizons")
     kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_below_zero(res) else
             "; no simulated candidate clearly beats zero action, so the probe cannot judge, and a run keeps the shooting rival "

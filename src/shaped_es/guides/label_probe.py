@@ -106,6 +106,7 @@ EPISODES = 10  # closed-loop episodes per variant (the same seeds for every vari
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
 LONG_KEY = 200  # the probe_clip_long variants' simulated candidates' seed keys (the others' are as without them)
 CHUNK_KEY = 100  # the chunk variants' simulated candidates' seed keys start here (the others' are as before them)
+MORE_RIVALS = 2  # shooting rivals beyond the chosen and second horizon where the probe cannot judge (guides/rival.py)
 
 
 @dataclass
@@ -165,14 +166,15 @@ class ProbeResult:
             return None
         return nearest_horizon(self.shoot_horizon, [int(h) for h in self.shoot_tried]), "mean"
 
-    def third_horizon(self) -> int | None:
-        """Where the probe could not judge: the probed horizon neither the chosen one nor the second holds (the
-        longest such; None: fewer than three probed, or the probe could judge)."""
+    def more_horizons(self) -> tuple[int, ...]:
+        """Where the probe could not judge: the probed horizons neither the chosen one nor the second holds, the
+        longest first, at most :data:`MORE_RIVALS` (their rivals' slots); () where fewer than three were probed or
+        the probe could judge."""
         two = self.unjudged_shooting()
         if two is None:
-            return None
-        rest = sorted(int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0]))
-        return rest[-1] if rest else None
+            return ()
+        rest = sorted((int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0])), reverse=True)
+        return tuple(rest[:MORE_RIVALS])
 
 
 def not_passed(named: dict, passed: list[str]) -> dict:
@@ -312,7 +314,8 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     one = sum(v[2] is None for v in base)  # the one-step variants: keys 0.., the shooters' next (as before chunks)
     keys = ([i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(base)]
             + [LONG_KEY + j for j in range(len(vs) - len(base))] + list(range(one, one + len(horizons))))
-    sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, keys, executor, thetas)
+    sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, keys, executor, thetas, mp.probe_keep,
+                             (0,))  # the default variant always runs every round: the others are judged against it
     for (frame, clip, chunk), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip, chunk)] = [float(v) for v in r]
         steps += n
