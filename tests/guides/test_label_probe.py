@@ -268,7 +268,8 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     from shaped_es.guides.shaped_setup import mphi_config
     from shaped_es.policies import MLPSpec
 
-    drives = {4: np.full(10, -3.0), 8: np.linspace(5.0, 6.0, 10), 16: np.linspace(5.0, 6.0, 10) - 0.5}
+    drives = {4: np.full(10, -3.0), 8: np.linspace(5.0, 6.0, 10), 16: np.linspace(5.0, 6.0, 10) - 0.5,
+              32: np.linspace(5.0, 6.0, 10) - 1.0}
     seen = []
 
     real = label_probe.clone_rounds_many
@@ -294,9 +295,9 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     cfg = build_config(POINT)
     spec = MLPSpec(4, 2, (4,))
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
-    assert [h for h, _ in seen] == [4, 8, 16] and len({k for _, k in seen}) == 3  # own minibatch streams
+    assert [h for h, _ in seen] == [4, 8, 16, 32] and len({k for _, k in seen}) == 4  # own minibatch streams
     assert res.shoot_horizon == 8 and res.shoot == list(drives[8]) and res.shoot_on is True
-    assert set(res.shoot_tried) == {"4", "8", "16"}
+    assert set(res.shoot_tried) == {"4", "8", "16", "32"}
     assert "(actions held 8 steps: its clone beats 4 steps' (-3.00) clearly; 16 steps" in horizon_text(res)
     assert "; shooting rival kept (8 steps)" in probe_line(res)  # the run's line: the verdict and the horizon
     # the candidate judged at generation 0: the best mean return of every simulated candidate, its parameters
@@ -307,7 +308,7 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     if res.candidate.startswith("shoot:"):
         x0 = spec.init(seeding.derive_seed(cfg.seed, seeding.INIT))
         np.testing.assert_array_equal(res.candidate_params, x0 + int(res.candidate[6:]))
-    drives[8] = drives[16] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # no horizon clearly better
+    drives[8] = drives[16] = drives[32] = np.full(10, -3.0) + np.linspace(0.0, 0.01, 10)  # none clearly better
     seen.clear()
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
@@ -456,36 +457,34 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
         assert strip_time(store.read_metrics()) == strip_time(full)
 
 
-def test_with_shoot_unjudged_all_every_other_probed_horizon_runs_too_and_resumes_exactly(tmp_path, monkeypatch):
-    """``shoot_unjudged_all``: where the probe could not judge, the probed horizons neither the chosen one nor the
-    nearest holds run as more shooting rivals (variants 6 and 7, the longest first, each with its own model, data
-    parts and gain column); their acceptances count with ``accepted_shoot_base``; a run crashed mid-way resumes
-    row for row."""
+def test_with_shoot_unjudged_all_the_shortest_other_probed_horizon_runs_too_and_resumes_exactly(tmp_path, monkeypatch):
+    """``shoot_unjudged_all``: where the probe could not judge, the shortest probed horizon neither the chosen one nor
+    the nearest holds runs as a third shooting rival (variant 6, its own model, data parts and gain column); its
+    acceptances count with ``accepted_shoot_base``; a run crashed mid-way resumes row for row."""
     over = {**POINT, "generations": 3}  # shoot_unjudged_all: the default
     tried = {"4": [-3.0, -3.1, -2.9, -3.2], "8": [-4.0] * 4, "16": [-5.0, -5.1, -4.9, -5.2], "32": [-6.0] * 4}
     saved = {**GOOD, "returns": {"both": [-1.0] * 4}, "clones": {"both": [-2.0, -2.1, -1.9, -2.2]},
              "zero_action": [0.0, 0.1, -0.1, 0.0], "shoot": tried["4"], "shoot_on": True, "shoot_horizon": 4,
              "shoot_tried": tried}
     res = ProbeResult(**saved)
-    assert res.unjudged_shooting() == (8, "mean") and res.more_horizons() == (32, 16)
-    three = {k: tried[k] for k in ("4", "8", "16")}
-    assert ProbeResult(**{**saved, "shoot_tried": three}).more_horizons() == (16,)
+    assert res.unjudged_shooting() == (8, "mean") and res.more_horizons() == (16,)  # not 32
+    assert ProbeResult(**{**saved, "shoot_horizon": 32, "shoot": tried["32"]}).more_horizons() == (4,)  # 32, 16, 4
     assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).more_horizons() == ()
     assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).more_horizons() == ()  # judged
-    five = {**tried, "64": [-7.0] * 4}  # more than the slots: the longest two
-    assert ProbeResult(**{**saved, "shoot_tried": five}).more_horizons() == (64, 32)
+    from shaped_es.guides.label_check import unjudged_horizons  # check-env --labels' text
+
+    assert unjudged_horizons(res) == "4, 8 and 16 steps" and unjudged_horizons(res, False) == "4 and 8 steps"
     cfg, store = _run_with_probe(tmp_path / "full", over, saved)
     trainer = Trainer(cfg, store, progress=False)
     shoot = {r.name: (r.variant, r.track.mphi.horizon) for r in trainer.guide.rivals if r.name.startswith("shooting")}
     assert shoot == {"shooting (4 steps, mean distance)": (3, 4), "shooting (8 steps, mean distance)": (4, 8),
-                     "shooting (32 steps, mean distance)": (6, 32), "shooting (16 steps, mean distance)": (7, 16)}
+                     "shooting (16 steps, mean distance)": (6, 16)}
     from shaped_es.guides.rival import names as rival_names
-    assert "; rivals: waypoint frame, servo, shooting (4, 8, 16 and 32 steps, mean distance); see " in probe_line(
+    assert "; rivals: waypoint frame, servo, shooting (4, 8 and 16 steps, mean distance); see " in probe_line(
         res, "PointVel-v0", rival_names(trainer.guide.rivals))
     trainer.run()
     full = store.read_metrics()
-    assert "shoot_third_gain" in full[0] and "shoot_fourth_gain" in full[0]
-    assert all((tmp_path / "full" / d).is_dir() for d in ("mphi_data_shoot_third", "mphi_data_shoot_fourth"))
+    assert "shoot_third_gain" in full[0] and (tmp_path / "full" / "mphi_data_shoot_third").is_dir()
     cfg, store = _run_with_probe(tmp_path / "crashed", over, saved)
     run_until_crash(monkeypatch, cfg, store, 2)
     Trainer(cfg, store, progress=False).run()

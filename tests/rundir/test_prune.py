@@ -168,7 +168,6 @@ def test_every_data_folder_a_shaped_run_writes_is_known(finished):
     from shaped_es.guides import rival
 
     assert {rival.DIR, rival.SERVO_DIR, rival.SHOOT_DIR, rival.SHOOT_BASE_DIR, rival.SHOOT_THIRD_DIR,
-            rival.SHOOT_FOURTH_DIR,
             "mphi_data"} == set(DATA_DIRS)
     written = {p.name for p in finished.iterdir() if p.name.startswith("mphi_data")}
     assert written and written <= set(DATA_DIRS)

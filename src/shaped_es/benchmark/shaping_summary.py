@@ -1,7 +1,7 @@
 """What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
 judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
-own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4, 6 and 7 the shooting labels at a
-second, third and fourth horizon (counted together as ``shoot_base``); ``guides/rival.py``; 5 the label probe's candidate,
+own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4 and 6 the shooting labels at a
+second and third horizon (counted together as ``shoot_base``); ``guides/rival.py``; 5 the label probe's candidate,
 judged at generation 0: blank there in runs from before that value), their mean gain over the mean, the
 generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
 (those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""

@@ -51,7 +51,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
 
 def _merged(rivals: list[str]) -> list[str]:
     """The rivals' names with several shooting horizons of one path score as one, shortest first: ``shooting (4
-    and 8 steps, mean distance)``, ``shooting (4, 8, 16 and 32 steps, mean distance)`` (the probe line stays short)."""
+    and 8 steps, mean distance)``, ``shooting (4, 8 and 16 steps, mean distance)`` (the probe line stays short)."""
     shoot = [n for n in rivals if n.startswith("shooting (")]
     if len(shoot) < 2:
         return rivals
@@ -61,6 +61,17 @@ def _merged(rivals: list[str]) -> list[str]:
     steps = sorted((p[0] for p in parts), key=int)
     return ([n for n in rivals if n not in shoot]
             + [f"shooting ({', '.join(steps[:-1])} and {steps[-1]} steps{parts[0][2]}"])
+
+
+def unjudged_horizons(res: ProbeResult, every: bool = True) -> str:
+    """``4, 8 and 16 steps``: the horizons the shooting rivals hold where the probe cannot judge (``every``:
+    ``shoot_unjudged_all``, the third too)."""
+    two = res.unjudged_shooting()
+    more = res.more_horizons() if every else ()
+    held = sorted({h for h in (res.shoot_horizon, two[0] if two else None, *more) if h})
+    if not held:
+        return "the configured horizon"
+    return f"{', '.join(map(str, held[:-1]))} and {held[-1]} steps" if len(held) > 1 else f"{held[0]} steps"
 
 
 SOURCE_TEXT = {"controller": "the env's waypoint_controller, the oracle: what labels can give at most",
@@ -173,8 +184,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
-    horizons = ("every probed horizon" if cfg.shaping.inverse_dynamics.shoot_unjudged_all and res.more_horizons()
-                else "two horizons")
+    horizons = unjudged_horizons(res, cfg.shaping.inverse_dynamics.shoot_unjudged_all)
     kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_below_zero(res) else
             "; no simulated candidate clearly beats zero action, so the probe cannot judge, and a run keeps the shooting rival "
             f"(its paths scored by their mean distance, at {horizons})" if res.unjudged() else

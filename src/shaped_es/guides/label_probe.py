@@ -52,7 +52,9 @@ standard errors (``ProbeResult.shoot_on``; ``guides/rival.py``): on the Reacher 
 worse, and a rival that never wins still adds a lucky row to each generation's pick. It simulates that
 candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_horizons``, and takes the one
 that beats the default's by the frame's test (``ProbeResult.shoot_horizon``; a drone steered by its tilt rate
-moves toward the waypoint only after 8-16 steps; ``docs/benchmarks/shoot_horizon_v8``).
+moves toward the waypoint only after 8-16 steps, ``docs/benchmarks/shoot_horizon_v8``; a sliding hovercraft
+after 32, ``docs/benchmarks/probe_horizon32_v20``). Where the probe cannot judge, the rival runs at three of the
+probed horizons (``ProbeResult.more_horizons``): the chosen one, the one nearest it and the shortest other.
 
 The best of the simulated candidates (by mean return, over every variant and horizon) is also kept, as
 ``ProbeResult.candidate`` and ``RUN/label_probe_candidate.npy``: generation 0's candidate
@@ -106,7 +108,7 @@ EPISODES = 10  # closed-loop episodes per variant (the same seeds for every vari
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
 LONG_KEY = 200  # the probe_clip_long variants' simulated candidates' seed keys (the others' are as without them)
 CHUNK_KEY = 100  # the chunk variants' simulated candidates' seed keys start here (the others' are as before them)
-MORE_RIVALS = 2  # shooting rivals beyond the chosen and second horizon where the probe cannot judge (guides/rival.py)
+MORE_RIVALS = 1  # shooting rivals beyond the chosen and second horizon where the probe cannot judge (guides/rival.py)
 
 
 @dataclass
@@ -168,12 +170,13 @@ class ProbeResult:
 
     def more_horizons(self) -> tuple[int, ...]:
         """Where the probe could not judge: the probed horizons neither the chosen one nor the second holds, the
-        longest first, at most :data:`MORE_RIVALS` (their rivals' slots); () where fewer than three were probed or
-        the probe could judge."""
+        shortest first, at most :data:`MORE_RIVALS`; () where fewer than three were probed or the probe could judge.
+        The shortest: a probe that cannot judge has no evidence for a long hold, and a 32-step rival's early jumps
+        took a quadrotor and UR5Reach-v0 into poor neighbourhoods (``docs/benchmarks/probe_horizon32_v20``)."""
         two = self.unjudged_shooting()
         if two is None:
             return ()
-        rest = sorted((int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0])), reverse=True)
+        rest = sorted(int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0]))
         return tuple(rest[:MORE_RIVALS])
 
 

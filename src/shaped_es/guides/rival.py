@@ -48,19 +48,14 @@ SERVO_KEY = 1_000_022  # seed key of the servo's forward model
 SHOOT_KEY = 1_000_024  # seed key of the shooting labels' forward model
 SHOOT_BASE_KEY = 1_000_026  # seed key of the shooting labels' model at shoot_horizon beside a longer one
 SHOOT_THIRD_KEY = 1_000_027  # seed key of the shooting labels' model at the third probed horizon (unjudged, all)
-SHOOT_FOURTH_KEY = 1_000_028  # and at the fourth
 DIR = "mphi_data_rival"
 SERVO_DIR = "mphi_data_servo"
 SHOOT_DIR = "mphi_data_shoot"
 SHOOT_BASE_DIR = "mphi_data_shoot_base"
 SHOOT_THIRD_DIR = "mphi_data_shoot_third"
-SHOOT_FOURTH_DIR = "mphi_data_shoot_fourth"
 FRAME, SERVO, SHOOT, SHOOT_BASE = 1, 2, 3, 4  # variant ids: the candidate_rival column's values (0: own labels;
 #                                              5: generation 0's probe candidate, mechanisms/candidate.PROBE)
-SHOOT_THIRD, SHOOT_FOURTH = 6, 7  # the shooting labels at the third and fourth probed horizons (shoot_unjudged_all)
-# their slots: (variant, seed key, data folder, checkpoint prefix), in the order of ProbeResult.more_horizons()
-MORE_SLOTS = ((SHOOT_THIRD, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR, "shoot_third/"),
-              (SHOOT_FOURTH, SHOOT_FOURTH_KEY, SHOOT_FOURTH_DIR, "shoot_fourth/"))
+SHOOT_THIRD = 6  # the shooting labels at the third probed horizon (shoot_unjudged_all)
 
 
 @dataclass
@@ -138,7 +133,7 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
     horizon also runs beside a longer chosen one (its candidate beat zero action too); ``unjudged``: where
     the probe could not judge (``ProbeResult.unjudged_shooting``), the second horizon that runs beside the
     chosen one (variant 4; None: none) and the path score of both; ``more``: there, with ``shoot_unjudged_all``,
-    the probed horizons neither of them holds (variants 6 and 7, :data:`MORE_SLOTS`; at most two)."""
+    the probed horizon neither of them holds (variant 6; ``ProbeResult.more_horizons``, at most one)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -168,8 +163,9 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if both:
             out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track(base, SHOOT_BASE_KEY, SHOOT_BASE_DIR),
                              "shoot_base/", "shoot_base/parts"))
-        for h_more, (variant, key, folder, prefix) in zip(more if unjudged is not None else (), MORE_SLOTS):
-            out.append(Rival(variant, shoot_name(h_more, cost), track(h_more, key, folder), prefix, prefix + "parts"))
+        for third in (more if unjudged is not None else ())[:1]:
+            out.append(Rival(SHOOT_THIRD, shoot_name(third, cost), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
+                             "shoot_third/", "shoot_third/parts"))
     return out
 
 

@@ -42,8 +42,7 @@ from shaped_es.shaping.surrogate import cosine
 
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
-GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain", 6: "shoot_third_gain",
-               7: "shoot_fourth_gain"}  # per variant: its
+GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain", 6: "shoot_third_gain"}  # per variant: its
 #                                                              candidate's gain over the mean
 PROBE = 5  # candidate_rival at generation 0: the label probe's best simulated candidate (guides/probe_candidate.py)
 SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
