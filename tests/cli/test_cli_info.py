@@ -144,7 +144,7 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert len(out["labels"]["shoot"]) == 10 and out["labels"]["shoot_on"] is True  # the point: kept
     # every probed horizon's candidate, and the chosen one's returns are its
     tried = out["labels"]["shoot_tried"]
-    assert set(tried) == {"4", "8", "16"} and tried[str(out["labels"]["shoot_horizon"])] == out["labels"]["shoot"]
+    assert set(tried) == {"4", "8", "16", "32"} and tried[str(out["labels"]["shoot_horizon"])] == out["labels"]["shoot"]
     text = _out(capsys, ["check-env", "CartPole-v1", "--labels"]).out
     assert text.strip().splitlines()[-1].startswith("labels: no waypoint contract")
     out = json.loads(_out(capsys, ["check-env", "CartPole-v1", "--labels", "--json"]).out)

@@ -431,6 +431,27 @@ def test_a_run_holds_the_shooting_labels_for_the_probes_horizon(tmp_path):
     assert len(shoot) == 1 and shoot[0].track.mphi.horizon == 16
 
 
+@pytest.mark.parametrize("on", [True, False])
+def test_shoot_long_nearest_runs_the_nearest_horizon_beside_a_chosen_longest_one(tmp_path, on):
+    """``shoot_long_nearest``: where the probe could judge and chose the longest probed horizon (32), the nearest
+    (16) runs beside it as variant 4; not where the chosen one is shorter, nor where the probe could not judge."""
+    over = {**POINT, "shaping": {"inverse_dynamics": {"shoot_long_nearest": on}}}
+    tried = {"4": [5.0, 5.1, 4.9, 5.2], "8": [5.0] * 4, "16": [6.0, 6.1, 5.9, 6.2], "32": [7.0, 7.1, 6.9, 7.2]}
+    saved = {**GOOD, "returns": {"both": [1.0] * 4}, "zero_action": [-1.0, -1.1, -0.9, -1.0], "shoot": tried["32"],
+             "shoot_on": True, "shoot_horizon": 32, "shoot_tried": tried}
+    res = ProbeResult(**saved)
+    assert res.long_nearest() == 16
+    assert ProbeResult(**{**saved, "shoot_horizon": 16, "shoot": tried["16"]}).long_nearest() is None
+    low = {k: [-2.0, -2.1, -1.9, -2.2] for k in tried}  # nothing beats zero action: the probe cannot judge
+    assert ProbeResult(**{**saved, "shoot_tried": low, "shoot": low["32"]}).long_nearest() is None
+    cfg, store = _run_with_probe(tmp_path / "run", over, saved)
+    trainer = Trainer(cfg, store, progress=False)
+    shoot = {r.variant: r.track.mphi.horizon for r in trainer.guide.rivals if r.name.startswith("shooting")}
+    assert shoot == ({3: 32, 4: 16} if on else {3: 32})
+    trainer.run()
+    assert ("shoot_base_gain" in store.read_metrics()[0]) == on
+
+
 @pytest.mark.parametrize("keep", [True, False])
 def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action(tmp_path, keep, monkeypatch):
     """The probe chose 16 steps and the 4-step candidate also beat zero action: both shooting rivals run

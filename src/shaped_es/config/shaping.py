@@ -110,6 +110,10 @@ class InverseDynamicsSettings(_Strict):
         "the frame's choice, the labels chosen without it do not drive the body better, and its own labels drive "
         "the body better than zero action (a torque arm's labels do not: a longer query there only asks them for "
         "a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: clips none and 2 only")
+    shoot_long_nearest: Bool = Field(
+        False, description="where the label probe can judge and chose the longest probed horizon (32), the probed "
+        "horizon nearest it (16) runs beside it as a second shooting rival (variant 4): a long hold's early jump can "
+        "land where shorter labels win (docs/benchmarks/probe_horizon32_v20)")
     shoot_keep_base: bool = Field(
         False, description="where the label probe chose a longer shooting horizon and shoot_horizon's simulated "
         "candidate also beat zero action, the shooting labels at shoot_horizon run beside it as one more rival "

@@ -155,6 +155,14 @@ class ProbeResult:
         return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
                     and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
 
+    def long_nearest(self) -> int | None:
+        """Where the probe could judge and the shooting rival holds the longest probed horizon: the probed horizon
+        nearest it (``shoot_long_nearest`` runs it beside); None otherwise."""
+        tried = [int(h) for h in self.shoot_tried]
+        if not (self.shoot_on and len(tried) > 1 and self.shoot_horizon == max(tried)) or self.unjudged():
+            return None
+        return nearest_horizon(self.shoot_horizon, tried)
+
     def unjudged(self) -> bool:
         """Whether no simulated candidate of a variant not passed over, nor of any shooting horizon, beat zero action
         (``probe_choice.unjudged``): the probe could not judge."""

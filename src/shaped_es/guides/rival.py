@@ -126,14 +126,16 @@ def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
            shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False,
-           unjudged: tuple[int | None, str] | None = None, more: tuple[int, ...] = ()) -> list[Rival]:
+           unjudged: tuple[int | None, str] | None = None, more: tuple[int, ...] = (),
+           beside: int | None = None) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
     probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides),
     ``shoot_horizon`` the horizon it chose (None: the config's), and ``shoot_base`` whether the config's
     horizon also runs beside a longer chosen one (its candidate beat zero action too); ``unjudged``: where
     the probe could not judge (``ProbeResult.unjudged_shooting``), the second horizon that runs beside the
     chosen one (variant 4; None: none) and the path score of both; ``more``: there, with ``shoot_unjudged_all``,
-    the probed horizon neither of them holds (variant 6; ``ProbeResult.more_horizons``, at most one)."""
+    the probed horizon neither of them holds (variant 6; ``ProbeResult.more_horizons``, at most one); ``beside``: where
+    the probe could judge, a horizon that runs beside the chosen one (variant 4; ``ProbeResult.long_nearest``)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -153,6 +155,8 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if unjudged is not None:  # the probe could not judge: a second horizon beside its choice, paths by their mean
             second, cost = unjudged
             both, base = second is not None, second
+        elif beside is not None and beside != h:  # shoot_long_nearest: the nearest shorter horizon beside a long one
+            both, base = True, beside
         kind = cfg.shaping.inverse_dynamics.shoot_model
 
         def track(horizon: int, key: int, folder: str) -> MphiTrack:

@@ -122,6 +122,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         unjudged = None  # where the probe could not judge: the shooting rival's second horizon and path score
         more = ()  # and there, with shoot_unjudged_all, the other probed horizons
+        beside = None  # where it could judge and chose the longest horizon, with shoot_long_nearest, the nearest
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
@@ -136,6 +137,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
             unjudged = res.unjudged_shooting() if mp.shoot_unjudged else None  # the probe could not judge
             more = res.more_horizons() if mp.shoot_unjudged and mp.shoot_unjudged_all else ()
+            beside = res.long_nearest() if mp.shoot_long_nearest else None
             self._probe_res = res
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
@@ -148,7 +150,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # the shooting labels (where the probe found their clone driving the body)
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
-                                                          shoot_h, shoot_base, unjudged, more)
+                                                          shoot_h, shoot_base, unjudged, more, beside)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
             print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
                   file=sys.stderr)
