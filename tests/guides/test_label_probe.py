@@ -457,7 +457,8 @@ def test_the_4_step_rival_runs_beside_a_longer_horizon_where_it_beat_zero_action
     """The probe chose 16 steps and the 4-step candidate also beat zero action: both shooting rivals run
     (variant 3 at 16 steps, 4 at 4), each its own model, gain column and checkpoint keys, and a killed run
     resumes exactly; ``shoot_keep_base: false`` runs the chosen one alone."""
-    over = {**POINT, "generations": 3, "shaping": {"inverse_dynamics": {"shoot_keep_base": keep}}}
+    over = {**POINT, "generations": 3, "shaping": {"inverse_dynamics": {"shoot_keep_base": keep,
+                                                                        "shoot_long_nearest": False}}}
     tried = {"4": [5.0, 5.1, 4.9, 5.2], "8": [5.0] * 4, "16": [6.0, 6.1, 5.9, 6.2]}
     saved = {**GOOD, "returns": {"both": [1.0] * 4}, "zero_action": [-1.0, -1.1, -0.9, -1.0], "shoot": tried["16"],
              "shoot_on": True, "shoot_horizon": 16, "shoot_tried": tried}

@@ -86,7 +86,7 @@ class InverseDynamicsSettings(_Strict):
         (8, 16, 32), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "
         "the frame's choice): a body whose action shows in its position only after many steps (a drone's tilt "
-        "rate) needs a longer look, a sliding hovercraft 32 steps (10 seeds: 24.3 generations against 29.9 with "
+        "rate) needs a longer look, a sliding hovercraft 32 steps (10 seeds: 24.1 generations against 29.9 with "
         "(8, 16); docs/benchmarks/probe_horizon32_v20); (): shoot_horizon only")
     probe_chunk: Int = Field(
         4, ge=0, le=64, description="with frame auto and targets one_step, the label probe also trains M_phi on "
@@ -111,9 +111,11 @@ class InverseDynamicsSettings(_Strict):
         "the body better than zero action (a torque arm's labels do not: a longer query there only asks them for "
         "a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: clips none and 2 only")
     shoot_long_nearest: Bool = Field(
-        False, description="where the label probe can judge and chose the longest probed horizon (32), the probed "
+        True, description="where the label probe can judge and chose the longest probed horizon (32), the probed "
         "horizon nearest it (16) runs beside it as a second shooting rival (variant 4): a long hold's early jump can "
-        "land where shorter labels win (docs/benchmarks/probe_horizon32_v20)")
+        "land where shorter labels win. The 21 runs it alters: 267 generations to the threshold against 279 (faster "
+        "on 9, slower on 3; a lander seed ending at 6.8 against -1.6; UR5Reach-v0's seed 6 16 against 12); "
+        "docs/benchmarks/probe_horizon32_v20")
     shoot_keep_base: bool = Field(
         False, description="where the label probe chose a longer shooting horizon and shoot_horizon's simulated "
         "candidate also beat zero action, the shooting labels at shoot_horizon run beside it as one more rival "

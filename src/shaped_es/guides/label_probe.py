@@ -54,7 +54,9 @@ candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_hori
 that beats the default's by the frame's test (``ProbeResult.shoot_horizon``; a drone steered by its tilt rate
 moves toward the waypoint only after 8-16 steps, ``docs/benchmarks/shoot_horizon_v8``; a sliding hovercraft
 after 32, ``docs/benchmarks/probe_horizon32_v20``). Where the probe cannot judge, the rival runs at three of the
-probed horizons (``ProbeResult.more_horizons``): the chosen one, the one nearest it and the shortest other.
+probed horizons (``ProbeResult.more_horizons``): the chosen one, the one nearest it and the shortest other; where
+it can judge and chose the longest probed horizon, the one nearest it runs beside it (``ProbeResult.long_nearest``,
+``shoot_long_nearest``: a long hold's early jump can land where shorter labels win).
 
 The best of the simulated candidates (by mean return, over every variant and horizon) is also kept, as
 ``ProbeResult.candidate`` and ``RUN/label_probe_candidate.npy``: generation 0's candidate

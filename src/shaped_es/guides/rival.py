@@ -155,7 +155,7 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if unjudged is not None:  # the probe could not judge: a second horizon beside its choice, paths by their mean
             second, cost = unjudged
             both, base = second is not None, second
-        elif beside is not None and beside != h:  # shoot_long_nearest: the nearest shorter horizon beside a long one
+        elif beside is not None and beside != h and not both:  # shoot_long_nearest: the nearest beside a long one
             both, base = True, beside
         kind = cfg.shaping.inverse_dynamics.shoot_model
 
