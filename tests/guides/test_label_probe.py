@@ -489,10 +489,10 @@ def test_with_shoot_unjudged_all_the_shortest_other_probed_horizon_runs_too_and_
              "zero_action": [0.0, 0.1, -0.1, 0.0], "shoot": tried["4"], "shoot_on": True, "shoot_horizon": 4,
              "shoot_tried": tried}
     res = ProbeResult(**saved)
-    assert res.unjudged_shooting() == (8, "mean") and res.more_horizons() == (16,)  # not 32
-    assert ProbeResult(**{**saved, "shoot_horizon": 32, "shoot": tried["32"]}).more_horizons() == (4,)  # 32, 16, 4
-    assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).more_horizons() == ()
-    assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).more_horizons() == ()  # judged
+    assert res.unjudged_shooting() == (8, "mean") and res.third_horizon() == 16  # not 32
+    assert ProbeResult(**{**saved, "shoot_horizon": 32, "shoot": tried["32"]}).third_horizon() == 4  # 32, 16, 4
+    assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).third_horizon() is None
+    assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).third_horizon() is None  # judged
     from shaped_es.guides.label_check import unjudged_horizons  # check-env --labels' text
 
     assert unjudged_horizons(res) == "4, 8 and 16 steps" and unjudged_horizons(res, False) == "4 and 8 steps"

@@ -67,8 +67,8 @@ def unjudged_horizons(res: ProbeResult, every: bool = True) -> str:
     """``4, 8 and 16 steps``: the horizons the shooting rivals hold where the probe cannot judge (``every``:
     ``shoot_unjudged_all``, the third too)."""
     two = res.unjudged_shooting()
-    more = res.more_horizons() if every else ()
-    held = sorted({h for h in (res.shoot_horizon, two[0] if two else None, *more) if h})
+    third = res.third_horizon() if every else None
+    held = sorted({h for h in (res.shoot_horizon, two[0] if two else None, third) if h})
     if not held:
         return "the configured horizon"
     return f"{', '.join(map(str, held[:-1]))} and {held[-1]} steps" if len(held) > 1 else f"{held[0]} steps"

@@ -54,7 +54,7 @@ candidate holding actions ``shoot_horizon`` steps and each of ``shoot_probe_hori
 that beats the default's by the frame's test (``ProbeResult.shoot_horizon``; a drone steered by its tilt rate
 moves toward the waypoint only after 8-16 steps, ``docs/benchmarks/shoot_horizon_v8``; a sliding hovercraft
 after 32, ``docs/benchmarks/probe_horizon32_v20``). Where the probe cannot judge, the rival runs at three of the
-probed horizons (``ProbeResult.more_horizons``): the chosen one, the one nearest it and the shortest other; where
+probed horizons (``ProbeResult.third_horizon``): the chosen one, the one nearest it and the shortest other; where
 it can judge and chose the longest probed horizon, the one nearest it runs beside it (``ProbeResult.long_nearest``,
 ``shoot_long_nearest``: a long hold's early jump can land where shorter labels win).
 
@@ -110,7 +110,6 @@ EPISODES = 10  # closed-loop episodes per variant (the same seeds for every vari
 PROBE_KEY = 1_000_011  # seed key of the probe's streams
 LONG_KEY = 200  # the probe_clip_long variants' simulated candidates' seed keys (the others' are as without them)
 CHUNK_KEY = 100  # the chunk variants' simulated candidates' seed keys start here (the others' are as before them)
-MORE_RIVALS = 1  # shooting rivals beyond the chosen and second horizon where the probe cannot judge (guides/rival.py)
 
 
 @dataclass
@@ -178,16 +177,15 @@ class ProbeResult:
             return None
         return nearest_horizon(self.shoot_horizon, [int(h) for h in self.shoot_tried]), "mean"
 
-    def more_horizons(self) -> tuple[int, ...]:
-        """Where the probe could not judge: the probed horizons neither the chosen one nor the second holds, the
-        shortest first, at most :data:`MORE_RIVALS`; () where fewer than three were probed or the probe could judge.
-        The shortest: a probe that cannot judge has no evidence for a long hold, and a 32-step rival's early jumps
-        took a quadrotor and UR5Reach-v0 into poor neighbourhoods (``docs/benchmarks/probe_horizon32_v20``)."""
+    def third_horizon(self) -> int | None:
+        """Where the probe could not judge: the shortest probed horizon neither the chosen one nor the second holds
+        (None: fewer than three probed, or the probe could judge). The shortest: a probe that cannot judge has no
+        evidence for a long hold, and a 32-step rival's early jumps took a quadrotor and UR5Reach-v0 into poor
+        neighbourhoods (``docs/benchmarks/probe_horizon32_v20``)."""
         two = self.unjudged_shooting()
         if two is None:
-            return ()
-        rest = sorted(int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0]))
-        return tuple(rest[:MORE_RIVALS])
+            return None
+        return min((int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0])), default=None)
 
 
 def not_passed(named: dict, passed: list[str]) -> dict:

@@ -126,15 +126,15 @@ def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
            shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False,
-           unjudged: tuple[int | None, str] | None = None, more: tuple[int, ...] = (),
+           unjudged: tuple[int | None, str] | None = None, third: int | None = None,
            beside: int | None = None) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
     probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides),
     ``shoot_horizon`` the horizon it chose (None: the config's), and ``shoot_base`` whether the config's
     horizon also runs beside a longer chosen one (its candidate beat zero action too); ``unjudged``: where
     the probe could not judge (``ProbeResult.unjudged_shooting``), the second horizon that runs beside the
-    chosen one (variant 4; None: none) and the path score of both; ``more``: there, with ``shoot_unjudged_all``,
-    the probed horizon neither of them holds (variant 6; ``ProbeResult.more_horizons``, at most one); ``beside``: where
+    chosen one (variant 4; None: none) and the path score of both; ``third``: there, with ``shoot_unjudged_all``,
+    the probed horizon neither of them holds (variant 6; ``ProbeResult.third_horizon``; None: none); ``beside``: where
     the probe could judge, a horizon that runs beside the chosen one (variant 4; ``ProbeResult.long_nearest``)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
@@ -167,7 +167,7 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if both:
             out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track(base, SHOOT_BASE_KEY, SHOOT_BASE_DIR),
                              "shoot_base/", "shoot_base/parts"))
-        for third in (more if unjudged is not None else ())[:1]:
+        if unjudged is not None and third is not None:
             out.append(Rival(SHOOT_THIRD, shoot_name(third, cost), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
                              "shoot_third/", "shoot_third/parts"))
     return out

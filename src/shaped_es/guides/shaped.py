@@ -121,7 +121,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
         shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
         unjudged = None  # where the probe could not judge: the shooting rival's second horizon and path score
-        more = ()  # and there, with shoot_unjudged_all, the other probed horizons
+        third = None  # and there, with shoot_unjudged_all, the third probed horizon
         beside = None  # where it could judge and chose the longest horizon, with shoot_long_nearest, the nearest
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
@@ -136,7 +136,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             probe_res = res if fresh else None
             shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
             unjudged = res.unjudged_shooting() if mp.shoot_unjudged else None  # the probe could not judge
-            more = res.more_horizons() if mp.shoot_unjudged and mp.shoot_unjudged_all else ()
+            third = res.third_horizon() if mp.shoot_unjudged and mp.shoot_unjudged_all else None
             beside = res.long_nearest() if mp.shoot_long_nearest else None
             self._probe_res = res
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
@@ -150,7 +150,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # the shooting labels (where the probe found their clone driving the body)
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
-                                                          shoot_h, shoot_base, unjudged, more, beside)
+                                                          shoot_h, shoot_base, unjudged, third, beside)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
             print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
                   file=sys.stderr)

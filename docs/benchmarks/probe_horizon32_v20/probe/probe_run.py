@@ -28,7 +28,7 @@ for seed in seeds:
         sims = {**r.clones, **{f"shoot:{h}": v for h, v in r.shoot_tried.items()}}
         out = dict(env=env, seed=seed, keep=k, extra=extra, steps=r.env_steps, sec=round(time.perf_counter() - t, 2),
                    frame=r.frame, clip=r.query_clip, chunk=r.chunk, shoot_on=r.shoot_on, horizon=r.shoot_horizon,
-                   candidate=r.candidate, unjudged=r.unjudged(), third=list(r.more_horizons()), base=r.keeps_base(),
+                   candidate=r.candidate, unjudged=r.unjudged(), third=r.third_horizon(), base=r.keeps_base(),
                    cand_mean=float(np.mean(sims[r.candidate])) if r.candidate in sims else None,
                    zero=float(np.mean(r.zero_action)),
                    tried={h: round(float(np.mean(v)), 2) for h, v in r.shoot_tried.items()})
