@@ -493,9 +493,12 @@ def test_with_shoot_unjudged_all_the_shortest_other_probed_horizon_runs_too_and_
     assert ProbeResult(**{**saved, "shoot_horizon": 32, "shoot": tried["32"]}).third_horizon() == 4  # 32, 16, 4
     assert ProbeResult(**{**saved, "shoot_tried": {k: tried[k] for k in ("4", "8")}}).third_horizon() is None
     assert ProbeResult(**{**saved, "clones": {"both": [1.0, 1.1, 0.9, 1.0]}}).third_horizon() is None  # judged
+    from shaped_es.config import build_config
     from shaped_es.guides.label_check import unjudged_horizons  # check-env --labels' text
 
-    assert unjudged_horizons(res) == "4, 8 and 16 steps" and unjudged_horizons(res, False) == "4 and 8 steps"
+    mp = build_config(POINT).shaping.inverse_dynamics
+    assert unjudged_horizons(res, mp) == "4, 8 and 16 steps"
+    assert unjudged_horizons(res, mp.model_copy(update={"shoot_unjudged_all": False})) == "4 and 8 steps"
     cfg, store = _run_with_probe(tmp_path / "full", over, saved)
     trainer = Trainer(cfg, store, progress=False)
     shoot = {r.name: (r.variant, r.track.mphi.horizon) for r in trainer.guide.rivals if r.name.startswith("shooting")}

@@ -10,6 +10,7 @@ from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, pr
 from shaped_es.guides.probe_choice import beats, paired
 from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
+from shaped_es.guides.rival import probe_shooting
 
 
 def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> str:
@@ -63,12 +64,11 @@ def _merged(rivals: list[str]) -> list[str]:
             + [f"shooting ({', '.join(steps[:-1])} and {steps[-1]} steps{parts[0][2]}"])
 
 
-def unjudged_horizons(res: ProbeResult, every: bool = True) -> str:
-    """``4, 8 and 16 steps``: the horizons the shooting rivals hold where the probe cannot judge (``every``:
-    ``shoot_unjudged_all``, the third too)."""
-    two = res.unjudged_shooting()
-    third = res.third_horizon() if every else None
-    held = sorted({h for h in (res.shoot_horizon, two[0] if two else None, third) if h})
+def unjudged_horizons(res: ProbeResult, mp) -> str:
+    """``4, 8 and 16 steps``: the horizons the shooting rivals of a run with ``shaping.inverse_dynamics`` settings
+    ``mp`` hold where the probe cannot judge (``rival.probe_shooting``, as the run's rivals)."""
+    sh = probe_shooting(res, mp)
+    held = sorted({h for h in (sh["shoot_horizon"], (sh["unjudged"] or (None,))[0], sh["third"]) if h})
     if not held:
         return "the configured horizon"
     return f"{', '.join(map(str, held[:-1]))} and {held[-1]} steps" if len(held) > 1 else f"{held[0]} steps"
@@ -184,7 +184,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
-    horizons = unjudged_horizons(res, cfg.shaping.inverse_dynamics.shoot_unjudged_all)
+    horizons = unjudged_horizons(res, cfg.shaping.inverse_dynamics)
     kept = ("; the shooting rival drives above it, and a run keeps it" if not kept_below_zero(res) else
             "; no simulated candidate clearly beats zero action, so the probe cannot judge, and a run keeps the shooting rival "
             f"(its paths scored by their mean distance, at {horizons})" if res.unjudged() else

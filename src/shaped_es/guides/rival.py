@@ -124,6 +124,16 @@ def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int
     return MphiTrack(model, ShootLabels(model, ahead, cost), Path(root) / folder)
 
 
+def probe_shooting(res, mp) -> dict:
+    """The shooting rivals the label probe's result ``res`` (``label_probe.ProbeResult``) gives a run whose
+    ``shaping.inverse_dynamics`` settings are ``mp``: :func:`rivals`' keyword arguments (``check-env --labels``
+    names the horizons from them too)."""
+    return {"shoot": res.shoot_on, "shoot_horizon": res.shoot_horizon, "shoot_base": res.keeps_base(),
+            "unjudged": res.unjudged_shooting() if mp.shoot_unjudged else None,  # the probe could not judge
+            "third": res.third_horizon() if mp.shoot_unjudged and mp.shoot_unjudged_all else None,
+            "beside": res.long_nearest() if mp.shoot_long_nearest else None}
+
+
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
            shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False,
            unjudged: tuple[int | None, str] | None = None, third: int | None = None,

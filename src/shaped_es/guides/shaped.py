@@ -87,7 +87,7 @@ from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.rival import names as rival_names, rivals
+from shaped_es.guides.rival import names as rival_names, probe_shooting, rivals
 from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # noqa: F401 (FIT_TEST_ROWS)
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
@@ -118,11 +118,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # (~10-30 s), not on the clock: before the label probe, which uses them and whose seconds count
         self.kernels_load_s = kernels.warm_up() if kernels.ENABLED else 0.0
         probe_res = None  # a fresh probe's result, printed once the rivals are known
-        shoot = shoot_h = None  # the probe's verdict on the shooting rival and its horizon (None: not probed)
-        shoot_base = False  # the probe's shoot_horizon also runs beside a longer chosen one
-        unjudged = None  # where the probe could not judge: the shooting rival's second horizon and path score
-        third = None  # and there, with shoot_unjudged_all, the third probed horizon
-        beside = None  # where it could judge and chose the longest horizon, with shoot_long_nearest, the nearest
+        shooting = {}  # the shooting rivals the probe gives (rival.probe_shooting; none: not probed, the config's)
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
@@ -134,10 +130,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             # counted in generation 0's row, also by a run that restarts it with the probe on file
             self.startup = (res.env_steps, res.seconds)
             probe_res = res if fresh else None
-            shoot, shoot_h, shoot_base = res.shoot_on, res.shoot_horizon, res.keeps_base()
-            unjudged = res.unjudged_shooting() if mp.shoot_unjudged else None  # the probe could not judge
-            third = res.third_horizon() if mp.shoot_unjudged and mp.shoot_unjudged_all else None
-            beside = res.long_nearest() if mp.shoot_long_nearest else None
+            shooting = probe_shooting(res, mp)
             self._probe_res = res
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
@@ -149,8 +142,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
         # rival label variants whose labels make more candidates (guides/rival.py): another frame, the servo,
         # the shooting labels (where the probe found their clone driving the body)
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
-                                                          spec.act_dim, self.mphi_cfg, Path(store.root), shoot,
-                                                          shoot_h, shoot_base, unjudged, third, beside)
+                                                          spec.act_dim, self.mphi_cfg, Path(store.root), **shooting)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
             print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
                   file=sys.stderr)
