@@ -128,6 +128,47 @@ def test_actions_map_to_the_space():
     np.testing.assert_array_equal(to_space(disc, np.array([[0.1, 0.9, -0.2], [1.0, 0.0, 0.0]])), [0, -1])
 
 
+def test_a_rollouts_action_map_is_the_spaces_mapping_bit_for_bit():
+    """rollout.actions.action_map (the bounds' arithmetic done once per rollout) gives what _to_env_action gives,
+    value, dtype and type, on [-1, 1], asymmetric and float64 Boxes and a Discrete space."""
+    import gymnasium as gym
+
+    from shaped_es.rollout.actions import _to_env_action, action_map
+
+    rng = np.random.default_rng(0)
+    spaces = [gym.spaces.Box(-1.0, 1.0, (6,), np.float32), gym.spaces.Box(-3.0, 5.0, (3,), np.float32),
+              gym.spaces.Box(np.array([0.0, -2.0]), np.array([1.0, 2.0]), dtype=np.float64),
+              gym.spaces.Discrete(4, start=1)]
+    for space in spaces:
+        f = action_map(space)
+        for _ in range(50):
+            a = rng.uniform(-1.5, 1.5, space.shape[0] if space.shape else 4).astype(np.float32)
+            want, got = _to_env_action(space, a), f(a)
+            assert type(got) is type(want) and np.asarray(got).dtype == np.asarray(want).dtype
+            np.testing.assert_array_equal(got, want)
+
+
+def test_the_waypoint_pairs_fast_path_is_the_checked_one():
+    """env_probe.waypoint_pair(finite=False), a recorded rollout's per-step read, gives the checked read's arrays;
+    a non-finite pair then fails the rollout's one check per step with the checked read's message."""
+    from shaped_es.env_probe import BadOutput, waypoint_pair
+    from shaped_es.rollout.checks import _check_pairs
+
+    info = {"position": np.array([1.5, -2.0]), "waypoint": np.array([3.0, 1e-9])}
+    for fast, checked in zip(waypoint_pair(info, 2, finite=False), waypoint_pair(info, 2)):
+        assert fast.dtype == checked.dtype == np.float32
+        np.testing.assert_array_equal(fast, checked)
+    bad = {"position": np.array([1.5, np.nan]), "waypoint": np.array([3.0, 0.0])}
+    pos, wp = (np.stack(x) for x in zip(waypoint_pair(info, 2, False), waypoint_pair(bad, 2, False)))  # (2, 2)
+    with pytest.raises(BadOutput, match=r"a non-finite info\['position'\]"):
+        waypoint_pair(bad, 2)
+    task = RolloutTask("CarNav-v0", {}, MLPSpec(4, 2, (4,)), np.zeros((1, 1)), np.arange(1), np.array([[7, 8]]),
+                       generation=3)
+    with pytest.raises(Exception, match=r"a non-finite info\['position'\].*episode seed 8, step 5"):
+        _check_pairs(task, pos, wp, [info, bad], [7, 8], 5)
+    _check_pairs(task, pos[:1], wp[:1], [info], [7], 5)  # finite: nothing
+
+
 @pytest.mark.parametrize("env_id, spec, expert", [("CarNav-v0", None, False),
                                                    ("shaped_es:UR5Reach-v0", MLPSpec(13, 5, (8,)), True)])
 def test_tasks_run_together_give_each_tasks_own_results(env_id, spec, expert):

@@ -25,9 +25,18 @@ def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> np.ndarr
     return obs
 
 
-def _contract(task, info: dict, d: int | None, seed, step: int) -> tuple[np.ndarray, np.ndarray]:
-    """``info``'s position and waypoint (``env_probe.waypoint_pair``), or the error naming the env."""
+def _contract(task, info: dict, d: int | None, seed, step: int, finite: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """``info``'s position and waypoint (``env_probe.waypoint_pair``), or the error naming the env (``finite=False``:
+    the caller checks the values are finite, :func:`_check_pairs`)."""
     try:
-        return waypoint_pair(info, d)
+        return waypoint_pair(info, d, finite)
     except BadOutput as exc:
         raise _bad_output(task, str(exc), seed, step) from None
+
+
+def _check_pairs(task, pos: np.ndarray, wp: np.ndarray, infos: list, seeds, step: int) -> None:
+    """Every env's waypoint pair of this step ``(B, d)`` finite, or the first one's error (:func:`_contract`)."""
+    if np.isfinite(pos).all() and np.isfinite(wp).all():
+        return
+    b = int(np.flatnonzero(~(np.isfinite(pos).all(axis=1) & np.isfinite(wp).all(axis=1)))[0])
+    _contract(task, infos[b], pos.shape[1], seeds[b], step)

@@ -15,8 +15,8 @@ from shaped_es.env_probe import OLD_STEP, BadOutput, env_time_limit, observation
     step_output
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.policies import forward
-from shaped_es.rollout.actions import _to_env_action
-from shaped_es.rollout.checks import _bad_output, _check_obs, _contract
+from shaped_es.rollout.actions import action_map
+from shaped_es.rollout.checks import _bad_output, _check_obs, _check_pairs, _contract
 from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
 from shaped_es.rollout.record import _controller, _from_env_action, _join_episodes, _Recorder
 from shaped_es.rollout.task import RolloutResult, RolloutTask, _finish, _policy_input
@@ -96,6 +96,7 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
     alive = np.ones(B, dtype=bool)
     sums = _ObsSums(B) if task.obs_stats else None
     hooks = [_controller(task, env.unwrapped) for env in envs] if rec is not None and task.expert else None
+    to_env = [action_map(env.action_space) for env in envs]  # (B,) each env's policy output -> its action
     cap = task.max_steps
     if cap is None and env_time_limit(envs[0]) is None:
         cap = default_cap  # an env that never terminates cannot hang the run (warn_if_endless)
@@ -115,21 +116,23 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
         stepped = alive.copy()
         for b in np.flatnonzero(stepped):
             try:
-                o, r, term, trunc, info = _step(envs[b], _to_env_action(envs[b].action_space, act[b]))
+                o, r, term, trunc, info = _step(envs[b], to_env[b](act[b]))
                 o, r = observation(o, shape), reward(r)
             except BadOutput as exc:
                 raise _bad_output(task, str(exc), seeds[b], t + 1) from None
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b], infos[b] = o, r, info
-            if contract:
-                npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1)
+            if contract:  # finite: checked below, every env's at once
+                npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1, finite=False)
             alive[b] = not (term or trunc)
         if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
             b = int(np.flatnonzero(~(np.isfinite(rew) & np.isfinite(nobs).all(axis=1)))[0])
             if not np.isfinite(rew[b]):
                 raise _bad_output(task, f"a non-finite reward ({rew[b]})", seeds[b], t + 1)
             _check_obs(task, nobs[b], shape, seeds[b], t + 1)
+        if contract:
+            _check_pairs(task, npos, nwp, infos, seeds, t + 1)
         if rec is not None:
             rec.add(obs, pos, wp, act, rew, stepped, ex)
         with np.errstate(over="ignore"):  # a return that overflows is reported below, in one line
