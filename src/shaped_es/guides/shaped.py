@@ -50,7 +50,8 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
 The generations' recorded steps as the guide reads them (in memory, or from the store) and the rows the
 cloning draws from them live in ``guides/shaped_data.py`` (``GenerationData``, a base class of the guide);
 the shaping thread's work, the writer thread's writes and their pruning after a checkpoint in
-``guides/shaped_background.py`` (``BackgroundWork``, another base class).
+``guides/shaped_background.py`` (``BackgroundWork``, another base class); the label budget's verdicts and the
+back-off note in ``guides/shaped_verdicts.py`` (``LabelVerdicts``, a third).
 """
 
 from __future__ import annotations
@@ -69,11 +70,9 @@ from shaped_es.config import RunConfig
 from shaped_es.data import PackedTransitions, join_packed
 from shaped_es.guides import NoGuide
 from shaped_es.guides.shaped_tasks import rollout_and_store
-from shaped_es.envs.thresholds import env_threshold
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
-from shaped_es.rundir import metrics_csv
 from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.shared_rows import SharedRows
@@ -89,6 +88,7 @@ from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
 from shaped_es.guides.rival import names as rival_names, probe_shooting, rivals
 from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # noqa: F401 (FIT_TEST_ROWS)
+from shaped_es.guides.shaped_verdicts import LabelVerdicts
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
                                           waypoint_dim)
@@ -97,10 +97,9 @@ MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_d
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
 COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shaping_active", "shaping_awake")
 DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
-WARN_AFTER = 5  # generations without M_phi data before the console says so (once)
 
 
-class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
+class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
     record = True
 
     def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None, executor=None):
@@ -344,63 +343,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork):
             self._sleep()
         self._trim_cache(generation)
         return out
-
-    def _next_population_mask(self, population: int) -> np.ndarray:
-        """The next generation's population record mask ``(population,)``, as its ``begin_generation`` and
-        :meth:`record_mask` will give it (after this generation's verdict): none while asleep."""
-        if not self.budget.awake:
-            return np.zeros(population, bool)
-        return self.mechanism.record_mask(population, 0)[:population]
-
-    def _verdict(self, out: dict, fitness: np.ndarray) -> bool:
-        """Tell the label budget whether this generation's candidate paid (``fitness``: the population's
-        returns ``(P,)``); True: the labels keep losing, the guide sleeps from the next generation
-        (:meth:`_sleep`, once the mechanism's work is done)."""
-        if out.get("candidate_accepted") is None:
-            return False
-        if not out["candidate_accepted"] and self.mechanism.free_judgement:
-            return False  # the probe's candidate lost at generation 0: not held against the labels
-        f = np.asarray(fitness, np.float64)  # (P,)
-        return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), float(f.mean()),
-                                 reverted=bool(out.get("jump_reverted")), spread=float(f.max() - f.min()))
-
-    def _sleep(self) -> None:
-        """Asleep from the next generation: the mechanism drops what it prepared, with one warning line the
-        first time."""
-        self.mechanism.sleep()
-        if self.budget.sleeps == 1:
-            note = self.budget.note(self.cfg.env, self.has_controller, self.sh.labels, self._past_threshold())
-            print(f"shaped-es: {self.run_name}: note: {note}", file=sys.stderr)
-
-    def _past_threshold(self) -> tuple[float, float] | None:
-        """(the best test reward the progress line reported so far, the env's threshold) when the env has a
-        threshold and the run has reached it (a new user's blimp reached it at generation 7 and read the note
-        at generation 40, its latest test just below, as a warning); else None. Read once, for the back-off note,
-        from the rows metrics.csv holds now (a row whose test episodes are still running is not there yet)."""
-        # the threshold the train command's line uses (the env's registered reward_threshold at these settings;
-        # None: none, or not found), looked up here: only a run that sleeps needs it
-        threshold = env_threshold(self.cfg)
-        if threshold is None:
-            return None
-        try:
-            rows = metrics_csv.read_table(self._metrics_path)[1]
-            tests = [float(r["test_reward_mean"]) for r in rows if r.get("test_reward_mean") not in (None, "")]
-        except Exception:  # noqa: BLE001 - unreadable: the note reads as it does without a threshold
-            return None
-        best = max((t for t in tests if np.isfinite(t)), default=None)
-        if best is None or best < threshold[0]:
-            return None
-        return best, threshold[0]
-
-    def _warn_untrained(self, generation: int) -> None:
-        if self._warned or generation + 1 < WARN_AFTER:
-            return
-        self._warned = True
-        mp = self.sh.inverse_dynamics
-        print(f"shaped-es: {self.run_name}: warning: after {generation + 1} generations no episode passed M_phi's "
-              f"filter (filter={mp.filter}, min_return={mp.min_return}): the shaped method runs as Vanilla-ES "
-              f"until one does (column shaping_active = 0); --set shaping.inverse_dynamics.filter=none "
-              f"keeps every transition", file=sys.stderr)
 
     # -- checkpoint ---------------------------------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
