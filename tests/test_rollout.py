@@ -204,3 +204,52 @@ def test_tasks_run_together_give_each_tasks_own_results(env_id, spec, expert):
                 else:
                     assert x == y, f.name
     assert together[0].transitions[0].expert is not None if expert else together[0].transitions[0].expert is None
+
+
+class _OffsetPoint:
+    """A 2-D point (velocity control) whose info positions sit at a fixed offset (UTM-like coordinates)."""
+
+    def __new__(cls, offset=(0.0, 0.0)):
+        import gymnasium as gym
+
+        class Env(gym.Env):
+            observation_space = gym.spaces.Box(-10.0, 10.0, (4,), np.float32)
+            action_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
+
+            def _out(self):
+                off = np.asarray(offset, np.float64)
+                info = {"position": self.pos + off, "waypoint": self.goal + off}
+                return np.concatenate([self.pos, self.goal - self.pos]).astype(np.float32), info
+
+            def reset(self, *, seed=None, options=None):
+                super().reset(seed=seed)
+                self.pos, self.goal = np.zeros(2), self.np_random.uniform(-1.0, 1.0, 2)
+                return self._out()
+
+            def step(self, action):
+                self.pos = self.pos + 0.01 * np.clip(np.asarray(action, np.float64), -1, 1)  # 1 cm steps
+                obs, info = self._out()
+                return obs, -float(np.linalg.norm(self.goal - self.pos)), False, False, info
+
+        return Env()
+
+
+def test_far_positions_are_recorded_from_the_episodes_first_position():
+    """Positions at UTM-like offsets (4e6 m: float32 spacing 0.25 m) are recorded from each episode's first
+    position, so the recorded 1 cm steps and waypoint offsets are the ones the same body records at the origin
+    (before: rounded away, and M_phi's labels with them); near the origin nothing is shifted (gym_loop.FAR)."""
+    import gymnasium as gym
+
+    gym.register("OffsetPointNear-v0", entry_point=_OffsetPoint, max_episode_steps=20)
+    gym.register("OffsetPointFar-v0", entry_point=_OffsetPoint, kwargs={"offset": (5e5, 4e6)}, max_episode_steps=20)
+    spec = MLPSpec(4, 2, (4,))
+    params = spec.init(0)[None]  # (1, n)
+    got = {}
+    for name in ("OffsetPointNear-v0", "OffsetPointFar-v0"):
+        res = run_task(RolloutTask(name, {}, spec, params, np.arange(1), np.array([[3, 4]]), record=True))
+        tr = res.transitions[0]
+        got[name] = (np.diff(tr.position, axis=0), tr.waypoint - tr.position, tr.position)
+    near, far = got["OffsetPointNear-v0"], got["OffsetPointFar-v0"]
+    np.testing.assert_allclose(far[0], near[0], atol=1e-6)  # steps (episode boundary row included: both restart)
+    np.testing.assert_allclose(far[1], near[1], atol=1e-6)
+    assert np.abs(near[0]).max() > 1e-3 and np.abs(far[2]).max() < 2.0  # real steps; far ones recorded near 0

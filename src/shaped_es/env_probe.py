@@ -303,22 +303,23 @@ def observation(o, shape: tuple) -> np.ndarray:
     return a
 
 
-def waypoint_pair(info: dict, d: int | None = None, finite: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """``info['position']`` and ``info['waypoint']`` as float32 ``(d,)`` arrays, both present, of one
+def waypoint_pair(info: dict, d: int | None = None, finite: bool = True,
+                  dtype=np.float32) -> tuple[np.ndarray, np.ndarray]:
+    """``info['position']`` and ``info['waypoint']`` as ``(d,)`` arrays of ``dtype``, both present, of one
     size (``d``: the size they had at reset) and finite (``finite=False``: not checked here; a rollout checks
     every env's pair at once each step and calls this again on the one that is not, for its message)."""
     p, w = info.get(POSITION_KEY), info.get(WAYPOINT_KEY)
     if not finite and type(p) is np.ndarray and type(w) is np.ndarray and p.dtype.kind == "f" \
             and w.dtype.kind == "f" and p.size == w.size and p.size and (d is None or p.size == d):
         # the common case, a step of a recorded rollout: float arrays (~1 us against ~10 for the checks below)
-        return p.astype(np.float32).reshape(-1), w.astype(np.float32).reshape(-1)
+        return p.astype(dtype).reshape(-1), w.astype(dtype).reshape(-1)
     out = []
     for key in (POSITION_KEY, WAYPOINT_KEY):
         v = info.get(key)
         if v is None:
             raise BadOutput(f"no info['{key}'] (the contract: {CONTRACT})")
         try:
-            a = np.asarray(v, dtype=np.float32).reshape(-1)
+            a = np.asarray(v, dtype=dtype).reshape(-1)
         except (TypeError, ValueError):
             raise BadOutput(f"an info['{key}'] that is not an array of numbers ({_shown(v)}); the contract: "
                             f"{CONTRACT}") from None

@@ -25,11 +25,12 @@ def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> np.ndarr
     return obs
 
 
-def _contract(task, info: dict, d: int | None, seed, step: int, finite: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def _contract(task, info: dict, d: int | None, seed, step: int, finite: bool = True,
+              dtype=np.float32) -> tuple[np.ndarray, np.ndarray]:
     """``info``'s position and waypoint (``env_probe.waypoint_pair``), or the error naming the env (``finite=False``:
     the caller checks the values are finite, :func:`_check_pairs`)."""
     try:
-        return waypoint_pair(info, d, finite)
+        return waypoint_pair(info, d, finite, dtype)
     except BadOutput as exc:
         raise _bad_output(task, str(exc), seed, step) from None
 

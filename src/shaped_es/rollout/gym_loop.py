@@ -23,6 +23,14 @@ from shaped_es.rollout.task import RolloutResult, RolloutTask, _finish, _policy_
 from shaped_es.rollout.worker_envs import _envs
 
 
+# Positions whose magnitude passes this (UTM coordinates, a large map) are recorded from the episode's first
+# position: float32 keeps about 7 digits, so at 4e6 m a 0.1 m step rounds away, and M_phi's displacements with
+# it (a new user's point at a UTM offset: labels driving to -34.5 against -12.4 at the origin). Every use of the
+# recorded pairs is a difference within an episode (a displacement, w - p), which the shift leaves as it was;
+# below FAR nothing is shifted, so those rollouts record what they always did, bit for bit.
+FAR = 1e3
+
+
 def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
     try:
         return reset_output(env.reset(seed=seed))
@@ -87,10 +95,16 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
     # whose reset info has it (without it: no columns, d = 0; the shaped method's preflight refuses that)
     pos, wp = np.zeros((B, 0), np.float32), np.zeros((B, 0), np.float32)  # (B, d)
     contract = rec is not None and (POSITION_KEY in infos[0] or WAYPOINT_KEY in infos[0])
+    origin = None  # (B, d) float64: where the pairs are recorded from (far from 0 only; see FAR)
     if contract:
         d = _contract(task, infos[0], None, seeds[0], 0)[0].size  # every episode's pair of this size
-        pairs = [_contract(task, i, d, seeds[b], 0) for b, i in enumerate(infos)]
-        pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])
+        pairs = [_contract(task, i, d, seeds[b], 0, dtype=np.float64) for b, i in enumerate(infos)]
+        pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])  # (B, d) float64
+        far = np.maximum(np.abs(pos), np.abs(wp)).max(axis=1) > FAR  # (B,)
+        if far.any():
+            origin = np.where(far[:, None], pos, 0.0)  # (B, d) each far episode's first position
+            pos, wp = pos - origin, wp - origin
+        pos, wp = pos.astype(np.float32), wp.astype(np.float32)
     returns = np.zeros(B, dtype=np.float64)
     lengths = np.zeros(B, dtype=np.int64)
     alive = np.ones(B, dtype=bool)
@@ -123,8 +137,11 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b], infos[b] = o, r, info
-            if contract:  # finite: checked below, every env's at once
+            if contract and origin is None:  # finite: checked below, every env's at once
                 npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1, finite=False)
+            elif contract:  # from the episode's origin, in float64 (then float32, as recorded)
+                p, w = _contract(task, info, pos.shape[1], seeds[b], t + 1, finite=False, dtype=np.float64)
+                npos[b], nwp[b] = p - origin[b], w - origin[b]
             alive[b] = not (term or trunc)
         if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
             b = int(np.flatnonzero(~(np.isfinite(rew) & np.isfinite(nobs).all(axis=1)))[0])
