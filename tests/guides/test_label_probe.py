@@ -146,6 +146,56 @@ def test_the_simulated_candidate_learns_from_good_labels(monkeypatch):
                                      for a, b in zip(g, h))
 
 
+def test_with_obs_norm_the_probes_policies_see_generation_0s_inputs(monkeypatch):
+    """es.obs_norm: the probe's rollouts (its data and the simulated candidates) run through the normalizer
+    generation 0's members see (no statistics yet: inputs clipped to +-OBS_CLIP), and the simulated clone is
+    fitted on those normalized states, so the candidate judged at generation 0 is the policy the probe scored
+    (a new user's observations of ~1e3: -14.5 in a probe on raw inputs, -64.3 at generation 0)."""
+    from shaped_es.config import build_config
+    from shaped_es.guides import clone_probe
+    from shaped_es.policies import OBS_CLIP
+    from shaped_es.rollout import policy_spec, probe_env
+
+    seen_norms, fit_inputs = [], []
+    tasks, fit = clone_probe.population_tasks, clone_probe.fit_rows
+
+    def spy_tasks(*a, **kw):
+        seen_norms.append(kw.get("obs_norm"))
+        return tasks(*a, **kw)
+
+    def spy_fit(task):
+        fit_inputs.append(np.array(task.S))
+        return fit(task)
+
+    monkeypatch.setattr(clone_probe, "population_tasks", spy_tasks)
+    monkeypatch.setattr(clone_probe, "fit_rows", spy_fit)
+    for on in (False, True):
+        seen_norms.clear()
+        fit_inputs.clear()
+        cfg = build_config({**POINT, "seed": 3, "es": {"obs_norm": on}})
+        spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+        x0 = spec.init(0)
+        data, _ = label_probe.collect(cfg, spec, x0)
+        big = [t for g in data for t in g]
+        for t in big:  # observations of ~1e3 (as the new user's), from the recorded ones
+            t.state = t.state * 500.0 + 1000.0
+
+        class Head:
+            def inputs(self, tr):
+                return tr.waypoint - tr.position
+
+            def __call__(self, states, inputs):
+                return np.clip(10.0 * inputs, -1, 1).astype(np.float32)
+
+        clone_probe.clone_rounds(cfg, spec, x0, big, Head(), np.arange(4) + 100, 0)
+        norms = [n for n in seen_norms]
+        assert norms and all((n is None) != on for n in norms)
+        if on:
+            assert all(np.array_equal(n.mean, np.zeros(spec.obs_dim, np.float32)) for n in norms)
+        inputs = np.abs(np.concatenate([x.reshape(-1) for x in fit_inputs]))
+        assert (inputs.max() <= OBS_CLIP) == on
+
+
 def _episode(rng, T=6, d=2) -> Transitions:
     pos = np.cumsum(rng.normal(size=(T, d)), axis=0).astype(np.float32)  # (T, d)
     wp = (pos + rng.normal(size=(T, d))).astype(np.float32)

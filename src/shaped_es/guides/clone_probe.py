@@ -24,7 +24,7 @@ import numpy as np
 from shaped_es import seeding
 from shaped_es.config import RunConfig
 from shaped_es.data import Transitions, concat_members
-from shaped_es.policies import MLPSpec
+from shaped_es.policies import MLPSpec, ObsNorm, ObsStats
 from shaped_es.rollout import run_task
 from shaped_es.rollout.task import population_tasks
 from shaped_es.shaping.forward_shoot import ShootLabels, shoot_model
@@ -44,15 +44,24 @@ def _labelled(trs: list[Transitions], labels: LabelSource) -> tuple[np.ndarray, 
     return big.state.astype(np.float32), np.asarray(labels(big.state, labels.inputs(big)), np.float32)
 
 
+def first_norm(cfg: RunConfig, spec: MLPSpec) -> ObsNorm | None:
+    """The input normalization generation 0's members see (``es.obs_norm``: the statistics of no observation yet,
+    so observations clipped to the normalizer's range; None: off): the probe's policies see it too, so its
+    simulated candidate is the policy generation 0 judges (a new user's observations of ~1e3: a probe candidate
+    fitted on raw inputs scored -14.5 in the probe and -64.3 at generation 0)."""
+    return ObsStats.empty(spec.obs_dim).norm() if cfg.es.obs_norm else None
+
+
 def roll_out(cfg: RunConfig, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray, generation: int,
              executor=None) -> tuple[np.ndarray, np.ndarray, list[Transitions]]:
     """``params`` ``(m, n)`` on episode seeds ``(m, E)``, recorded: ``(returns (m, E), lengths (m, E), one
     Transitions per member)``, in member order. With the run's ``executor``, as its training rollouts are (one
     task of consecutive members per worker); else in this process. A member's numbers do not depend on
-    which task it ran in."""
+    which task it ran in. The policies see :func:`first_norm`'s inputs."""
     workers = executor.workers if executor is not None else 1
     tasks = population_tasks(cfg.env, dict(cfg.env_kwargs), spec, np.asarray(params, np.float32),
-                             np.asarray(seeds, np.int64), workers, generation, True, cfg.rollout.max_steps)
+                             np.asarray(seeds, np.int64), workers, generation, True, cfg.rollout.max_steps,
+                             obs_norm=first_norm(cfg, spec))
     results = executor.map(run_task, tasks) if executor is not None else [run_task(t) for t in tasks]
     returns = np.concatenate([np.asarray(r.returns, np.float64) for r in results])  # (m, E)
     lengths = np.concatenate([np.asarray(r.lengths) for r in results])  # (m, E)
@@ -83,6 +92,7 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
     return, and those in ``protect``, go on; a variant cut there returns its first round's returns, steps and
     clone (the survivors' numbers are what they are without the cut: variants do not interact)."""
     mc, V = cfg.shaping.mean_clone, len(labels)
+    norm = first_norm(cfg, spec)  # the clone fits pi(norm(s)) ~ label(s), as the run's mean clone does
     theta = np.repeat(np.asarray(x0, np.float32)[None], V, axis=0)  # (V, n)
     S_all, A_all = zip(*[_labelled(data, lab) for lab in labels])  # per variant (N_v, obs), (N_v, act)
     S_all, A_all = list(S_all), list(A_all)
@@ -100,7 +110,7 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
             for i, v in enumerate(fit):
                 rng = np.random.default_rng(seeding.derive_seed(cfg.seed, seeding.SHAPING, CLONE_KEY, keys[v], r))
                 idx = rng.integers(0, len(S_all[v]), size=(mc.steps, mc.batch_size))  # (steps, B)
-                S[:, i], A[:, i] = S_all[v][idx], A_all[v][idx]
+                S[:, i], A[:, i] = S_all[v][idx] if norm is None else norm.apply(S_all[v][idx]), A_all[v][idx]
             theta[fit] = fit_rows(FitTask(spec, theta[fit], S, A, np.ones(len(fit), bool), mc.steps, "adam",
                                           mc.lr, 1))[0]
         r_live, lengths, trs = roll_out(cfg, spec, theta[live], np.repeat(seeds[None], len(live), axis=0),
