@@ -1,6 +1,8 @@
 """``env_check``: what an env needs to train here, one check per requirement, on envs that meet it and on
 envs that break one requirement each."""
 
+import re
+
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -25,6 +27,8 @@ class Point(gym.Env):
     def _info(self):
         if self.flaw == "no_waypoints" or (self.flaw == "some_waypoints" and self.t % 2):
             return {}
+        if self.flaw == "column_waypoints":  # (2, 1) columns, a NumPy habit: rollouts read them flattened
+            return {"position": self.x.reshape(2, 1), "waypoint": np.zeros((2, 1), np.float32)}
         return {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
 
     def reset(self, *, seed=None, options=None):
@@ -41,7 +45,8 @@ class Point(gym.Env):
         return obs, reward, False, False, self._info()
 
 
-for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step", "wide_actions"):
+for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step", "wide_actions",
+             "column_waypoints"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 
@@ -102,6 +107,36 @@ def test_the_waypoint_lines_name_the_call_and_the_shapes():
     """A new user's env lacked the keys at reset only, and another gave a 3-d waypoint to a 2-d position."""
     waypoints = next(c for c in check_env("CheckPoint-some_waypoints-v0") if c.name == "waypoints")
     assert waypoints.detail.startswith("info['position'] and info['waypoint'] missing from step 1 (others have both")
+
+
+def test_column_waypoints_pass_as_the_rollouts_read_them():
+    """A (2, 1) position and waypoint: the rollouts read them flattened and train --method shaped ran; check-env
+    said FAIL ("cannot train here") -- now it says ok and how they are read."""
+    checks = check_env("CheckPoint-column_waypoints-v0")
+    waypoints = next(c for c in checks if c.name == "waypoints")
+    assert waypoints.status == OK and "(2-d, (2, 1) arrays read flattened)" in waypoints.detail
+    assert "shaped" in trains_with(checks)
+
+
+def test_a_probe_that_fails_names_the_probe_after_the_check_lines(tmp_path, capsys, monkeypatch):
+    """check-env --labels on an env whose waypoint turns NaN mid-episode: the check lines print first (before,
+    only the error did), and the error names the label probe (before: "generation 10000", its seed stream)."""
+    from shaped_es.cli.commands import main
+
+    class LateNaN(Point):
+        def _info(self):
+            info = super()._info()
+            if self.t >= 25:  # after check-env's own random steps, inside the probe's episodes
+                info["waypoint"] = np.full(2, np.nan, np.float32)
+            return info
+
+    gym.register("CheckPoint-latenan-v0", entry_point=LateNaN, max_episode_steps=40)
+    monkeypatch.chdir(tmp_path)
+    assert main(["check-env", "CheckPoint-latenan-v0", "--labels", "--max-steps", "20"]) != 0
+    cap = capsys.readouterr()
+    assert "ok    waypoints" in cap.out and "CheckPoint-latenan-v0 trains with:" in cap.out
+    assert re.search(r"non-finite info\['waypoint'\] \(\[nan, nan\]\) \(the label probe, before generation 0, "
+                     r"episode seed \d+, step 25\)", cap.err), cap.err
 
 
 def test_no_time_limit_rules_out_ppo():

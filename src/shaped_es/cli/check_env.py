@@ -233,13 +233,16 @@ def _waypoints(runs: list[dict]) -> Check:
         return Check("waypoints", FAIL, f"{' and '.join(f'info[{k!r}]' for k in missing)} missing from {where} "
                                         f"(others have both keys): shaped needs them from reset and every step")
     shapes = {(np.shape(i[POSITION_KEY]), np.shape(i[WAYPOINT_KEY])) for i in infos}
-    if len(shapes) != 1 or len({s for pair in shapes for s in pair}) != 1 or len(next(iter(shapes))[0]) != 1:
+    # the rollouts read each flattened (env_probe.waypoint_pair): a (2, 1) column is the 2-d point it holds
+    sizes = {(int(np.prod(p)), int(np.prod(w))) for p, w in shapes}
+    if len(shapes) != 1 or len({n for pair in sizes for n in pair}) != 1 or next(iter(sizes))[0] == 0:
         got = "; ".join(f"position {p}, waypoint {w}" for p, w in sorted(shapes))
         return Check("waypoints", FAIL, f"position and waypoint must both be (d,) arrays of one d, got {got}")
     if not all(np.isfinite(np.asarray(i[k], float)).all() for i in infos for k in (POSITION_KEY, WAYPOINT_KEY)):
         return Check("waypoints", FAIL, "a position or waypoint is not finite")
-    d = next(iter(shapes))[0][0]
-    return Check("waypoints", OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d) from reset and "
+    d, shape = next(iter(sizes))[0], next(iter(shapes))[0]
+    flat = "" if len(shape) == 1 else ", scalars read as (1,)" if not shape else f", {shape} arrays read flattened"
+    return Check("waypoints", OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d{flat}) from reset and "
                                   f"every step: --method shaped can use it")
 
 

@@ -268,6 +268,13 @@ def cmd_check_env(a: argparse.Namespace) -> int:
     from shaped_es.guides.label_check import check_labels
     from shaped_es.guides.probe_variants import clip_text
 
+    if not a.json:  # the checks first: an env that fails in the label probe still shows what passed
+        width = max(len(c.name) for c in checks)
+        for c in checks:
+            print(f"{c.status:<4}  {c.name:<{width}}  {c.detail}")
+        print(f"{a.env_id} trains with: {', '.join(methods)}" if methods else
+              f"{a.env_id} cannot train here: fix the FAIL line(s) above")
+        sys.stdout.flush()
     labels = None
     if a.labels and "shaped" in methods:
         from shaped_es.shaping.kernel_notice import say_if_compiling
@@ -282,27 +289,21 @@ def cmd_check_env(a: argparse.Namespace) -> int:
     if a.json:
         print(json.dumps({"env": a.env_id, "checks": as_dicts(checks), "trains_with": methods}
                          | ({"labels": labels} if labels is not None else {})))
-    else:
-        width = max(len(c.name) for c in checks)
-        for c in checks:
-            print(f"{c.status:<4}  {c.name:<{width}}  {c.detail}")
-        print(f"{a.env_id} trains with: {', '.join(methods)}" if methods else
-              f"{a.env_id} cannot train here: fix the FAIL line(s) above")
-        if labels is not None:
-            if "chosen" in labels:
-                means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["returns"].items())
-                print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "
-                      f"action {np.mean(labels['zero_action']):.2f}")
-                if labels.get("clones"):
-                    means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["clones"].items())
-                    print(f"labels: the simulated candidate's return (the initial mean cloned toward each "
-                          f"variant's labels): {means}")
-                c = labels["chosen"]
-                chunk = f", targets=chunk ({c['chunk']} steps)" if c.get("chunk") else ""
-                print(f"labels: with seed {labels['seed']} a shaped run picks frame={c['frame']}{chunk}, query_clip="
-                      f"{clip_text(c['query_clip'])}: {c['reason']}; each run probes with its own seed")
-            for line in labels.get("details", []):
-                print(f"labels: {line}")
-            print(f"labels: {labels['verdict']}")
+    elif labels is not None:
+        if "chosen" in labels:
+            means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["returns"].items())
+            print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "
+                  f"action {np.mean(labels['zero_action']):.2f}")
+            if labels.get("clones"):
+                means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["clones"].items())
+                print(f"labels: the simulated candidate's return (the initial mean cloned toward each "
+                      f"variant's labels): {means}")
+            c = labels["chosen"]
+            chunk = f", targets=chunk ({c['chunk']} steps)" if c.get("chunk") else ""
+            print(f"labels: with seed {labels['seed']} a shaped run picks frame={c['frame']}{chunk}, query_clip="
+                  f"{clip_text(c['query_clip'])}: {c['reason']}; each run probes with its own seed")
+        for line in labels.get("details", []):
+            print(f"labels: {line}")
+        print(f"labels: {labels['verdict']}")
     sys.stdout.flush()
     return 1 if failed else 0

@@ -33,6 +33,7 @@ from shaped_es.shaping.population_fit import FitTask, fit_rows
 
 ROUNDS = 3  # DAgger rounds of the simulated candidate
 CLONE_KEY = 1_000_013  # seed key of the simulated clones' minibatch draws
+DURING = "the label probe, before generation 0"  # where its rollouts' error lines say they were
 
 
 def _labelled(trs: list[Transitions], labels: LabelSource) -> tuple[np.ndarray, np.ndarray]:
@@ -62,6 +63,8 @@ def roll_out(cfg: RunConfig, spec: MLPSpec, params: np.ndarray, seeds: np.ndarra
     tasks = population_tasks(cfg.env, dict(cfg.env_kwargs), spec, np.asarray(params, np.float32),
                              np.asarray(seeds, np.int64), workers, generation, True, cfg.rollout.max_steps,
                              obs_norm=first_norm(cfg, spec))
+    for t in tasks:  # its errors name the probe, not a generation number of its seed streams
+        t.during = DURING
     results = executor.map(run_task, tasks) if executor is not None else [run_task(t) for t in tasks]
     returns = np.concatenate([np.asarray(r.returns, np.float64) for r in results])  # (m, E)
     lengths = np.concatenate([np.asarray(r.lengths) for r in results])  # (m, E)

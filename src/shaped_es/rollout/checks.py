@@ -12,7 +12,7 @@ from shaped_es.rollout.task import RolloutTask
 
 
 def _bad_output(task: RolloutTask, what: str, seed, step: int) -> EnvError:
-    return EnvError(f"env {task.env_id!r} returned {what} (generation {task.generation}, episode seed "
+    return EnvError(f"env {task.env_id!r} returned {what} ({task.where()}, episode seed "
                     f"{int(seed)}, step {step}); check the env's step/reset")
 
 

@@ -31,6 +31,11 @@ class RolloutTask:
     rowwise: bool = False  # each observation's action on its own, bit for bit (policies.forward; evaluate)
     obs_norm: ObsNorm | None = None  # the policies' input normalization (es.obs_norm), applied before forward
     obs_stats: bool = False  # also return each member's observation count, sum and sum of squares
+    during: str = ""  # what the rollout is part of, for its errors ("": generation ``generation``; :meth:`where`)
+
+    def where(self) -> str:
+        """Where in the run this rollout is, as its error lines name it."""
+        return self.during or f"generation {self.generation}"
 
     def recorded(self) -> np.ndarray:
         """Mask ``(m,)`` of the members whose transitions are kept."""

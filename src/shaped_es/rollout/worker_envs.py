@@ -40,13 +40,13 @@ def _env_faults(task: RolloutTask, seeds: np.ndarray):
         _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)  # envs in an unknown state
         if isinstance(exc, EnvError):
             raise
-        raise EnvError(f"env {task.env_id!r} raised {exception_line(exc)} (generation {task.generation}, "
+        raise EnvError(f"env {task.env_id!r} raised {exception_line(exc)} ({task.where()}, "
                        f"episode seeds {_seed_text(seeds)})", traceback.format_exc(),
                        worker_fault=bool(getattr(exc, "worker_fault", False))) from None
     except SystemExit as exc:  # would end the command (or the worker) as if the run had finished
         _ENV_CACHE.pop(_env_key(task.env_id, task.env_kwargs), None)
-        raise EnvError(f"env {task.env_id!r} called sys.exit({exc.code!r}) during a rollout (generation "
-                       f"{task.generation}, episode seeds {_seed_text(seeds)}); an env reports a failure "
+        raise EnvError(f"env {task.env_id!r} called sys.exit({exc.code!r}) during a rollout ("
+                       f"{task.where()}, episode seeds {_seed_text(seeds)}); an env reports a failure "
                        f"by raising an exception", traceback.format_exc()) from None
 
 
