@@ -132,12 +132,12 @@ def _check_memory(cfg: RunConfig, n: int, state_bytes: int) -> None:
 
 
 def _check_workers(cfg: RunConfig) -> None:
-    from shaped_es.executors.base import MAX_LOCAL_WORKERS, ExecutorError
+    from shaped_es.executors.base import MAX_LOCAL_WORKERS, ExecutorError, usable_cores
 
     local = cfg.executor == "process" or (cfg.executor == "mpi" and not _under_mpiexec())
     if cfg.workers is not None and local and cfg.workers > MAX_LOCAL_WORKERS:
         raise ExecutorError(f"--workers {cfg.workers} is more than {MAX_LOCAL_WORKERS} local {cfg.executor} "
-                            f"workers (this machine has {os.cpu_count()} cores); use --executor ray on a cluster")
+                            f"workers (this machine has {usable_cores()} cores); use --executor ray on a cluster")
 
 
 def _under_mpiexec() -> bool:

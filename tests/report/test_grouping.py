@@ -110,3 +110,26 @@ def test_report_figure_names_both_envs(tmp_path, capsys, suffix):
     assert main(["report", *map(str, dirs), "--out", str(tmp_path / f"fig{suffix}")]) == 0
     assert (tmp_path / f"fig{suffix}").stat().st_size > 10_000
     assert "differ in env" in capsys.readouterr().err
+
+
+def test_a_benchmark_directory_reports_in_its_method_order_with_its_verdict(tmp_path, capsys):
+    """``report BENCH``: its runs in benchmark.yaml's method order, then by seed as a number (a new user's report
+    of one benchmark, by name, put CMA-ES first: "cmaes / shaped 6.56x"), and the benchmark's verdict lines
+    against Vanilla-ES (a one-benchmark report printed none)."""
+    from shaped_es.cli.results import expand_run_dirs
+
+    bench = tmp_path / "bench"
+    (bench / "runs").mkdir(parents=True)
+    (bench / "benchmark.yaml").write_text("env: CarNav-v0\nmethods: [shaped, vanilla, cmaes]\nseeds: [0, 2, 10]\n")
+    for method, tests in (("cmaes", (1.0, 2.0)), ("vanilla", (1.0, 3.0)), ("shaped", (5.0, 6.0))):
+        for seed in (0, 2, 10):
+            make_run(bench / "runs" / f"{method}_s{seed}", method, seed=seed, tests=tests)
+    names = [d.name for d in expand_run_dirs([str(bench)])]
+    assert names == [f"{m}_s{s}" for m in ("shaped", "vanilla", "cmaes") for s in (0, 2, 10)]
+    out = tmp_path / "rep" / "report.md"
+    assert main(["report", str(bench), "--out", str(out), "--threshold", "4"]) == 0
+    summary = json.loads((tmp_path / "rep" / "summary.json").read_text())
+    assert list(summary["methods"]) == ["shaped", "vanilla", "cmaes"]
+    verdicts = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("[report] ")]
+    assert [v.split(":")[0] for v in verdicts] == ["[report] shaped vs vanilla", "[report] cmaes vs vanilla"]
+    assert verdicts[0].startswith("[report] shaped vs vanilla: 3/3 vs 0/3 seeds reached 4")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 RUN_DIR_HELP = "a run directory (the --out of train)"
@@ -49,14 +50,36 @@ def add_report_parser(sub) -> argparse.ArgumentParser:
 
 
 def expand_run_dirs(paths: list[str]) -> list[Path]:
-    """Run directories as given; a benchmark directory stands for every run under its ``runs/``."""
+    """Run directories as given; a benchmark directory stands for every run under its ``runs/``, in its
+    ``benchmark.yaml``'s method order where it has one (a new user's report of one benchmark, sorted by name,
+    put CMA-ES first and its ratios upside down: "cmaes / shaped 6.56x"), then by seed."""
     out: list[Path] = []
     for p in map(Path, paths):
         if not (p / "config.yaml").is_file() and (p / "runs").is_dir():
-            out += sorted(d for d in (p / "runs").iterdir() if (d / "config.yaml").is_file())
+            out += sorted((d for d in (p / "runs").iterdir() if (d / "config.yaml").is_file()),
+                          key=_run_order(p))
         else:
             out.append(p)
     return out
+
+
+def _run_order(bench: Path):
+    """Sort key of a benchmark's run directories ``NAME_sSEED``: NAME's place among its ``benchmark.yaml``'s
+    methods (unlisted names after them, by name), then SEED as a number."""
+    import re
+
+    from shaped_es.safe_yaml import load
+
+    try:
+        methods = [str(m) for m in (load((bench / "benchmark.yaml").read_text()) or {}).get("methods", [])]
+    except Exception:  # noqa: BLE001 - no or unreadable benchmark.yaml: by name, as before
+        methods = []
+
+    def key(d: Path):
+        m = re.fullmatch(r"(.+)_s(\d+)", d.name)
+        name, seed = (m.group(1), int(m.group(2))) if m else (d.name, -1)
+        return (methods.index(name) if name in methods else len(methods), name, seed)
+    return key
 
 
 def cmd_report(a: argparse.Namespace) -> int:
@@ -74,7 +97,12 @@ def cmd_report(a: argparse.Namespace) -> int:
     suffix = out.suffix.lower()
     if suffix == ".md":
         check_report_page(out, [d for dirs in groups.values() for d in dirs], a.force)
-        print(json.dumps(write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)))
+        paths = write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)
+        from shaped_es.benchmark.verdict import verdict_lines
+
+        for line in verdict_lines(json.loads(Path(paths["summary"]).read_text())):  # as a benchmark ends
+            print(f"[report] {line}", file=sys.stderr)
+        print(json.dumps(paths))
         return 0
     if suffix not in FIGURE_SUFFIXES:
         raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")

@@ -24,7 +24,8 @@ class InverseDynamicsSettings(_Strict):
     steps_per_generation: Int = Field(_MPHI.steps_per_generation, ge=0,
                                       description="training iterations per generation")
     min_return: Float = Field(_MPHI.min_return,
-                              description="episodes with a lower return are left out (paper: 5)")
+                              description="with filter total or positive (not the default none, which keeps "
+                              "every transition): episodes with a lower return are left out (paper: 5)")
     max_dataset: Int = Field(_MPHI.max_dataset, gt=0, description="cap on aggregated transitions (FIFO)")
     frame: Literal["auto", "world", "motion", "waypoint", "both"] = Field(
         "auto", description="M_phi's displacement frame: world (paper), the agent's motion frame, the "

@@ -45,11 +45,21 @@ def is_worker_fault(exc: BaseException) -> bool:
 MAX_LOCAL_WORKERS = 1024  # processes on one machine; more is refused, more than 4 per core warned about
 
 
+def usable_cores() -> int:
+    """The cores this process may run on: its CPU affinity where the OS has one (``taskset``, a cgroup's cpuset,
+    a batch scheduler's allocation), else ``os.cpu_count()``. The process executor's default workers and the
+    clones' threads count these, so ``taskset -c 0 shaped-es ...`` holds a run to one core."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # macOS, Windows
+        return os.cpu_count() or 1
+
+
 def check_local_workers(workers: int, executor: str) -> None:
     """Refuse a worker count no machine runs as local processes; warn above 4 per core."""
     import warnings
 
-    cpus = os.cpu_count() or 1
+    cpus = usable_cores()
     if workers > MAX_LOCAL_WORKERS:
         raise ExecutorError(f"--workers {workers} is more than {MAX_LOCAL_WORKERS} local {executor} workers "
                             f"(this machine has {cpus} cores); use --executor ray on a cluster")

@@ -38,7 +38,8 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import Future, wait
 from typing import Any
 
-from shaped_es.executors.base import Executor, ExecutorError, ExecutorWarning, check_local_workers
+from shaped_es.executors.base import (Executor, ExecutorError, ExecutorWarning, check_local_workers,
+                                      usable_cores)
 
 ROOT_VARS = (
     "OMPI_ALLOW_RUN_AS_ROOT",
@@ -88,7 +89,7 @@ class MPIExecutor(Executor):
             raise ExecutorError(f"mpi4py cannot load MPI ({exc}): pip install 'shaped-es[mpi]'") from None
         opts: dict[str, Any] = {"main": False, "env": _WORKER_ENV, "path": [p for p in sys.path if p]}
         if spawn:
-            opts["max_workers"] = int(workers or os.cpu_count() or 1)
+            opts["max_workers"] = int(workers or usable_cores())
             check_local_workers(opts["max_workers"], "mpi")
         self._pool = MPIPoolExecutor(**opts)
         self._broken = False

@@ -37,7 +37,8 @@ from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
 from shaped_es.monitor import warning_log
-from shaped_es.executors.base import WORKER_INDEX_ENV, Executor, ExecutorError, check_local_workers, pid_after
+from shaped_es.executors.base import (WORKER_INDEX_ENV, Executor, ExecutorError, check_local_workers, pid_after,
+                                      usable_cores)
 
 _THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
 
@@ -144,7 +145,7 @@ class ProcessExecutor(Executor):
         startup_timeout_s: float = 120.0,
         first_index: int = 0,
     ):
-        self.workers = int(workers or os.cpu_count() or 1)
+        self.workers = int(workers or usable_cores())
         self.first_index = int(first_index)  # worker indices are first_index .. first_index + workers - 1
         check_local_workers(self.workers, "process")
         if start_method not in ("spawn", "forkserver"):

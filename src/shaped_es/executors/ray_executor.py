@@ -48,7 +48,7 @@ from typing import Any
 import ray
 import ray.exceptions as rex
 
-from shaped_es.executors.base import Executor, ExecutorError, is_worker_fault, pid_after
+from shaped_es.executors.base import Executor, ExecutorError, is_worker_fault, pid_after, usable_cores
 
 LOOPBACK = "127.0.0.1"
 
@@ -203,7 +203,7 @@ class RayExecutor(Executor):
                     "Ray is already initialized in this process; pass --address (e.g. 'auto') to use it"
                 )
         elif address is None:
-            _start_local(int(workers or os.cpu_count() or 1))
+            _start_local(int(workers or usable_cores()))
             self._owns_ray = True
         else:
             _connect(address)

@@ -29,12 +29,12 @@ direction ``theta* - mu_g`` against the ES update).
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from shaped_es import seeding
+from shaped_es.executors.base import usable_cores
 from shaped_es.guides.mechanisms import Mechanism, every_kth
 from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.rollout import population_tasks, run_task
@@ -59,10 +59,10 @@ def _concurrently(calls: list) -> list:
     several (a NumPy/Numba clone spends its time in kernels that release the GIL, and the run's workers wait
     for it), else here. Written by hand: a shared pool, so no generation pays for starting threads."""
     global _POOL
-    if len(calls) < 2 or (os.cpu_count() or 1) < 2:
+    if len(calls) < 2 or usable_cores() < 2:
         return [c() for c in calls]
     if _POOL is None:
-        _POOL = ThreadPoolExecutor(max_workers=min(4, os.cpu_count() or 1), thread_name_prefix="shaped-clone")
+        _POOL = ThreadPoolExecutor(max_workers=min(4, usable_cores()), thread_name_prefix="shaped-clone")
     return list(_POOL.map(lambda c: c(), calls))
 
 
