@@ -151,14 +151,14 @@ def test_a_checkpoint_of_the_single_rival_format_loads():
 
 
 def test_the_clones_on_threads_give_the_run_they_give_one_after_another(tmp_path, monkeypatch):
-    """candidate._concurrently runs the mean's and the rivals' clones on threads; with one core they run in
-    turn: the same metrics rows either way."""
-    from shaped_es.guides.mechanisms import candidate as cand_mod
+    """guides.concurrent runs the mean's and the rivals' clones (and the label probe's) on threads; with one core
+    they run in turn: the same metrics rows either way."""
+    from shaped_es.guides import concurrent
 
-    if (cand_mod.os.cpu_count() or 1) < 2:
+    if concurrent.threads() < 2:
         pytest.skip("one core: the clones run in turn anyway")
     threaded = strip_time(train(tmp_path / "threads", _rival()).read_metrics())
-    monkeypatch.setattr(cand_mod.os, "cpu_count", lambda: 1)
+    monkeypatch.setattr(concurrent, "usable_cores", lambda: 1)
     in_turn = strip_time(train(tmp_path / "in_turn", _rival()).read_metrics())
-    assert cand_mod._POOL is not None  # the first run used the threads
+    assert concurrent._POOL is not None  # the first run used the threads
     assert threaded == in_turn and any(r.get("candidate_rival") not in (None, "") for r in threaded)

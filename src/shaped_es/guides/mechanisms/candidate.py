@@ -29,12 +29,11 @@ direction ``theta* - mu_g`` against the ES update).
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.executors.base import usable_cores
+from shaped_es.guides.concurrent import concurrently
 from shaped_es.guides.mechanisms import Mechanism, every_kth
 from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.rollout import population_tasks, run_task
@@ -49,21 +48,6 @@ SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
 REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
 CHECK_METRIC = "check_env_steps"  # with check_episodes: the env steps of this generation's check (counted in
 #                                   env_steps by the trainer; 0 where nothing won before the check)
-
-
-_POOL: ThreadPoolExecutor | None = None  # the clones' threads, made at the first generation with two or more
-
-
-def _concurrently(calls: list) -> list:
-    """Each of ``calls`` (no arguments) run, results in order: on up to one thread per core when there are
-    several (a NumPy/Numba clone spends its time in kernels that release the GIL, and the run's workers wait
-    for it), else here. Written by hand: a shared pool, so no generation pays for starting threads."""
-    global _POOL
-    if len(calls) < 2 or usable_cores() < 2:
-        return [c() for c in calls]
-    if _POOL is None:
-        _POOL = ThreadPoolExecutor(max_workers=min(4, usable_cores()), thread_name_prefix="shaped-clone")
-    return list(_POOL.map(lambda c: c(), calls))
 
 
 def population_fell(now: np.ndarray, before: tuple[float, float, int], margin: float) -> bool:
@@ -267,7 +251,7 @@ class MeanCandidate(Mechanism):
         """``(theta*, its metrics, [(variant, clone)] of the rivals)``: the mean cloned toward the run's labels
         and toward each rival's that has trained (``guides/rival.py``; none when the run's own clone had no
         data). Each clone's rows are read here, in turn; the clones then run concurrently
-        (:func:`_concurrently`: their kernels release the GIL; each is the same computation as alone)."""
+        (:func:`~shaped_es.guides.concurrent.concurrently`: their kernels release the GIL; each is the same computation as alone)."""
         cfg = self.cfg
         start = mu if not cfg.warm_start or self.learner is None else self.learner
         if not self.host.labels.ready:
@@ -286,7 +270,7 @@ class MeanCandidate(Mechanism):
                     r = r.subsample(cap, rng)
                 jobs.append(dict(theta=mu if not cfg.warm_start or learner is None else learner, rows=r,
                                  labels=rival.labels, key=rival_clone_key(v), variant=v))
-        done = _concurrently([lambda j=j: clone_mean(self.host, generation, j["theta"], cfg, rows=j["rows"],
+        done = concurrently([lambda j=j: clone_mean(self.host, generation, j["theta"], cfg, rows=j["rows"],
                                                      labels=j.get("labels"), key=j.get("key", CLONE_KEY))
                               for j in jobs])
         (theta_star, info), clones = done[0], []
