@@ -37,6 +37,9 @@ def test_report_counts_a_seed_once_and_censors_each_run_at_its_own_budget(tmp_pa
     out = tmp_path / "rep" / "report.md"
     assert main(["report", *map(str, dirs), "--threshold", "5.5", "--out", str(out)]) == 0
     err = capsys.readouterr().err.strip().splitlines()
+    verdicts = [ln for ln in err if ln.startswith("[report] ")]  # the benchmark's verdict lines, against vanilla
+    assert [v.split(":")[0] for v in verdicts] == ["[report] shaped vs vanilla"]
+    err = [ln for ln in err if ln not in verdicts]
     assert len(err) == 1 and err[0].startswith("shaped-es: warning: 2 'shaped' runs repeat another's method, "
                                                "settings and seed, so each seed counts once")
     assert f"{dirs[1]}, {dirs[2]} as {dirs[0]} (seed 0)" in err[0]
