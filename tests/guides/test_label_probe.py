@@ -368,6 +368,12 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))
     assert [h for h, _ in seen] == [8] and res.shoot_horizon == 8 and res.shoot_tried == {}
+    # episodes of 20 steps: a 32-step hold has no row to learn from and is not probed (the others are, with the
+    # same seed streams)
+    seen.clear()
+    short = build_config({**POINT, "rollout": {**POINT["rollout"], "max_steps": 20}})
+    res = label_probe.probe(short, spec, 2, mphi_config(short, 2))
+    assert [h for h, _ in seen] == [4, 8, 16] and set(res.shoot_tried) == {"4", "8", "16"}
 
 
 def test_chunk_variants_leave_every_other_simulated_candidate_as_it_was():

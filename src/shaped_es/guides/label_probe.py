@@ -320,6 +320,10 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     shoot, shoot_on, horizon, tried = [], None, None, {}
     # the shooting rival is kept only where its clone drives, at the horizon that drives best
     horizons = list(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else []
+    # a longer hold than the probe's longest episode has no row to learn from (a 20-step body's 32-step model
+    # would be its initial weights): not probed
+    longest = max((int(np.bincount(t.episode).max()) for t in flat if len(t)), default=0)  # steps
+    horizons = [h for h in horizons if h == mp.shoot_horizon or h < longest]
     shooters = [shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, h) for h in horizons]
     thetas: list[np.ndarray] = []  # each simulated candidate (n,), in the order of sources + shooters
     one = sum(v[2] is None for v in base)  # the one-step variants: keys 0.., the shooters' next (as before chunks)
