@@ -10,7 +10,8 @@ from helpers import new_run, npz_round_trip, run_until_crash, strip_time, train
 from shaped_es.guides.label_budget import FIRST_SLEEP, WAKE_JUDGED, LabelBudget, rows_summary
 from shaped_es.trainer import Trainer
 
-NOTE_MAX = 280  # characters of the printed back-off note, for a built-in env with a controller
+NOTE_MAX = 290  # characters of the printed back-off note, for a built-in env with a controller (280 until its count
+#                 said "so far": a new user read "won 11 of 35" against the benchmark line's whole-run "11 of 39")
 
 
 def _run(budget: LabelBudget, wins: list[bool]) -> str:
@@ -64,29 +65,29 @@ def test_the_back_off_note_is_one_short_line():
         never.judge(False, 0.0)
     assert never.sleeps == 1
     with_oracle, without = (f"shaped-es: note: {never.note('CarNav-v0', c)}" for c in (True, False))
-    assert with_oracle == ("shaped-es: note: labels lost 8 judged generations in a row (won 0 of 8): shaping "
+    assert with_oracle == ("shaped-es: note: labels lost 8 judged generations in a row (won 0 of 8 so far): shaping "
                            "sleeps 4 generations at the ES strategy's price and retries (metrics.csv shaping_awake); "
                            "try shaped-es check-env CarNav-v0 --labels; compare --set shaping.labels=controller, "
                            "--method vanilla / cmaes")
     assert without == with_oracle.replace("--set shaping.labels=controller, ", "")
     # a run on the controller's labels (a new user's oracle was told to try them): only the baselines
     assert never.note("CarNav-v0", True, "controller").endswith("shaping_awake); compare --method vanilla / cmaes")
-    assert len(with_oracle) <= NOTE_MAX and len(without) <= 250
+    assert len(with_oracle) <= NOTE_MAX and len(without) <= NOTE_MAX - 30
     once = LabelBudget(patience=8, max_sleep=32)  # a new user's car: its one win (generation 0) solved the task
     for accepted in [True] + [False] * 8:
         once.judge(accepted, 0.0)
     note = once.note("CarNav-v0", True)
-    assert "(won 1 of 9)" in note and "; if it stalls, try shaped-es check-env" in note
+    assert "(won 1 of 9 so far)" in note and "; if it stalls, try shaped-es check-env" in note
     assert len(note) <= NOTE_MAX
     won = LabelBudget(patience=8, max_sleep=32, keep_rate=0.2)
     for accepted in [False] * 3 + [True, True] + [False] * 8:
         won.judge(accepted, 0.0)
     assert won.sleeps == 1
     note = won.note("CarNav-v0", True)
-    assert note.startswith("labels lost 8 judged generations in a row (won 2 of 13): shaping sleeps 4 ")
+    assert note.startswith("labels lost 8 judged generations in a row (won 2 of 13 so far): shaping sleeps 4 ")
     # a new user's drone and 3-link arm: "they paid before: the search may now outpace them" read as all is well
     # on runs that had stalled below zero action's return; the advice is for a run that stalls
-    assert "(won 2 of 13): shaping sleeps" in note and "; if it stalls, try shaped-es check-env" in note
+    assert "(won 2 of 13 so far): shaping sleeps" in note and "; if it stalls, try shaped-es check-env" in note
     assert len(note) <= NOTE_MAX
 
 
@@ -120,7 +121,7 @@ def test_a_never_winning_streak_lost_by_a_median_of_more_than_the_spread_sleeps_
     assert [b.judge(False, g, spread=2.0) for g in (-1.0, -3.0, -5.0)] == [False, False, True]
     note = b.note("CarNav-v0", False)
     assert note.startswith("labels lost 3 judged generations in a row by a median of 1.5 population spreads "
-                           "(won 0 of 3): shaping sleeps 8 generations") and len(note) <= NOTE_MAX
+                           "(won 0 of 3 so far): shaping sleeps 8 generations") and len(note) <= NOTE_MAX
     # its wake-up trials are the patience's: two judgements, then a sleep twice as long (max_sleep: 8)
     assert [b.begin() for _ in range(9)] == [False] * 8 + [True]
     assert [b.judge(False, -5.0, spread=2.0) for _ in range(2)] == [False, True] and b.asleep_left == 8

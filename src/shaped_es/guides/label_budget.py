@@ -152,7 +152,7 @@ class LabelBudget:
         n = min(self.losses, self.patience) or self.patience
         far = (f" by a median of {np.median(self.spreads):.1f} population spreads" if n < self.patience
                and self.spreads else "")
-        head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged}): "
+        head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged} so far): "
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (metrics.csv "
                 f"shaping_awake)")
         # after a win ("won N of J" says how many): the advice is for a run that stalls. Two new users' runs (a
