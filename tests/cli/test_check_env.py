@@ -45,8 +45,8 @@ class Point(gym.Env):
         return obs, reward, False, False, self._info()
 
 
-for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step", "wide_actions",
-             "column_waypoints"):
+for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step",
+             "wide_actions", "column_waypoints"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 

@@ -251,7 +251,8 @@ class MeanCandidate(Mechanism):
         """``(theta*, its metrics, [(variant, clone)] of the rivals)``: the mean cloned toward the run's labels
         and toward each rival's that has trained (``guides/rival.py``; none when the run's own clone had no
         data). Each clone's rows are read here, in turn; the clones then run concurrently
-        (:func:`~shaped_es.guides.concurrent.concurrently`: their kernels release the GIL; each is the same computation as alone)."""
+        (:func:`~shaped_es.guides.concurrent.concurrently`: their kernels release the GIL; each is the same
+        computation as alone)."""
         cfg = self.cfg
         start = mu if not cfg.warm_start or self.learner is None else self.learner
         if not self.host.labels.ready:
