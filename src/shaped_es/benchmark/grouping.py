@@ -30,6 +30,13 @@ SAME_RESULTS = ("shaping.trajectory_root", "shaping.placement", "shaping.diagnos
 LABEL_KEYS = 3  # differing settings named in a group's label at most (all of them in the warning)
 
 
+def split_run_name(name: str) -> tuple[str, int] | None:
+    """``(method, seed)`` of a benchmark's run directory name ``METHOD_sSEED`` (``runner.run_name``); None for
+    any other name."""
+    m = re.fullmatch(r"(.+)_s(\d+)", name)
+    return (m.group(1), int(m.group(2))) if m else None
+
+
 def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
     """Run directories grouped by method (first-seen order), and one config per group (the first run's).
     A run of a benchmark (``DIR/runs/<name>_s<seed>``) is grouped by ``<name>``, so benchmark variants
@@ -45,8 +52,8 @@ def group_runs(run_dirs) -> tuple[dict[str, list[Path]], dict[str, RunConfig]]:
         cfg = store.read_config()
         if not store.metrics_path.is_file():
             raise StoreError(f"{d} has no metrics.csv yet")
-        m = re.fullmatch(r"(.+)_s\d+", Path(d).name)
-        label = m.group(1) if m and Path(d).parent.name == "runs" else cfg.method
+        named = split_run_name(Path(d).name)
+        label = named[0] if named and Path(d).parent.name == "runs" else cfg.method
         found.setdefault(label, []).append((Path(d), cfg))
     groups: dict[str, list[Path]] = {}
     configs: dict[str, RunConfig] = {}

@@ -66,8 +66,7 @@ def expand_run_dirs(paths: list[str]) -> list[Path]:
 def _run_order(bench: Path):
     """Sort key of a benchmark's run directories ``NAME_sSEED``: NAME's place among its ``benchmark.yaml``'s
     methods (unlisted names after them, by name), then SEED as a number."""
-    import re
-
+    from shaped_es.benchmark.grouping import split_run_name
     from shaped_es.safe_yaml import load
 
     try:
@@ -76,8 +75,7 @@ def _run_order(bench: Path):
         methods = []
 
     def key(d: Path):
-        m = re.fullmatch(r"(.+)_s(\d+)", d.name)
-        name, seed = (m.group(1), int(m.group(2))) if m else (d.name, -1)
+        name, seed = split_run_name(d.name) or (d.name, -1)
         return (methods.index(name) if name in methods else len(methods), name, seed)
     return key
 

@@ -130,12 +130,19 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
     return [(rets[v], int(steps[v])) for v in range(V)]
 
 
+def fit_on(model, data):
+    """``model`` (an M_phi, a forward model) fitted on the label probe's data as a run fits it: each probe
+    generation's recorded steps (``data``: a list of them) added, then one ``train()``, in turn; returns it."""
+    for trs in data:
+        model.add(trs)
+        model.train()
+    return model
+
+
 def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, horizon: int | None = None):
     """The shooting labels (``shaping/forward_shoot.py``) trained on the label probe's data (``data``: its
     recorded steps per generation); ``horizon``: the steps an action is held (None: the config's)."""
     h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
-    m = shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h, kind=cfg.shaping.inverse_dynamics.shoot_model)
-    for trs in data:
-        m.add(trs)
-        m.train()
+    kind = cfg.shaping.inverse_dynamics.shoot_model
+    m = fit_on(shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h, kind=kind), data)
     return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead, cfg.shaping.inverse_dynamics.shoot_cost)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, probe_seeds
+from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, probe_seeds, zero_labels
 from shaped_es.guides.probe_choice import beats, paired
 from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
@@ -241,6 +241,7 @@ def _one_d(cfg, spec, env_id: str, seed: int) -> dict:
     from dataclasses import replace
 
     from shaped_es import seeding
+    from shaped_es.guides.clone_probe import fit_on
     from shaped_es.guides.label_probe import collect
     from shaped_es.guides.shaped_setup import mphi_config
     from shaped_es.shaping.inverse_dynamics import InverseDynamics
@@ -248,13 +249,10 @@ def _one_d(cfg, spec, env_id: str, seed: int) -> dict:
 
     mc = replace(mphi_config(cfg, 1), frame="world")
     data, steps = collect(cfg, spec, seeding.initial_mean(spec, cfg.seed))
-    m = InverseDynamics(spec.obs_dim, 1, spec.act_dim, mc)
-    for trs in data:  # as the probe trains each variant's M_phi
-        m.add(trs)
-        m.train()
+    m = fit_on(InverseDynamics(spec.obs_dim, 1, spec.act_dim, mc), data)  # as the probe fits each variant's M_phi
     seeds = probe_seeds(cfg)
     labels, n = drive(cfg, MphiLabels(m, "world", mc.query_scale, mc.query_mix), "world", seeds, mc.query_mix)
-    zero, n0 = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
+    zero, n0 = drive(cfg, zero_labels(spec.act_dim), "world", seeds)
     gain, se = paired(labels, zero)
     how = (f"drive the body: they beat zero action by {gain:.2f} return" if gain > 2 * se else
            f"drive it worse than zero action (by {-gain:.2f} return): a run's candidates may rarely win (it then backs "
@@ -262,8 +260,8 @@ def _one_d(cfg, spec, env_id: str, seed: int) -> dict:
            f"are not clearly better or worse than zero action ({gain:+.2f} return, 2 standard errors {2 * se:.2f})")
     return {"env": env_id, "seed": seed, "zero_action": [float(v) for v in zero],
             "returns": {"world": [float(v) for v in labels]},
-            "details": [f"a 1-D waypoint space: M_phi uses the world frame, so a run has no probe (nothing to choose), "
-                        f"no candidate at generation 0 and no shooting horizon chosen"],
+            "details": ["a 1-D waypoint space: M_phi uses the world frame, so a run has no probe (nothing to choose), "
+                        "no candidate at generation 0 and no shooting horizon chosen"],
             "verdict": f"world's labels {how} (paired over {EPISODES} episodes, {steps + n + n0} env steps)"}
 
 
@@ -275,11 +273,7 @@ def zero_ended_early(cfg, spec, limit: int | None, zero_action: list[float]) -> 
     if not limit:
         return None
     seeds = probe_seeds(cfg)  # (EPISODES,)
-
-    def zero(s, q):
-        return np.zeros((s.shape[0], spec.act_dim), np.float32)
-
-    runs = [drive(cfg, zero, "world", np.array([s])) for s in seeds]  # ((1,) return, steps) each
+    runs = [drive(cfg, zero_labels(spec.act_dim), "world", np.array([s])) for s in seeds]  # ((1,) return, steps) each
     if len(zero_action) != EPISODES or not np.allclose([float(r[0]) for r, _ in runs], zero_action,
                                                         rtol=1e-9, atol=1e-9):
         return None

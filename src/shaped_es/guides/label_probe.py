@@ -94,7 +94,7 @@ from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, to_space
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
-from shaped_es.guides.clone_probe import clone_rounds_many, roll_out, shoot_labels
+from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, roll_out, shoot_labels
 from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets, clone_beats, keep_shoot,
                                           nearest_horizon, unjudged)
 from shaped_es.guides.probe_variants import long_variants, variant_name, variants
@@ -235,6 +235,11 @@ def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: fl
     return np.concatenate([d, m], axis=1).astype(np.float32)  # (B, 2d)
 
 
+def zero_labels(act_dim: int):
+    """Zero action (the middle of the action space) as a label source for :func:`drive`: the probe's baseline."""
+    return lambda s, q: np.zeros((s.shape[0], act_dim), np.float32)  # (B, act)
+
+
 def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0) -> tuple[np.ndarray, int]:
     """Returns ``(E,)`` of episodes driven by ``label(obs (B, obs), query) -> (B, act)`` and their steps;
     batched through the env's core when it has one, else one Gymnasium env episode by episode."""
@@ -302,10 +307,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     for frame, clip, chunk in vs:
         if (frame, chunk) not in models:
             mc = replace(mphi_cfg, frame=frame, **({} if chunk is None else {"targets": "chunk", "horizon": chunk}))
-            m = InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, mc)
-            for trs in data:
-                m.add(trs)
-                m.train()
+            m = fit_on(InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, mc), data)
             x = m.newest(m.dataset_size)[0][:, spec.obs_dim:]  # (N, d') training displacements
             models[(frame, chunk)] = (m, float(np.linalg.norm(x, axis=1).mean()) if len(x) else 0.0)
         m, step = models[(frame, chunk)]
@@ -315,7 +317,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         returns[variant_name(frame, clip, chunk)] = [float(v) for v in r]
         steps += n
         sources.append(label)
-    zero, n = drive(cfg, lambda s, q: np.zeros((s.shape[0], spec.act_dim), np.float32), "world", seeds)
+    zero, n = drive(cfg, zero_labels(spec.act_dim), "world", seeds)
     steps += n
     shoot, shoot_on, horizon, tried = [], None, None, {}
     # the shooting rival is kept only where its clone drives, at the horizon that drives best
