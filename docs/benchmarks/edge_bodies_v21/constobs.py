@@ -1,28 +1,14 @@
 """2-D point with a constant (zero-variance) observation dimension (always 1.0) and one always 0. 50 steps."""
 import gymnasium as gym
 import numpy as np
+from point import GoalPoint
 
 
-class ConstObs(gym.Env):
+class ConstObs(GoalPoint):
     observation_space = gym.spaces.Box(-5.0, 5.0, (6,), np.float32)
-    action_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
 
-    def _obs_info(self):
-        d = self.goal - self.pos
-        step = min(1.0, 0.1 / max(float(np.linalg.norm(d)), 1e-9))
-        info = {"position": self.pos.copy(), "waypoint": self.pos + step * d}
-        return np.concatenate([self.pos, [1.0], self.goal, [0.0]]).astype(np.float32), info
-
-    def reset(self, *, seed=None, options=None):
-        super().reset(seed=seed)
-        self.pos = np.zeros(2)
-        self.goal = self.np_random.uniform(-2.0, 2.0, 2)
-        return self._obs_info()
-
-    def step(self, action):
-        self.pos = np.clip(self.pos + 0.1 * np.clip(action, -1.0, 1.0), -5.0, 5.0)
-        obs, info = self._obs_info()
-        return obs, -float(np.linalg.norm(self.goal - self.pos)), False, False, info
+    def observe(self):
+        return np.concatenate([self.pos, [1.0], self.goal, [0.0]]).astype(np.float32)
 
 
 gym.register("ConstObs-v0", entry_point=ConstObs, max_episode_steps=50)

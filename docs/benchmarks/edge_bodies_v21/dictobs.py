@@ -1,34 +1,19 @@
 """2-D point with a goal-conditioned Dict observation (observation, achieved_goal, desired_goal). 50 steps."""
 import gymnasium as gym
 import numpy as np
+from point import GoalPoint
 
 
-class DictObs(gym.Env):
+class DictObs(GoalPoint):
     observation_space = gym.spaces.Dict({
         "observation": gym.spaces.Box(-5.0, 5.0, (2,), np.float32),
         "achieved_goal": gym.spaces.Box(-5.0, 5.0, (2,), np.float32),
         "desired_goal": gym.spaces.Box(-5.0, 5.0, (2,), np.float32),
     })
-    action_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
 
-    def _obs_info(self):
-        d = self.goal - self.pos
-        step = min(1.0, 0.1 / max(float(np.linalg.norm(d)), 1e-9))
-        info = {"position": self.pos.copy(), "waypoint": self.pos + step * d}
-        obs = {"observation": self.pos.astype(np.float32), "achieved_goal": self.pos.astype(np.float32),
-               "desired_goal": self.goal.astype(np.float32)}
-        return obs, info
-
-    def reset(self, *, seed=None, options=None):
-        super().reset(seed=seed)
-        self.pos = np.zeros(2)
-        self.goal = self.np_random.uniform(-2.0, 2.0, 2)
-        return self._obs_info()
-
-    def step(self, action):
-        self.pos = np.clip(self.pos + 0.1 * np.clip(action, -1.0, 1.0), -5.0, 5.0)
-        obs, info = self._obs_info()
-        return obs, -float(np.linalg.norm(self.goal - self.pos)), False, False, info
+    def observe(self):
+        return {"observation": self.pos.astype(np.float32), "achieved_goal": self.pos.astype(np.float32),
+                "desired_goal": self.goal.astype(np.float32)}
 
 
 gym.register("DictObs-v0", entry_point=DictObs, max_episode_steps=50)
