@@ -177,15 +177,15 @@ gym.register("CheckPoint-brokenctl-v0", entry_point=BrokenController, max_episod
 
 def test_the_controller_line_says_what_it_returns_against_zero_and_random_actions():
     """A new user measured their controller's, zero action's and random actions' returns by hand to set a
-    threshold; the controller's line gives them (10 episodes each, seeds 0-9) and 0.9 x the controller's."""
+    threshold; the controller's line gives them (10 episodes each, seeds 0-9) and 90% of the way from zero to it."""
     detail = next(c for c in check_env("CheckPoint-steered-v0") if c.name == "controller").detail
     got = {k: float(v) for k, v in (p.rsplit(" ", 1) for p in
-                                     detail.split("returns over 10 episodes: ")[1].split(" (0.9")[0].split(", "))}
+                                     detail.split("returns over 10 episodes: ")[1].split(" (a threshold")[0].split(", "))}
     assert set(got) == {"it", "zero action", "random actions"}
     assert got["it"] > got["zero action"] and got["it"] > got["random actions"]  # it steers to the origin
     env = gym.make("CheckPoint-steered-v0")  # zero action: the point stays; its return by hand, same seeds
     zero = np.mean([20 * -np.linalg.norm(env.reset(seed=s)[0]) for s in range(10)])
     assert got["zero action"] == pytest.approx(zero, abs=0.01)
-    assert f"0.9 x its return, {0.9 * got['it']:.2f}" in detail
+    assert f"a threshold: {got['zero action'] + 0.9 * (got['it'] - got['zero action']):.2f}, 90% of the way" in detail
     broken = next(c for c in check_env("CheckPoint-brokenctl-v0") if c.name == "controller")
     assert broken.status == OK and "raised RuntimeError: no gains set" in broken.detail

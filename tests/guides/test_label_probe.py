@@ -794,14 +794,22 @@ class LinePoint(gym.Env):
 gym.register("LinePoint-v0", entry_point=LinePoint, max_episode_steps=40)
 
 
-def test_check_labels_on_a_1d_waypoint_space_drives_the_world_frames_labels():
-    """A 1-D waypoint space has no probe in a run (one frame); check-env --labels said only "nothing to choose" while
-    the back-off note pointed there (a new user's balancing robot). It now drives M_phi's world-frame labels,
-    trained on the probe's data, against zero action on the probe's episodes, and says so."""
+def test_a_1d_waypoint_space_is_probed_in_the_world_frame_alone(tmp_path, capsys):
+    """On a line the motion frame's heading is only a sign, so the probe tries the world frame alone (its clips,
+    chunk targets, shooting horizons) and its best simulated candidate is judged beside generation 0, as in 2-D
+    (a 1-D space had no probe, no generation-0 candidate and no horizon chosen, and check-env --labels a
+    separate drive). A line point's probe candidate drives the body and wins at generation 0."""
     from shaped_es.guides import label_check
 
     out = label_check.check_labels("LinePoint-v0")
-    assert len(out["returns"]["world"]) == len(out["zero_action"]) == label_probe.EPISODES
-    assert out["details"][0].startswith("a 1-D waypoint space: M_phi uses the world frame, so a run has no probe")
+    assert out["returns"] and all(k.startswith("world") for k in out["returns"])
+    assert out["chosen"]["frame"] == "world"
     gain = np.mean(out["returns"]["world"]) - np.mean(out["zero_action"])
     assert gain > 0 and out["verdict"].startswith(f"world's labels drive the body: they beat zero action by {gain:.2f}")
+    run = {**POINT, "env": "LinePoint-v0", "generations": 2}
+    rows = train(tmp_path / "line", run).read_metrics()
+    err = capsys.readouterr().err
+    res = ProbeResult(**json.loads((tmp_path / "line" / FILE).read_text()))
+    assert res.frame == "world" and set(res.returns) <= set(out["returns"])
+    assert "labels: frame=world" in err and "generation 0: the label probe's best simulated candidate" in err
+    assert int(rows[0]["candidate_accepted"]) == 1 and float(rows[0]["candidate_rival"]) == 5  # the probe's, won

@@ -264,8 +264,9 @@ RETURN_EPISODES = 10  # episodes of each policy in the controller's line (seeds 
 
 
 def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
-    """``; returns over 10 episodes: it 9.30, zero action 0.00, random actions -1.92 (0.9 x its return, 8.37, is
-    how the suite's thresholds were set)``, or where the controller raised, that one line."""
+    """``; returns over 10 episodes: it 9.30, zero action 0.00, random actions -1.92 (a threshold: 8.37, 90% of the
+    way from zero action's return to its own, as the suite's were set)``, or where the controller raised, that one
+    line."""
     space = env.action_space
     limit = getattr(getattr(env, "spec", None), "max_episode_steps", None) or max_steps
     middle = to_space(space, np.zeros(space.shape))  # the policy's zero output, as the rollouts map it
@@ -277,9 +278,17 @@ def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
         if failed:  # one line: the check itself passed
             return f"; driving it over an episode: {failed}"
         means[name] = float(np.mean([sum(r["rewards"]) for r in runs]))
-    return (f"; returns over {RETURN_EPISODES} episodes: it {means['it']:.2f}, zero action {means['zero action']:.2f}, "
-            f"random actions {means['random actions']:.2f} (0.9 x its return, {0.9 * means['it']:.2f}, is how the "
-            f"suite's thresholds were set)")
+    it, zero = means["it"], means["zero action"]
+    return (f"; returns over {RETURN_EPISODES} episodes: it {it:.2f}, zero action {zero:.2f}, "
+            f"random actions {means['random actions']:.2f} (a threshold: {suggested_threshold(it, zero):.2f}, 90% of "
+            f"the way from zero action's return to its own, as the suite's were set)")
+
+
+def suggested_threshold(controller: float, zero: float) -> float:
+    """90% of the way from zero action's return to the controller's: 0.9 x the controller's where zero action
+    returns 0 (the suite's progress rewards); where returns are negative (a distance penalty), 0.9 x the
+    controller's would ask for more than the controller does."""
+    return zero + 0.9 * (controller - zero)
 
 
 def describe_env(env_id: str) -> dict:

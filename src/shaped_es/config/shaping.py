@@ -206,6 +206,12 @@ class MeanCloneSettings(_Strict):
                                  "next population, sampled around the jump, has a mean return below the one "
                                  "before the jump by more than this many standard errors of the difference; the "
                                  "undone jump counts as a lost judgement for the back-off (0: never undone)")
+    revert_paired: Float = Field(_MEAN.revert_paired, ge=0, le=100, description="candidate: > 0: after an "
+                                 "accepted jump, the mean the ES step alone gave (what the jump replaced) runs "
+                                 "beside the next generation on its episodes, and the jump is undone (the mean goes "
+                                 "back to it) if it beats the jumped mean by more than this many standard errors of "
+                                 "the paired differences: a candidate is judged against the old mean but replaces "
+                                 "the new one; the undone jump counts as a lost judgement (0: no such row)")
     check_episodes: Int = Field(_MEAN.check_episodes, ge=0, le=1000, description="candidate: a winner and the "
                                 "mean run this many more episodes at once (on winning generations only) and the "
                                 "jump needs the paired test again on every episode the winner was not picked on "

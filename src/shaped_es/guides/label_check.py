@@ -177,8 +177,6 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
     env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
     spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
-    if pos_dim < 2:
-        return _one_d(cfg, spec, env_id, seed)
     res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     best = variant_name(res.frame, res.query_clip, res.chunk)
@@ -232,37 +230,6 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
             "env_steps": res.env_steps, "seconds": res.seconds, "details": details,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
-
-
-def _one_d(cfg, spec, env_id: str, seed: int) -> dict:
-    """``check-env --labels`` on a 1-D waypoint space, where a run has no probe (one frame, nothing to choose):
-    M_phi's world-frame labels, trained on the probe's data, driving the body against zero action on the probe's
-    episodes (a new user's balancing robot got "nothing to choose" and a back-off note pointing back here)."""
-    from dataclasses import replace
-
-    from shaped_es import seeding
-    from shaped_es.guides.clone_probe import fit_on
-    from shaped_es.guides.label_probe import collect
-    from shaped_es.guides.shaped_setup import mphi_config
-    from shaped_es.shaping.inverse_dynamics import InverseDynamics
-    from shaped_es.shaping.labels import MphiLabels
-
-    mc = replace(mphi_config(cfg, 1), frame="world")
-    data, steps = collect(cfg, spec, seeding.initial_mean(spec, cfg.seed))
-    m = fit_on(InverseDynamics(spec.obs_dim, 1, spec.act_dim, mc), data)  # as the probe fits each variant's M_phi
-    seeds = probe_seeds(cfg)
-    labels, n = drive(cfg, MphiLabels(m, "world", mc.query_scale, mc.query_mix), "world", seeds, mc.query_mix)
-    zero, n0 = drive(cfg, zero_labels(spec.act_dim), "world", seeds)
-    gain, se = paired(labels, zero)
-    how = (f"drive the body: they beat zero action by {gain:.2f} return" if gain > 2 * se else
-           f"drive it worse than zero action (by {-gain:.2f} return): a run's candidates may rarely win (it then backs "
-           f"off); compare --method vanilla / cmaes" if -gain > 2 * se else
-           f"are not clearly better or worse than zero action ({gain:+.2f} return, 2 standard errors {2 * se:.2f})")
-    return {"env": env_id, "seed": seed, "zero_action": [float(v) for v in zero],
-            "returns": {"world": [float(v) for v in labels]},
-            "details": ["a 1-D waypoint space: M_phi uses the world frame, so a run has no probe (nothing to choose), "
-                        "no candidate at generation 0 and no shooting horizon chosen"],
-            "verdict": f"world's labels {how} (paired over {EPISODES} episodes, {steps + n + n0} env steps)"}
 
 
 def zero_ended_early(cfg, spec, limit: int | None, zero_action: list[float]) -> int | None:

@@ -8,10 +8,11 @@ at -33, while on the torque-driven ReacherWay-v0 ``both`` scores -53, far below 
 a second-order arm a one-step displacement is mostly the velocity, so motion-frame training inputs sit
 near ``(|v|, 0)`` and a waypoint query lands far outside them.
 
-So before the first generation a shaped run with ``frame: auto`` (and a waypoint space of at least two
-dimensions) probes: it rolls out :data:`GENERATIONS` generations' worth of motor babbling and members
-around the initial mean (as the run's first generations would; about 0.7 of a default generation's
-episodes), trains one M_phi per frame on them, and drives :data:`EPISODES` episodes with each variant's
+So before the first generation a shaped run with ``frame: auto`` probes: it rolls out :data:`GENERATIONS`
+generations' worth of motor babbling and members around the initial mean (as the run's first generations
+would; about 0.7 of a default generation's episodes), trains one M_phi per frame on them (``world`` alone in a
+1-D waypoint space: ``probe_variants.probe_frames``; there the probe still chooses the clip, the targets, the
+shooting horizon and generation 0's candidate), and drives :data:`EPISODES` episodes with each variant's
 labels and with zero action, on the same seeds, and simulates each variant's candidate
 (``guides/clone_probe.py``: the initial mean cloned toward its labels, 3 DAgger rounds, driven on the
 same seeds). The default (``both``, the query as asked) is kept unless
@@ -97,7 +98,7 @@ from shaped_es.guides import probe_candidate
 from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, roll_out, shoot_labels
 from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets, clone_beats, keep_shoot,
                                           nearest_horizon, unjudged)
-from shaped_es.guides.probe_variants import long_variants, variant_name, variants
+from shaped_es.guides.probe_variants import long_variants, probe_frames, variant_name, variants
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.mphi_inputs import mixed_query
@@ -297,8 +298,9 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     seeds = probe_seeds(cfg)
     mp = cfg.shaping.inverse_dynamics
     chunk_len = mp.probe_chunk if mphi_cfg.targets == "one_step" else 0
-    base = variants(mp.query_clip, chunk_len)
-    vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len)
+    frames = probe_frames(pos_dim)
+    base = variants(mp.query_clip, chunk_len, frames)
+    vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len, frames)
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[tuple[str, int | None], tuple[InverseDynamics, float]] = {}

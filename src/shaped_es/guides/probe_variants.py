@@ -2,8 +2,8 @@
 
 A variant is ``(frame, query_clip, chunk)``: M_phi's displacement frame, the query's clip (times the mean
 training displacement; None: as asked) and the chunk length of its targets (None: one-step). The incumbent
-(``both``, one-step targets, the query as asked) comes first; its name is the default every rule in
-``guides/probe_choice.py`` compares against.
+(``both``, one-step targets, the query as asked; ``world`` on a line, where a frame has no heading to turn by)
+comes first; its name is the default every rule in ``guides/probe_choice.py`` compares against.
 """
 
 from __future__ import annotations
@@ -29,16 +29,22 @@ def variant_text(name: str) -> str:
     return f"frame={frame}" + (f", targets=chunk ({chunk} steps)" if chunk else "") + f", query_clip={clip or 'none'}"
 
 
-def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0
+def probe_frames(pos_dim: int) -> tuple[str, ...]:
+    """The frames probed: ``both`` (the incumbent) and ``world`` in a waypoint space of 2-D or more; ``world``
+    alone on a line (1-D), where the motion frame's heading is only a sign."""
+    return ("both", "world") if pos_dim >= 2 else ("world",)
+
+
+def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0, frames=("both", "world")
                   ) -> list[tuple[str, float | None, int | None]]:
     """The ``probe_clip_long`` variants, after :func:`variants`' (none where the user set a clip or it is off)."""
     if user_clip is not None or long_clip is None or long_clip == CLIP:
         return []
-    return variants(float(long_clip), chunk)  # every frame and targets, with that clip alone
+    return variants(float(long_clip), chunk, frames)  # every frame and targets, with that clip alone
 
 
-def variants(user_clip: float | None, chunk: int = 0) -> list[tuple[str, float | None, int | None]]:
+def variants(user_clip: float | None, chunk: int = 0, frames=("both", "world")) -> list[tuple[str, float | None, int | None]]:
     """The probed ``(frame, query_clip, chunk)`` triples, the incumbent (``both``, one-step targets, the query as
     asked) first; a clip the user set is kept; with ``chunk`` > 0 each also with M_phi on chunk targets."""
     clips = [user_clip] if user_clip is not None else [None, CLIP]
-    return [(f, c, k) for k in ([None, chunk] if chunk else [None]) for f in ("both", "world") for c in clips]
+    return [(f, c, k) for k in ([None, chunk] if chunk else [None]) for f in frames for c in clips]

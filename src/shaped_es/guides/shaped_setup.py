@@ -89,7 +89,7 @@ def check_obs_norm(cfg: RunConfig) -> None:
 # settings only the candidate mechanism reads (the pair mechanism's clone reads steps, lr, batch_size,
 # max_samples and record_every; paper's none of shaping.mean_clone)
 CANDIDATE_ONLY = ("scales", "accept", "accept_margin", "warm_start", "extra_episodes", "keep_step",
-                  "reset_momentum", "keep_step_repeat", "revert_margin", "confirm")
+                  "reset_momentum", "keep_step_repeat", "revert_margin", "revert_paired", "confirm")
 
 
 def check_candidate_settings(cfg: RunConfig) -> None:

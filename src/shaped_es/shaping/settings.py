@@ -104,6 +104,11 @@ class MeanCloneConfig:
     revert_margin: float = 0.0  # candidate: > 0: a jump is undone when the next population (sampled around it)
     #                             has a mean return below the population's before the jump by more than this
     #                             many standard errors of the difference (0: jumps are never undone)
+    revert_paired: float = 0.0  # candidate: > 0: after a jump, the mean the ES step alone gave (what the jump replaced)
+    #                               runs beside the next generation, and the jump is undone if it beats the jumped mean
+    #                               by more than this many standard errors of the paired differences: a candidate is
+    #                               judged against mu_g but replaces mu_{g+1}, which a productive ES step has already
+    #                               moved past it (0: no such row)
     check_episodes: int = 0  # candidate: a winner and the mean run this many more episodes at once (a second wave,
     #                          on winning generations only) and the jump needs the paired test again on every
     #                          episode the winner was not picked on (extra + these): the pick of the best of
@@ -115,10 +120,12 @@ class MeanCloneConfig:
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
-                or self.extra_episodes < 0 or self.check_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0:
+                or self.extra_episodes < 0 or self.check_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0 \
+                or not self.revert_paired >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every} "
-                             f"accept_margin={self.accept_margin} revert_margin={self.revert_margin}")
+                             f"accept_margin={self.accept_margin} revert_margin={self.revert_margin} "
+                             f"revert_paired={self.revert_paired}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:
             raise ValueError(f"mean-clone scales must be positive and accept one of {ACCEPT_RULES}, got "
                              f"{self.scales!r}, {self.accept!r}")

@@ -15,7 +15,10 @@ Per generation ``g`` (the search's mean ``mu_g``):
    winner is first evaluated again beside the next generation, on new episodes, and the jump is taken
    only if it beats the mean's return there (UR5Reach-v0: winners on two lucky episodes, accepted at
    once, led the mean into colliding regions; waiting a generation before each jump cost CarNav-v0 its
-   speed: ``docs/benchmarks/labels_ur5``);
+   speed: ``docs/benchmarks/labels_ur5``). With ``revert_paired`` a jump is judged once more, against what
+   it replaced: the mean the ES step alone gave (``mu_{g+1}``, kept as ``undo``) runs beside the next generation
+   on the mean's episodes, and the jump is undone if that mean beats the jumped one by the paired test at that
+   margin (the candidate beat ``mu_g``; where the ES step is productive, ``mu_{g+1}`` is already past it);
 3. the new mean is cloned again for the next generation.
 
 Cloning toward perfect labels on a member's own states lowers its return (compounding error), and a
@@ -45,7 +48,9 @@ GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base
 #                                                              candidate's gain over the mean
 PROBE = 5  # candidate_rival at generation 0: the label probe's best simulated candidate (guides/probe_candidate.py)
 SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
-REVERT_METRIC = "jump_reverted"  # with revert_margin: 1 where this generation undid the last one's jump
+REVERT_METRIC = "jump_reverted"  # with revert_margin / revert_paired: 1 where this generation undid the last one's jump
+UNDO_METRIC = "undo_gain"  # with revert_paired: the ES step's own mean's return minus the jumped mean's (a jump's
+#                            next generation; NaN elsewhere)
 CHECK_METRIC = "check_env_steps"  # with check_episodes: the env steps of this generation's check (counted in
 #                                   env_steps by the trainer; 0 where nothing won before the check)
 
@@ -107,11 +112,15 @@ class MeanCandidate(Mechanism):
         # judge), and the last judged population's return mean, variance and size (the jump's yardstick)
         self.undo: np.ndarray | None = None
         self.prev_pop: tuple[float, float, int] = (0.0, 0.0, 0)
+        self.undo_row = 0  # revert_paired: 1 where the row before the mean is ``undo`` (the ES step's mean)
+        self.reverts = self.cfg.revert_margin > 0 or self.cfg.revert_paired > 0
         known = [r.variant for r in getattr(host, "rivals", [])]
         if known:
             self.metric_keys = self.metric_keys + RIVAL_METRICS + tuple(GAIN_METRIC[v] for v in known)
-        if self.cfg.revert_margin > 0:
+        if self.reverts:
             self.metric_keys = self.metric_keys + (REVERT_METRIC,)
+        if self.cfg.revert_paired > 0:
+            self.metric_keys = self.metric_keys + (UNDO_METRIC,)
         if self.cfg.check_episodes and not self.cfg.confirm:
             self.metric_keys = self.metric_keys + (CHECK_METRIC,)
         # the label probe's best simulated candidate, judged beside generation 0 (guides/probe_candidate.py)
@@ -125,6 +134,8 @@ class MeanCandidate(Mechanism):
         mask = every_kth(population, extra, self.cfg.record_every)
         if self.probe_rows:  # M_phi's data as without them: a losing probe candidate changes nothing else
             mask[population:population + 2] = False
+        if self.undo_row and self.extras is not None:  # revert_paired's row: M_phi's data as without it
+            mask[population + self.extras.shape[0] - 2] = False
         return mask
 
     def extra_members(self, generation: int) -> np.ndarray | None:
@@ -142,21 +153,28 @@ class MeanCandidate(Mechanism):
         # which climbs the Gaussian-smoothed return, does worse): back to the ES step's mean, which this
         # generation's candidates (cloned around the jump) do not replace
         undo, self.undo = self.undo, None
-        reverted = undo is not None and population_fell(fitness, self.prev_pop, self.cfg.revert_margin)
+        undo_row, self.undo_row = self.undo_row, 0
+        rows_ok = self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]
+        reverted = undo is not None and (
+            (self.cfg.revert_margin > 0 and population_fell(fitness, self.prev_pop, self.cfg.revert_margin))
+            # revert_paired: the ES step's own mean (the row before the mean) against the jumped mean, paired
+            or bool(undo_row and rows_ok and paired_win(extra_returns[-2], extra_returns[-1], self.cfg.revert_paired)))
         if reverted:
             strategy.set_mean(undo)
             jumped = False
         elif self.cfg.revert_margin > 0:
             f = np.asarray(fitness, np.float64)  # (P,)
             self.prev_pop = (float(f.mean()), float(f.var(ddof=1)) if f.size > 1 else 0.0, int(f.size))
-        if self.cfg.revert_margin > 0:
+        if self.reverts:
             out[REVERT_METRIC] = int(reverted)
-        if self.extras is not None and extra_returns.shape[0] == self.extras.shape[0]:
+        if undo_row and rows_ok:
+            out[UNDO_METRIC] = float(np.mean(extra_returns[-2] - extra_returns[-1]))
+        if rows_ok:
             E = self.host.cfg.rollout.episodes
             common = extra_returns[:, :E].mean(axis=1)  # (k,) on the population's episodes
             # with extra_episodes: the candidates must also beat the mean on episodes nobody was chosen on
             more = extra_returns[:, E:].mean(axis=1) if extra_returns.shape[1] > E else None  # (k,)
-            k = self.extras.shape[0] - 1 - self.pending  # this generation's new candidates (scales, rivals)
+            k = self.extras.shape[0] - 1 - self.pending - undo_row  # this generation's new candidates (scales, rivals)
             f_cand, f_mean = common[:k], float(common[-1])  # (k,), the mean's
             j = int(np.argmax(f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept in ("best", "best_paired") else f_mean
@@ -202,7 +220,7 @@ class MeanCandidate(Mechanism):
                 # keep_step: the ES update too, unless it was estimated around a mean that was itself a
                 # jump (keep_step_repeat off): taken jump after jump, such updates can undo every jump
                 step = self.cfg.keep_step and (self.cfg.keep_step_repeat or not jumped)
-                if self.cfg.revert_margin > 0:
+                if self.reverts:
                     self.undo = np.array(strategy.mean, np.float64)  # (n,) mu_{g+1} without the jump
                 strategy.set_mean(jump + es_update if step else jump)
                 if self.cfg.reset_momentum:
@@ -218,9 +236,11 @@ class MeanCandidate(Mechanism):
         out.update(info)
         if info:
             d = theta_star - mu  # (n,) the label direction
+            check_undo = self.cfg.revert_paired > 0 and self.undo is not None  # the jump's rival: what it replaced
             rows = [mu + s * d for s in self.cfg.scales] + [c for _, c in clones] \
-                + ([held] if held is not None else []) + [mean]
+                + ([held] if held is not None else []) + ([self.undo] if check_undo else []) + [mean]
             self.extras, self.pending = np.stack(rows).astype(np.float32), int(held is not None)
+            self.undo_row = int(check_undo)
             self.rivals = [v for v, _ in clones]
         return out
 
@@ -289,7 +309,7 @@ class MeanCandidate(Mechanism):
         self.probe_rows = False
         self.extras, self.pending, self.learner = None, 0, None  # a stale learner would start far from the mean
         self.rivals, self.rival_learners = [], {}
-        self.jumped, self.undo = False, None
+        self.jumped, self.undo, self.undo_row = False, None, 0
 
     def state_dict(self) -> dict[str, np.ndarray]:
         n = self.host.spec.num_params
@@ -301,6 +321,7 @@ class MeanCandidate(Mechanism):
                 "rival_rows": np.array(self.rivals, np.int64),
                 "undo": np.zeros(0) if self.undo is None else self.undo.copy(),
                 "prev_pop": np.array(self.prev_pop, np.float64),
+                "undo_row": np.array(self.undo_row, np.int64),
                 **{_learner_key(v): x.copy() for v, x in self.rival_learners.items()}}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
@@ -314,8 +335,9 @@ class MeanCandidate(Mechanism):
         if not set(rivals) <= known or len(set(rivals)) != len(rivals):
             raise ValueError(f"the checkpoint holds rival candidates {rivals} but this run has rival label "
                              f"variants {sorted(known)}")
-        k, n = len(self.cfg.scales) + 1 + pending + len(rivals), self.host.spec.num_params
-        if pending not in (0, 1) or x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
+        undo_row = int(np.asarray(state.get("undo_row", 0)))  # a checkpoint from before: no undo row
+        k, n = len(self.cfg.scales) + 1 + pending + undo_row + len(rivals), self.host.spec.num_params
+        if pending not in (0, 1) or undo_row not in (0, 1) or x.size and (x.shape != (k, n) or not np.isfinite(x).all()):
             raise ValueError(f"candidate extras have shape {x.shape}, expected ({k}, {n}) and finite")
         self.learner = self._vector(state, "learner", n)
         self.rival_learners = {v: x_ for v in known if (x_ := self._vector(state, _learner_key(v), n)) is not None}
@@ -328,6 +350,7 @@ class MeanCandidate(Mechanism):
         self.extras = x if x.size else None
         self.probe_rows = False  # a checkpoint comes after generation 0's judgement
         self.pending = pending if x.size else 0
+        self.undo_row = undo_row if x.size else 0
         self.rivals = rivals if x.size else []
 
     @staticmethod
