@@ -125,9 +125,10 @@ class _Labels:
 
 class _Host:
     def __init__(self, n, accept, **cfg):
-        # the rule alone: no extra episodes, the jump replaces the ES update (unless a test says otherwise)
+        # the rule alone: no extra episodes, the jump replaces the ES update, no undo row after a jump (unless a
+        # test says otherwise)
         self.mean_clone_cfg = MeanCloneConfig(**{"accept": accept, "scales": (0.5, 1.0), "extra_episodes": 0,
-                                                 "keep_step": False, **cfg})
+                                                 "keep_step": False, "revert_paired": 0.0, **cfg})
         self.labels = _Labels()
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
