@@ -85,3 +85,16 @@ def test_the_report_counts_what_each_runs_label_probe_chose(tmp_path):
     text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
     assert "shaped's label probe, runs per choice: frame world 2, both 2, both with chunk targets 1; the shooting " \
            "rival 4 steps 2, 16 steps 1, config 1, dropped 1" in text
+
+
+def test_jumps_undone_a_generation_later_are_counted_and_said():
+    """revert_paired: the rows after jumps say whether each was undone (``jump_reverted``); the summary pools them
+    and the report says how many of the accepted; runs without the column (older runs, the option off) say nothing."""
+    a = _run([nan, 1, 0, 1, 0], [nan, 0, 0, 3, 0], [nan, 1.0, -1.0, 2.0, 0.5], [1] * 5) | {
+        "jump_reverted": np.array([0, 0, 1, 0, 0], float)}
+    b = _run([nan, 1, 1], [nan, 2, 0], [nan, 1.0, 1.0], [1, 1, 1]) | {"jump_reverted": np.array([0, 0, 1], float)}
+    s = shaping_summary([a, b])
+    assert s["jumps_undone"] == 2 and s["candidates_accepted"] == 4
+    assert "shaped 2 of its 4." in "\n".join(shaping_lines({"shaped": {"shaping": s}}))
+    old = shaping_summary([_run([nan, 1], [nan, 0], [nan, 1.0], [1, 1])])
+    assert old["jumps_undone"] is None and "undone" not in "\n".join(shaping_lines({"shaped": {"shaping": old}}))

@@ -87,7 +87,8 @@ class _Labels:
 
 class _Host:
     def __init__(self, n):
-        self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False)
+        self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False,
+                                              revert_paired=0.0)  # the rows alone: no undo row after a jump
         self.labels = _Labels()
         self.rivals = [type("R", (), {"ready": True, "labels": f"rival labels {v}", "variant": v})()
                        for v in (FRAME, SERVO)]

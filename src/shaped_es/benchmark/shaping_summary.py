@@ -32,6 +32,7 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
     judged = accepted = runs_without = 0
     by_variant = dict.fromkeys(VARIANTS.values(), 0)
     gains, asleep = [], []
+    undone = None  # jumps undone a generation later (revert_paired / revert_margin; None: no run has the column)
     ran = dict.fromkeys(GAINS, 0)  # runs in which each rival ran (the probe drops the shooting one on some)
     for m in runs:
         for key, col in GAINS.items():
@@ -46,6 +47,8 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
             v = int(rival[g]) if rival.size and np.isfinite(rival[g]) else 5 if rival.size and g == 0 else 0
             key = VARIANTS.get(v, f"variant_{v}")
             by_variant[key] = by_variant.get(key, 0) + 1
+        if "jump_reverted" in m:
+            undone = (undone or 0) + int((_finite(m, "jump_reverted") == 1).sum())
         gain = _finite(m, "candidate_gain")
         gains.append(gain[np.isfinite(gain)])
         awake = _finite(m, "shaping_awake")
@@ -55,7 +58,7 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
             "runs_with_rival": ran,
             "mean_gain": float(g.mean()) if g.size else None,
             "generations_backed_off_mean": float(np.mean(asleep)) if asleep else 0.0,
-            "runs_without_acceptance": runs_without, "runs": len(runs)}
+            "runs_without_acceptance": runs_without, "runs": len(runs), "jumps_undone": undone}
 
 
 def probe_choices(dirs: list[Path]) -> dict | None:
@@ -114,6 +117,11 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
                    f"{counts}) | {gain} | "
                    f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
     out.append("")
+    undone = [f"{k} {s['jumps_undone']} of its {s['candidates_accepted']}" for k, s in rows.items()
+              if s.get("jumps_undone") is not None]
+    if undone:
+        out += ["Accepted jumps undone a generation later, when the ES step's own mean beat the jumped one "
+                "(`shaping.mean_clone.revert_paired`; the `jump_reverted` column): " + ", ".join(undone) + ".", ""]
     for k, s in rows.items():
         if s.get("label_probe"):
             p = s["label_probe"]

@@ -251,8 +251,11 @@ def rows_summary(rows: list[dict]) -> dict | None:
     if "check_env_steps" in rows[0]:  # check_episodes: winners the check's episodes did not bear out
         out["check_lost"] = sum(1 for r in rows if (_num(r.get("check_env_steps")) or 0) > 0
                                 and _num(r.get("candidate_accepted")) == 0)
-    if "jump_reverted" in rows[0]:  # revert_margin: jumps the next population undid
+    if "jump_reverted" in rows[0]:  # revert_paired / revert_margin: jumps the next generation undid
         out["jumps_reverted"] = sum(1 for r in rows if _num(r.get("jump_reverted")) == 1)
+    if "candidate_rival" in rows[0]:  # the label probe's candidate, judged beside generation 0 (rival code 5)
+        out["accepted_probe"] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
+                                    and _num(r.get("candidate_rival")) == 5)
     # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's
     # (variant 2), the shooting labels' (variant 3); None: the run has no such rival
     head = rows[0]
