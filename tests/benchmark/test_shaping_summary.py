@@ -94,7 +94,7 @@ def test_jumps_undone_a_generation_later_are_counted_and_said():
         "jump_reverted": np.array([0, 0, 1, 0, 0], float)}
     b = _run([nan, 1, 1], [nan, 2, 0], [nan, 1.0, 1.0], [1, 1, 1]) | {"jump_reverted": np.array([0, 0, 1], float)}
     s = shaping_summary([a, b])
-    assert s["jumps_undone"] == 2 and s["candidates_accepted"] == 4
+    assert s["jumps_reverted"] == 2 and s["candidates_accepted"] == 4
     assert "shaped 2 of its 4." in "\n".join(shaping_lines({"shaped": {"shaping": s}}))
     old = shaping_summary([_run([nan, 1], [nan, 0], [nan, 1.0], [1, 1])])
-    assert old["jumps_undone"] is None and "undone" not in "\n".join(shaping_lines({"shaped": {"shaping": old}}))
+    assert old["jumps_reverted"] is None and "undone" not in "\n".join(shaping_lines({"shaped": {"shaping": old}}))

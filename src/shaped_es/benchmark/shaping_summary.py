@@ -58,7 +58,7 @@ def shaping_summary(runs: list[dict[str, np.ndarray]]) -> dict | None:
             "runs_with_rival": ran,
             "mean_gain": float(g.mean()) if g.size else None,
             "generations_backed_off_mean": float(np.mean(asleep)) if asleep else 0.0,
-            "runs_without_acceptance": runs_without, "runs": len(runs), "jumps_undone": undone}
+            "runs_without_acceptance": runs_without, "runs": len(runs), "jumps_reverted": undone}
 
 
 def probe_choices(dirs: list[Path]) -> dict | None:
@@ -117,8 +117,8 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
                    f"{counts}) | {gain} | "
                    f"{s['generations_backed_off_mean']:.1f} | {s['runs_without_acceptance']}/{s['runs']} |")
     out.append("")
-    undone = [f"{k} {s['jumps_undone']} of its {s['candidates_accepted']}" for k, s in rows.items()
-              if s.get("jumps_undone") is not None]
+    undone = [f"{k} {s['jumps_reverted']} of its {s['candidates_accepted']}" for k, s in rows.items()
+              if s.get("jumps_reverted") is not None]
     if undone:
         out += ["Accepted jumps undone a generation later, when the ES step's own mean beat the jumped one "
                 "(`shaping.mean_clone.revert_paired`; the `jump_reverted` column): " + ", ".join(undone) + ".", ""]

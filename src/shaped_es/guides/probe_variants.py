@@ -9,6 +9,7 @@ comes first; its name is the default every rule in ``guides/probe_choice.py`` co
 from __future__ import annotations
 
 CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
+FRAMES = ("both", "world")  # the frames probed in a waypoint space of 2-D or more, the incumbent first
 
 
 def clip_text(query_clip: float | None) -> str:
@@ -32,10 +33,10 @@ def variant_text(name: str) -> str:
 def probe_frames(pos_dim: int) -> tuple[str, ...]:
     """The frames probed: ``both`` (the incumbent) and ``world`` in a waypoint space of 2-D or more; ``world``
     alone on a line (1-D), where the motion frame's heading is only a sign."""
-    return ("both", "world") if pos_dim >= 2 else ("world",)
+    return FRAMES if pos_dim >= 2 else ("world",)
 
 
-def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0, frames=("both", "world")
+def long_variants(user_clip: float | None, long_clip: float | None, chunk: int = 0, frames=FRAMES
                   ) -> list[tuple[str, float | None, int | None]]:
     """The ``probe_clip_long`` variants, after :func:`variants`' (none where the user set a clip or it is off)."""
     if user_clip is not None or long_clip is None or long_clip == CLIP:
@@ -43,7 +44,7 @@ def long_variants(user_clip: float | None, long_clip: float | None, chunk: int =
     return variants(float(long_clip), chunk, frames)  # every frame and targets, with that clip alone
 
 
-def variants(user_clip: float | None, chunk: int = 0, frames=("both", "world")) -> list[tuple[str, float | None, int | None]]:
+def variants(user_clip: float | None, chunk: int = 0, frames=FRAMES) -> list[tuple[str, float | None, int | None]]:
     """The probed ``(frame, query_clip, chunk)`` triples, the incumbent (``both``, one-step targets, the query as
     asked) first; a clip the user set is kept; with ``chunk`` > 0 each also with M_phi on chunk targets."""
     clips = [user_clip] if user_clip is not None else [None, CLIP]
