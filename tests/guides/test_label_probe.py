@@ -686,6 +686,9 @@ def test_generation_0s_line_says_which_test_the_probes_candidate_failed():
     assert "lost to" not in member
     assert "not by the acceptance rule" in candidate_line(res, False, (3.0, 2.9, 1.0))
     assert "lost to the initial mean: not counted" in candidate_line(res, False)  # nothing to say which
+    # a variant's candidate is "the labels of frame=world, query_clip=none" (it read "query_clip=none's")
+    assert candidate_line(res, True).startswith("the label probe's best simulated candidate (the labels of frame=world")
+    assert "'s, " not in candidate_line(res, True)
 
 class FallingPoint(gym.Env):
     """A point that falls (0.05 a step) toward a floor at y = -1, where its episode ends with -10 (a 2-D lander's

@@ -141,7 +141,8 @@ def candidate_line(res: ProbeResult, won: bool, returns: tuple[float, float, flo
 
 
 def candidate_what(res: ProbeResult) -> str:
-    """``the shooting labels', actions held 8 steps, 7.91 on the probe's episodes``: whose the probe's best
+    """``the shooting labels', actions held 8 steps, 7.91 on the probe's episodes`` (or ``the labels of frame=world,
+    query_clip=none, ...``): whose the probe's best
     simulated candidate is, and its mean return."""
     name = res.candidate or ""
     if name.startswith("shoot:"):
@@ -153,7 +154,7 @@ def candidate_what(res: ProbeResult) -> str:
             what += (f" (best by its mean; the run's shooting rival holds {res.shoot_horizon} steps, which {h} did not "
                      "beat clearly)")
     else:
-        what = f"{variant_text(name)}'s"
+        what = f"the labels of {variant_text(name)}"  # not "query_clip=4's": a possessive on a number reads badly
     vals = _candidate_returns(res, name)
     return what + (f", {np.mean(vals):.2f} on the probe's episodes" if vals else "")
 
