@@ -29,7 +29,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
-from shaped_es.rollout import close_env, flattened_from, make_env, to_space
+from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic, to_space
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
@@ -174,7 +174,7 @@ def _episodes(env, env_id, env_kwargs, episodes: int, max_steps: int, seed: int)
     out.append(Check("seeding", OK, "reset(seed=s) and the same actions give the same episode") if same else
                Check("seeding", WARN, "reset(seed=s) with the same actions gave different episodes: runs do "
                                       "not reproduce and a generation's members do not face the same episodes"))
-    out.append(_waypoints(runs))
+    out.append(_waypoints(runs, env, env_id, env_kwargs))
     return out
 
 
@@ -219,7 +219,7 @@ def _same(a: dict, b: dict) -> bool:
             and a["rewards"] == b["rewards"])
 
 
-def _waypoints(runs: list[dict]) -> Check:
+def _waypoints(runs: list[dict], env=None, env_id: str = "", env_kwargs: dict | None = None) -> Check:
     infos = [i for r in runs for i in r["infos"]]
     have = [POSITION_KEY in i and WAYPOINT_KEY in i for i in infos]
     if not any(have):
@@ -242,8 +242,26 @@ def _waypoints(runs: list[dict]) -> Check:
         return Check("waypoints", FAIL, "a position or waypoint is not finite")
     d, shape = next(iter(sizes))[0], next(iter(shapes))[0]
     flat = "" if len(shape) == 1 else ", scalars read as (1,)" if not shape else f", {shape} arrays read flattened"
+    try:
+        wraps = _wraps(env, env_id, env_kwargs, d)
+    except EnvSpecError as exc:  # a position_period it cannot use
+        return Check("waypoints", FAIL, str(exc))
     return Check("waypoints", OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d{flat}) from reset and "
-                                  f"every step: --method shaped can use it")
+                                  f"every step: --method shaped can use it" + wraps)
+
+
+def _wraps(env, env_id: str, env_kwargs: dict | None, d: int) -> str:
+    """``; info['position'] wraps ([0] at 2 pi; detected ...): shaped runs take its steps the short way`` where
+    the position is periodic (``rollout/periodic.py``: a wrapped heading), ``""`` otherwise."""
+    if env is None:
+        return ""
+    period = periodic.period_of(env, env_id, dict(env_kwargs or {}), d)
+    if period is None:
+        return ""
+    told = "" if periodic.is_declared(env) else (f" (declare env.unwrapped.{periodic.PERIOD_ATTR} to say so yourself, "
+                                                 "None if it does not wrap)")
+    return (f"; {periodic.describe(period, not periodic.is_declared(env))}: shaped runs record it continuous and "
+            f"take each step and w - p the short way{told}")
 
 
 def _controller(env: gym.Env, max_steps: int = 200) -> Check:

@@ -13,6 +13,10 @@ Both keys must be present in the ``info`` of ``reset`` *and* of every ``step``. 
 them (they are not part of the observation); only the inverse-dynamics model ``M_phi(s_t, w_t)`` of the
 paper (Sec. III) uses them, at train time. Vanilla-ES, CMA-ES and PPO ignore them.
 
+A position that wraps (a heading in ``(-pi, pi]``): ``env.unwrapped.position_period`` says so (one period, or one
+per coordinate, ``None`` where a coordinate does not wrap; ``None``: nothing wraps), else it is detected; a shaped
+run records it continuous and takes ``w - p`` the short way (``rollout/periodic.py``).
+
 Built-in envs additionally expose a *batched core* (``env.unwrapped.batch_core``): a pure object that
 steps ``B`` independent copies at once, ``state in -> state out``, with NumPy arrays. The rollout layer
 uses it when present, so a whole chunk of the population runs in one vectorized loop. Protocol:

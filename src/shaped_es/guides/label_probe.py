@@ -93,6 +93,7 @@ from shaped_es.config import RunConfig
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, to_space
+from shaped_es.rollout.periodic import Unwrapper, period_of
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
 from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, roll_out, shoot_labels
@@ -250,18 +251,23 @@ def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0
         if core is not None:
             return _drive_core(core, cfg, label, frame, seeds, mix)
         rets, steps = [], 0
+        pair = lambda info: tuple(np.asarray(info[k], np.float64).reshape(1, -1) for k in (POSITION_KEY, WAYPOINT_KEY))
         for s in seeds:
             obs, info = env.reset(seed=int(s))
-            pos = prev = np.asarray(info[POSITION_KEY], np.float64).reshape(1, -1)
+            period = period_of(env, cfg.env, cfg.env_kwargs, pair(info)[0].shape[1])
+            unwrap = None if period is None else Unwrapper(period)  # as the recorded rollouts (gym_loop)
+            pos, wp = pair(info) if unwrap is None else unwrap.start(*pair(info))
+            prev = pos
             ret, t = 0.0, 0
             while True:
-                wp = np.asarray(info[WAYPOINT_KEY], np.float64).reshape(1, -1)
                 a = label(np.asarray(obs, np.float32).reshape(1, -1), query(pos, wp, prev, frame, mix))[0]
                 obs, r, term, trunc, info = env.step(to_space(env.action_space, np.clip(a, -1, 1)))
                 ret, t = ret + float(r), t + 1
                 if term or trunc or (cfg.rollout.max_steps is not None and t >= cfg.rollout.max_steps):
                     break
-                prev, pos = pos, np.asarray(info[POSITION_KEY], np.float64).reshape(1, -1)
+                p, w = pair(info)
+                prev, (pos, wp) = pos, ((p, w) if unwrap is None else
+                                        tuple(x[None] for x in unwrap.step(0, p[0], w[0])))
             rets.append(ret)
             steps += t
         return np.array(rets), steps

@@ -91,7 +91,7 @@ from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # 
 from shaped_es.guides.shaped_verdicts import LabelVerdicts
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
-                                          waypoint_dim)
+                                          waypoint_dim, wrap_line)
 
 MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size",
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
@@ -111,6 +111,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
         self.mphi_cfg = mphi_config(cfg, pos_dim)
+        wraps = wrap_line(cfg, pos_dim) if not Path(store.metrics_path).exists() else ""  # a new run: before the probe
+        if wraps:
+            print(f"shaped-es: {self.run_name}: {wraps}", file=sys.stderr)
         self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
         self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
         # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install

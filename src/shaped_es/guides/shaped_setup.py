@@ -71,7 +71,7 @@ def check_shaped(cfg: RunConfig, probe: EnvProbe) -> None:
     check_obs_norm(cfg)
     check_candidate_settings(cfg)
     spec = policy_spec(cfg, probe)
-    waypoint_dim(cfg, probe)
+    check_period(cfg, waypoint_dim(cfg, probe))
     check_labels(cfg, spec, probe)
     if cfg.shaping.reference_run:
         reference_actions(cfg.shaping.reference_run, spec)
@@ -152,3 +152,36 @@ def label_source(cfg: RunConfig, spec: MLPSpec, mphi, mphi_cfg, reference, probe
     if cfg.shaping.labels == "reference":
         return ReferenceLabels(reference)
     return ControllerLabels()
+
+
+def check_period(cfg: RunConfig, pos_dim: int) -> None:
+    """A ``position_period`` the env declares that the rollouts cannot use: one error line before the run
+    directory is written (``rollout/periodic.py``)."""
+    from shaped_es.rollout import close_env, make_env, periodic
+
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        periodic.declared(env, pos_dim)
+    finally:
+        close_env(env, cfg.env)
+
+
+def wrap_line(cfg: RunConfig, pos_dim: int) -> str:
+    """The run's line where ``info['position']`` wraps (a heading in (-pi, pi]; ``rollout/periodic.py``): what
+    the recorded steps and the labels' queries do about it; ``""`` where it does not (or the env has a batched
+    core: the rollouts there take the positions as the core reports them)."""
+    from shaped_es.rollout import close_env, make_env, periodic
+
+    env = make_env(cfg.env, cfg.env_kwargs)
+    try:
+        period = periodic.period_of(env, cfg.env, dict(cfg.env_kwargs), pos_dim)
+        declared = periodic.is_declared(env)
+    finally:
+        close_env(env, cfg.env)
+    if period is None:
+        return ""
+    how = "" if declared else (f"; declare env.unwrapped.{periodic.PERIOD_ATTR} (None: it does not wrap) to say so "
+                               "yourself")
+    return (f"{periodic.describe(period, not declared)}: its recorded steps are made continuous and each step and "
+            f"w - p taken the short way{how}")
+

@@ -18,6 +18,7 @@ from shaped_es.policies import forward
 from shaped_es.rollout.actions import action_map
 from shaped_es.rollout.checks import _bad_output, _check_obs, _check_pairs, _contract
 from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
+from shaped_es.rollout.periodic import Unwrapper, period_of
 from shaped_es.rollout.record import _controller, _from_env_action, _join_episodes, _Recorder
 from shaped_es.rollout.task import RolloutResult, RolloutTask, _finish, _policy_input
 from shaped_es.rollout.worker_envs import _envs
@@ -96,10 +97,15 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
     pos, wp = np.zeros((B, 0), np.float32), np.zeros((B, 0), np.float32)  # (B, d)
     contract = rec is not None and (POSITION_KEY in infos[0] or WAYPOINT_KEY in infos[0])
     origin = None  # (B, d) float64: where the pairs are recorded from (far from 0 only; see FAR)
+    unwrap = None  # a position that wraps (a heading): recorded continuous, w - p the short way (periodic.py)
     if contract:
         d = _contract(task, infos[0], None, seeds[0], 0)[0].size  # every episode's pair of this size
         pairs = [_contract(task, i, d, seeds[b], 0, dtype=np.float64) for b, i in enumerate(infos)]
         pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])  # (B, d) float64
+        period = period_of(envs[0], task.env_id, task.env_kwargs, d)
+        if period is not None:
+            unwrap = Unwrapper(period)
+            pos, wp = unwrap.start(pos, wp)
         far = np.maximum(np.abs(pos), np.abs(wp)).max(axis=1) > FAR  # (B,)
         if far.any():
             origin = np.where(far[:, None], pos, 0.0)  # (B, d) each far episode's first position
@@ -137,11 +143,13 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b], infos[b] = o, r, info
-            if contract and origin is None:  # finite: checked below, every env's at once
+            if contract and origin is None and unwrap is None:  # finite: checked below, every env's at once
                 npos[b], nwp[b] = _contract(task, info, pos.shape[1], seeds[b], t + 1, finite=False)
-            elif contract:  # from the episode's origin, in float64 (then float32, as recorded)
+            elif contract:  # unwrapped and/or from the episode's origin, in float64 (then float32, as recorded)
                 p, w = _contract(task, info, pos.shape[1], seeds[b], t + 1, finite=False, dtype=np.float64)
-                npos[b], nwp[b] = p - origin[b], w - origin[b]
+                if unwrap is not None:
+                    p, w = unwrap.step(b, p, w)
+                npos[b], nwp[b] = (p, w) if origin is None else (p - origin[b], w - origin[b])
             alive[b] = not (term or trunc)
         if not (np.isfinite(rew).all() and np.isfinite(nobs).all()):  # one check per step, all envs
             b = int(np.flatnonzero(~(np.isfinite(rew) & np.isfinite(nobs).all(axis=1)))[0])
