@@ -89,6 +89,13 @@ def test_the_back_off_note_is_one_short_line():
     # on runs that had stalled below zero action's return; the advice is for a run that stalls
     assert "(won 2 of 13 so far): shaping sleeps" in note and "; if it stalls, try shaped-es check-env" in note
     assert len(note) <= NOTE_MAX
+    # generation 0's probe candidate that lost is not held against the labels, but a judgement the run line and
+    # the final JSON count: the note's J counts it too (a new user's pusher read "won 0 of 8" beside "9 judged")
+    free = LabelBudget(patience=8, max_sleep=32)
+    free.free = 1
+    for _ in range(8):
+        free.judge(False, 0.0)
+    assert "(won 0 of 9 so far)" in free.note("CarNav-v0", True) and free.sleeps == 1
 
 
 def test_the_back_off_note_on_a_run_past_the_threshold_says_so_without_advice():
@@ -174,7 +181,9 @@ def test_state_round_trip_continues_the_schedule():
     a = LabelBudget(5, 32)
     _run(a, [False] * 6)
     b = LabelBudget(5, 32)
+    a.free = 1
     b.load_state_dict(npz_round_trip(a.state_dict()))
+    assert b.free == 1
     assert [b.begin() for _ in range(12)] == [a.begin() for _ in range(12)]
     with pytest.raises(ValueError, match="counters"):
         b.load_state_dict({"ints": np.array([1, 2])})

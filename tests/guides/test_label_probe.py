@@ -763,8 +763,8 @@ def test_a_passed_over_variant_neither_judges_nor_drops_the_shooting_rival():
     before = replace(res, passed=[])  # a probe from before: every clone counts
     assert not before.unjudged() and before.unjudged_shooting() is None
     dropped = replace(before, shoot_on=False)
-    assert _drop_text(dropped) == (", where frame=both, targets=chunk (4 steps), query_clip=none's simulated "
-                                   "candidate is (1.60): the probe can judge")
+    assert _drop_text(dropped) == (": the simulated candidate of frame=both, targets=chunk (4 steps), query_clip=none "
+                                   "beats zero action (1.60), so the probe can judge")
     assert "(8 steps, not above zero action; another is)" in probe_line(dropped)
     assert _drop_text(replace(res, shoot_on=False)) == ""  # only the passed-over variant was above zero action
     raw = json.dumps({k: v for k, v in res.__dict__.items() if k != "candidate_params"}).encode()

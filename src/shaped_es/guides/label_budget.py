@@ -66,6 +66,9 @@ class LabelBudget:
         self.sleeps = 0  # sleeps begun (the guide warns at the first)
         self.silent = 0  # generations slept through
         self.judged = 0
+        # judgements not held against the labels (generation 0's probe candidate that lost): counted only in the
+        # note's "won N of J", as the run line and the final JSON count every judged generation
+        self.free = 0
         self.accepted = 0
         self.gain_sum = 0.0
         self.streak_before = 0  # the losses in a row the last acceptance reset (judge_jumps restores them)
@@ -152,7 +155,7 @@ class LabelBudget:
         n = min(self.losses, self.patience) or self.patience
         far = (f" by a median of {np.median(self.spreads):.1f} population spreads" if n < self.patience
                and self.spreads else "")
-        head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged} so far): "
+        head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged + self.free} so far): "
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (metrics.csv "
                 f"shaping_awake)")
         # after a win ("won N of J" says how many): the advice is for a run that stalls. Two new users' runs (a
@@ -183,7 +186,8 @@ class LabelBudget:
         return {"ints": np.array([getattr(self, f) for f in self._FIELDS], np.int64),
                 "spreads": np.array(self.spreads, np.float64),
                 "gain_sum": np.array([self.gain_sum], np.float64),
-                "prev_population": np.array([self.prev_population], np.float64)}
+                "prev_population": np.array([self.prev_population], np.float64),
+                "free": np.array([self.free], np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         if "ints" not in state:  # a checkpoint from before the budget: start counting now
@@ -198,6 +202,7 @@ class LabelBudget:
         self.gain_sum = float(np.asarray(state.get("gain_sum", [0.0]), np.float64).reshape(-1)[0])
         self.spreads = [float(v) for v in np.asarray(state.get("spreads", np.zeros(0)), np.float64).reshape(-1)]
         self.prev_population = float(np.asarray(state.get("prev_population", [0.0]), np.float64).reshape(-1)[0])
+        self.free = int(np.asarray(state.get("free", [0]), np.int64).reshape(-1)[0])
 
 
 def never_accepted(summary: dict | None, base: str | None, short: bool = False) -> str | None:

@@ -94,7 +94,8 @@ def _drop_text(res: ProbeResult) -> str:
     if not above:
         return ""
     name = max(above, key=above.get)
-    return f", where {name}'s simulated candidate is ({above[name]:.2f}): the probe can judge"
+    # "where shooting, 32 steps's simulated candidate is (1.03)" read as garbled (a new user's pusher)
+    return f": the simulated candidate of {name} beats zero action ({above[name]:.2f}), so the probe can judge"
 
 
 def kept_below_zero(res: ProbeResult) -> bool:

@@ -63,7 +63,8 @@ def _closest(clones: dict[str, np.ndarray], incumbent: str, scale: float) -> str
         return ""
     _, p = _clone_test(clones[name], clones[incumbent], scale)  # what clone_beats asked
     if p is None:
-        why = f"a gain below {MIN_SHARE:.0%} of the probe's return spread ({MIN_SHARE * scale:.2f})"
+        # "(0.57)" beside "the probe's return spread" read as the spread itself (a new user's pusher): say what it is
+        why = f"a gain below {MIN_SHARE:.0%} of the probe's return spread {scale:.2f} ({MIN_SHARE * scale:.2f})"
     else:
         why = f"signed-rank p {p:.2f}, needs < {CLONE_P:g}"
     return f" (closest: {variant_text(name)}'s {np.mean(clones[name]):.2f} against {own:.2f}, {why})"

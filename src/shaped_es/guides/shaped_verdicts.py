@@ -38,6 +38,7 @@ class LabelVerdicts:
         if out.get("candidate_accepted") is None:
             return False
         if not out["candidate_accepted"] and self.mechanism.free_judgement:
+            self.budget.free += 1  # the note's "won N of J" counts it, as the run line does
             return False  # the probe's candidate lost at generation 0: not held against the labels
         f = np.asarray(fitness, np.float64)  # (P,)
         return self.budget.judge(bool(out["candidate_accepted"]), out.get("candidate_gain"), float(f.mean()),
