@@ -86,9 +86,9 @@ def declared(env: gym.Env, d: int):
     except (TypeError, ValueError):
         vals = None
     if vals is None or len(vals) != d or not all(math.isfinite(x) and x >= 0 for x in vals):
-        raise EnvSpecError(f"{PERIOD_ATTR} = {v!r}: give one period (a positive number) for every coordinate of "
-                           f"info['{POSITION_KEY}'] or one per coordinate ({d}; None or 0 where it does not wrap), "
-                           "or None: the position does not wrap")
+        raise EnvSpecError(f"{PERIOD_ATTR} = {v!r}: give one period (a positive number) for all coordinates of "
+                           f"info['{POSITION_KEY}'], a list of {d} (one per coordinate; None or 0 where it does not "
+                           "wrap), or None (nothing wraps)")
     out = np.array(vals, np.float64)
     return out if (out > 0).any() else None
 
