@@ -154,3 +154,26 @@ def test_check_env_says_a_heading_wraps_and_refuses_a_bad_period():
         "WrapTurnDeclared-v0")}["waypoints"].detail
     bad = {c.name: c for c in check_env("WrapTurnBad-v0")}["waypoints"]
     assert bad.status == "FAIL" and bad.detail.startswith("position_period = 'a turn'")
+
+
+def test_a_wrap_the_start_missed_is_one_warning_line_and_a_detected_one_is_unwrapped(tmp_path, monkeypatch, capsys):
+    """A shaped run on the wrapped turntable: detected at the start, its first line says so and the recorded
+    rows do not jump; where the start's random-action episodes miss the wrap (a pendulum only a trained policy
+    takes over the cut; simulated by a detection that finds nothing), generation rows that jump by a turn give
+    one warning line naming position_period; a declared None says nothing."""
+    from helpers import train
+
+    base = {"method": "shaped", "generations": 2, "executor": "inline", "es": {"pairs": 4},
+            "shaping": {"inverse_dynamics": {"frame": "world"}}}
+    train(tmp_path / "found", {**base, "env": "WrapTurn-v0"})
+    err = capsys.readouterr().err
+    assert "info['position'] wraps ([0] at 2 pi; detected from random-action episodes)" in err
+    assert "warning" not in err
+    monkeypatch.setattr(periodic, "_CACHE", {})
+    monkeypatch.setattr(periodic, "_detect_env", lambda env_id, kwargs: None)
+    train(tmp_path / "missed", {**base, "env": "WrapTurn-v0"})
+    err = capsys.readouterr().err
+    assert err.count("warning: generation") == 1 and "recorded info['position'] wraps ([0] at 2 pi; not seen by " \
+        "the start of the run); its steps and w - p are trained on as they are" in err
+    train(tmp_path / "off", {**base, "env": "WrapTurnOff-v0"})
+    assert "wraps" not in capsys.readouterr().err

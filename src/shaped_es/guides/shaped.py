@@ -73,6 +73,7 @@ from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
+from shaped_es.rollout.periodic import describe as periodic_describe, detect_recorded
 from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.shared_rows import SharedRows
@@ -111,8 +112,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
         self.mphi_cfg = mphi_config(cfg, pos_dim)
-        wraps = wrap_line(cfg, pos_dim) if not Path(store.metrics_path).exists() else ""  # a new run: before the probe
-        if wraps:
+        wraps, self._wrap_warned = wrap_line(cfg, pos_dim)  # settled: no late wrap warning (_check_wrap)
+        if wraps and not Path(store.metrics_path).exists():  # a new run: before the probe
             print(f"shaped-es: {self.run_name}: {wraps}", file=sys.stderr)
         self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
         self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
@@ -278,6 +279,23 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                                             name="shaping", daemon=True)
             self._thread.start()
 
+    def _check_wrap(self, generation: int, big) -> None:
+        """One warning line the first time a generation's recorded positions jump by about a turn (a wrapped
+        angle the run's start did not detect and the env does not declare: ``rollout/periodic.py``); such rows
+        are trained on as they are."""
+        if self._wrap_warned or big is None or len(big) < 2:
+            return
+        starts = np.ones(len(big), bool)  # (N,) True where a row does not follow the one before in its episode
+        starts[1:] = (big.episode[1:] != big.episode[:-1]) | (big.step[1:] != big.step[:-1] + 1)
+        period = detect_recorded(big.position, starts)
+        if period is None:
+            return
+        self._wrap_warned = True
+        print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded "
+              f"{periodic_describe(period, True, 'not seen by the start of the run')}"
+              f"; its steps and w - p are trained on as they are (the long way round across the cut): declare "
+              f"env.unwrapped.position_period (README: Angles that wrap)", file=sys.stderr)
+
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:
         """``ready(mask)`` (the trainer's ``clone_overlap``; None: off): called once the mechanism's
@@ -291,6 +309,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                 r.packed = None
             self._remember(generation, join_packed(blocks) if blocks else None)
             blk = self._cache[generation]
+            self._check_wrap(generation, blk.big)
             if blk.packed is not None:
                 self._writes.append(self._writer.submit(self._write, blk.packed))
         t_wait = time.perf_counter()

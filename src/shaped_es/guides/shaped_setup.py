@@ -166,10 +166,11 @@ def check_period(cfg: RunConfig, pos_dim: int) -> None:
         close_env(env, cfg.env)
 
 
-def wrap_line(cfg: RunConfig, pos_dim: int) -> str:
+def wrap_line(cfg: RunConfig, pos_dim: int) -> tuple[str, bool]:
     """The run's line where ``info['position']`` wraps (a heading in (-pi, pi]; ``rollout/periodic.py``): what
-    the recorded steps and the labels' queries do about it; ``""`` where it does not (or the env has a batched
-    core: the rollouts there take the positions as the core reports them)."""
+    the recorded steps and the labels' queries do about it, ``""`` where it does not (or the env has a batched
+    core: the rollouts there take the positions as the core reports them); and whether that is settled (the env
+    declares its ``position_period``, or one was detected): else the guide watches the recorded rows."""
     from shaped_es.rollout import close_env, make_env, periodic
 
     env = make_env(cfg.env, cfg.env_kwargs)
@@ -179,9 +180,9 @@ def wrap_line(cfg: RunConfig, pos_dim: int) -> str:
     finally:
         close_env(env, cfg.env)
     if period is None:
-        return ""
+        return "", declared
     how = "" if declared else (f"; declare env.unwrapped.{periodic.PERIOD_ATTR} (None: it does not wrap) to say so "
                                "yourself")
     return (f"{periodic.describe(period, not declared)}: its recorded steps are made continuous and each step and "
-            f"w - p taken the short way{how}")
+            f"w - p taken the short way{how}"), True
 

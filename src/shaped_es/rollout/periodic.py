@@ -119,6 +119,14 @@ def detect(episodes: list[np.ndarray]) -> np.ndarray | None:
     return out if (out > 0).any() else None
 
 
+def detect_recorded(position: np.ndarray, episode_starts: np.ndarray) -> np.ndarray | None:
+    """:func:`detect` on recorded rows ``(N, d)`` (a generation's), split where ``episode_starts`` ``(N,)`` is
+    True: a wrap the start's random-action episodes did not show (a pendulum a trained policy takes over the
+    cut). Rows already unwrapped do not wrap."""
+    cuts = np.flatnonzero(np.asarray(episode_starts, bool))
+    return detect([e for e in np.split(np.asarray(position), cuts) if len(e) > 1])
+
+
 def _action(space: gym.Space, rng: np.random.Generator, corner: np.ndarray | None):
     """A random action of ``space``: uniform (``corner`` None) or the given corner (signs ``(act,)``) of a Box."""
     if isinstance(space, gym.spaces.Discrete):
@@ -175,12 +183,13 @@ def period_of(env: gym.Env, env_id: str, env_kwargs: dict, d: int) -> np.ndarray
     return None if per is None or per.shape != (d,) else per
 
 
-def describe(period: np.ndarray | None, detected: bool) -> str:
-    """``info['position'][0] wraps at 2 pi``-style text, ``""`` where nothing wraps."""
+def describe(period: np.ndarray | None, detected: bool, how: str | None = None) -> str:
+    """``info['position'] wraps ([0] at 2 pi; detected from random-action episodes)``, ``""`` where nothing wraps
+    (``how``: another source than ``detected``'s)."""
     if period is None:
         return ""
     parts = [f"[{k}] at {'2 pi' if abs(p - 2 * math.pi) < 1e-9 else f'{p:g}'}" for k, p in enumerate(period) if p > 0]
-    how = "detected from random-action episodes" if detected else f"the env's {PERIOD_ATTR}"
+    how = how or ("detected from random-action episodes" if detected else f"the env's {PERIOD_ATTR}")
     return f"info['{POSITION_KEY}'] wraps ({', '.join(parts)}; {how})"
 
 
@@ -189,4 +198,5 @@ def is_declared(env: gym.Env) -> bool:
     return getattr(getattr(env, "unwrapped", env), PERIOD_ATTR, _UNSET) is not _UNSET
 
 
-__all__ = ["PERIOD_ATTR", "Unwrapper", "declared", "describe", "detect", "is_declared", "period_of", "wrap"]
+__all__ = ["PERIOD_ATTR", "Unwrapper", "declared", "describe", "detect", "detect_recorded", "is_declared",
+           "period_of", "wrap"]
