@@ -46,7 +46,8 @@ class _Turn(gym.Env):
 
 
 for _name, _kw in {"WrapTurn-v0": {}, "PlainTurn-v0": {"wrapped": False}, "WrapTurnOff-v0": {"period": None},
-                   "WrapTurnDeclared-v0": {"period": [TAU]}, "WrapTurnBad-v0": {"period": "a turn"}}.items():
+                   "WrapTurnDeclared-v0": {"period": [TAU]}, "WrapTurnBad-v0": {"period": "a turn"},
+                   "WrapTurnDegrees-v0": {"period": 360.0}, "WrapTurnTwo-v0": {"period": [TAU, TAU]}}.items():
     gym.register(_name, entry_point=_Turn, kwargs=_kw, max_episode_steps=60)
 
 
@@ -96,11 +97,13 @@ def test_detect_finds_a_wrapped_heading_and_nothing_else():
 def test_declared_periods_and_a_bad_one_in_one_line():
     assert periodic.declared(gym.make("WrapTurnOff-v0"), 1) is None
     np.testing.assert_array_equal(periodic.declared(gym.make("WrapTurnDeclared-v0"), 1), [TAU])
-    with pytest.raises(EnvSpecError, match="position_period = 'a turn': give one period"):
+    with pytest.raises(EnvSpecError, match=r"position_period = 'a turn' \(not a number\): give one period"):
         periodic.declared(gym.make("WrapTurnBad-v0"), 1)
     from shaped_es.config import build_config
     from shaped_es.guides.shaped_setup import check_period
 
+    with pytest.raises(EnvSpecError, match=r"\(2 periods for 1 coordinates\)"):
+        periodic.declared(gym.make("WrapTurnTwo-v0"), 1)
     with pytest.raises(EnvSpecError, match="give one period"):  # the shaped preflight: before the run directory
         check_period(build_config({"env": "WrapTurnBad-v0", "method": "shaped"}), 1)
     check_period(build_config({"env": "WrapTurnDeclared-v0", "method": "shaped"}), 1)
@@ -153,14 +156,21 @@ def test_check_env_says_a_heading_wraps_and_refuses_a_bad_period():
     assert "wraps ([0] at 2 pi; the env's position_period)" in {c.name: c for c in check_env(
         "WrapTurnDeclared-v0")}["waypoints"].detail
     bad = {c.name: c for c in check_env("WrapTurnBad-v0")}["waypoints"]
-    assert bad.status == "FAIL" and bad.detail.startswith("position_period = 'a turn'")
+    assert bad.status == "no" and bad.detail.startswith("position_period = 'a turn' (not a number): give one")
+    assert bad.detail.endswith("--method shaped refuses it; every other method trains")
+    # well-formed but wrong (a new user's radians declared as 360; None on a heading that jumps): a warning
+    for env_id in ("WrapTurnDegrees-v0", "WrapTurnOff-v0"):
+        odd = {c.name: c for c in check_env(env_id)}["waypoints"]
+        assert odd.status == "warn" and odd.detail.endswith(
+            "but random-action episodes jump by about a turn ([0] at 2 pi): check env.unwrapped.position_period")
 
 
 def test_a_wrap_the_start_missed_is_one_warning_line_and_a_detected_one_is_unwrapped(tmp_path, monkeypatch, capsys):
     """A shaped run on the wrapped turntable: detected at the start, its first line says so and the recorded
     rows do not jump; where the start's random-action episodes miss the wrap (a pendulum only a trained policy
     takes over the cut; simulated by a detection that finds nothing), generation rows that jump by a turn give
-    one warning line naming position_period; a declared None says nothing."""
+    one warning line naming position_period; so does a declared period that leaves the jumps in (360 for
+    radians)."""
     from helpers import train
 
     base = {"method": "shaped", "generations": 2, "executor": "inline", "es": {"pairs": 4},
@@ -169,11 +179,18 @@ def test_a_wrap_the_start_missed_is_one_warning_line_and_a_detected_one_is_unwra
     err = capsys.readouterr().err
     assert "info['position'] wraps ([0] at 2 pi; detected from random-action episodes)" in err
     assert "warning" not in err
+    from shaped_es.guides.shaped_setup import read_wrap_file  # the run folder says so (the final JSON reads it)
+
+    assert read_wrap_file(tmp_path / "found") == {"position_period": [TAU], "source": "detected"}
     monkeypatch.setattr(periodic, "_CACHE", {})
-    monkeypatch.setattr(periodic, "_detect_env", lambda env_id, kwargs: None)
+    monkeypatch.setattr(periodic, "detect_env", lambda env_id, kwargs: None)
     train(tmp_path / "missed", {**base, "env": "WrapTurn-v0"})
+    assert read_wrap_file(tmp_path / "missed") is None
     err = capsys.readouterr().err
     assert err.count("warning: generation") == 1 and "recorded info['position'] wraps ([0] at 2 pi; not seen by " \
         "the start of the run); its steps and w - p are trained on as they are" in err
-    train(tmp_path / "off", {**base, "env": "WrapTurnOff-v0"})
-    assert "wraps" not in capsys.readouterr().err
+    monkeypatch.undo()
+    train(tmp_path / "degrees", {**base, "env": "WrapTurnDegrees-v0"})  # declared, wrong: its rows still jump
+    err = capsys.readouterr().err
+    assert err.count("warning: generation") == 1 and "([0] at 2 pi; the env's position_period leaves it out)" in err \
+        and "check env.unwrapped.position_period" in err

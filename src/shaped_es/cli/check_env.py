@@ -243,25 +243,33 @@ def _waypoints(runs: list[dict], env=None, env_id: str = "", env_kwargs: dict | 
     d, shape = next(iter(sizes))[0], next(iter(shapes))[0]
     flat = "" if len(shape) == 1 else ", scalars read as (1,)" if not shape else f", {shape} arrays read flattened"
     try:
-        wraps = _wraps(env, env_id, env_kwargs, d)
-    except EnvSpecError as exc:  # a position_period it cannot use
-        return Check("waypoints", FAIL, str(exc))
-    return Check("waypoints", OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d{flat}) from reset and "
-                                  f"every step: --method shaped can use it" + wraps)
+        wraps, odd = _wraps(env, env_id, env_kwargs, d)
+    except EnvSpecError as exc:  # a position_period shaped cannot use (the other methods never read it)
+        return Check("waypoints", NO, f"{exc}: --method shaped refuses it; every other method trains")
+    return Check("waypoints", WARN if odd else OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d{flat}) "
+                                                   f"from reset and every step: --method shaped can use it" + wraps)
 
 
-def _wraps(env, env_id: str, env_kwargs: dict | None, d: int) -> str:
+def _wraps(env, env_id: str, env_kwargs: dict | None, d: int) -> tuple[str, bool]:
     """``; info['position'] wraps ([0] at 2 pi; detected ...): shaped runs take its steps the short way`` where
-    the position is periodic (``rollout/periodic.py``: a wrapped heading), ``""`` otherwise."""
+    the position is periodic (``rollout/periodic.py``: a wrapped heading), ``""`` otherwise; and whether a
+    declared ``position_period`` disagrees with what random-action episodes show (a new user's arm declared 360
+    for radians, and None for joints that jump by 2 pi: both passed in silence)."""
     if env is None:
-        return ""
+        return "", False
     period = periodic.period_of(env, env_id, dict(env_kwargs or {}), d)
+    declared = periodic.is_declared(env)
+    seen = periodic.detect_env(env_id, dict(env_kwargs or {})) if declared and periodic.detectable(env) else None
+    mine = period if period is not None else np.zeros(d)
+    odd = seen is not None and bool(np.any((seen > 0) & (seen != mine)))
+    but = (f"; but random-action episodes jump by about a turn ({periodic.coords_text(seen)}): check "
+           f"env.unwrapped.{periodic.PERIOD_ATTR}") if odd else ""
     if period is None:
-        return ""
-    told = "" if periodic.is_declared(env) else (f" (declare env.unwrapped.{periodic.PERIOD_ATTR} to say so yourself, "
-                                                 "None if it does not wrap)")
-    return (f"; {periodic.describe(period, not periodic.is_declared(env))}: shaped runs record it continuous and "
-            f"take each step and w - p the short way{told}")
+        return but, odd
+    told = "" if declared else (f" (declare env.unwrapped.{periodic.PERIOD_ATTR} to say so yourself, None if it does "
+                                "not wrap)")
+    return (f"; {periodic.describe(period, not declared)}: shaped runs record it continuous and take each step and "
+            f"w - p the short way{told}{but}"), odd
 
 
 def _controller(env: gym.Env, max_steps: int = 200) -> Check:

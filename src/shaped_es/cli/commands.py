@@ -164,6 +164,10 @@ def _run(cfg, store, a, probe=None) -> int:
                             "first_generation": int(hit["generations"]) if hit else None}
     shaping = rows_summary(rows)  # candidate runs: what the labels did
     if shaping is not None:
+        from shaped_es.guides.shaped_setup import read_wrap_file
+
+        if (wrap := read_wrap_file(store.root)) is not None:  # a position that wraps (rollout/periodic.py)
+            shaping["position_period"] = wrap
         out["shaping"] = shaping
         from shaped_es.guides.label_budget import never_accepted
 

@@ -214,8 +214,8 @@ def never_accepted(summary: dict | None, base: str | None, short: bool = False) 
         return None
     if short:
         who = f"{base}'s" if base else "the ES strategy's"
-        return f"no candidate accepted in {summary['candidates_judged']} judged generations: {who} own steps"
-    head = f"no candidate was accepted in {summary['candidates_judged']} judged generations: the search took "
+        return f"no candidate accepted in {_judged(summary)}: {who} own steps"
+    head = f"no candidate was accepted in {_judged(summary)}: the search took "
     if base is None:
         return head + "its ES strategy's own steps"
     return head + (f"{base}'s own steps (--method {base}, same seed: the same policies, without shaping's "
@@ -273,3 +273,10 @@ def rows_summary(rows: list[dict]) -> dict | None:
         out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
                        and _num(r.get("candidate_rival")) in vs) if has[v] else None
     return out
+
+
+def _judged(summary: dict) -> str:
+    """``12 judged generations`` (``1 judged generation``)."""
+    n = summary["candidates_judged"]
+    return f"{n} judged generation{'s' * (n != 1)}"
+

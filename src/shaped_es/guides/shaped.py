@@ -92,7 +92,7 @@ from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # 
 from shaped_es.guides.shaped_verdicts import LabelVerdicts
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
-                                          waypoint_dim, wrap_line)
+                                          waypoint_dim, wrap_line, write_wrap_file)
 
 MPHI_KEYS = ("mphi_train_loss", "mphi_fit_test_loss", "mphi_iterations", "mphi_dataset_size",
              "mphi_kept_fraction", "time_mphi_s", "time_mphi_wait_s")
@@ -112,9 +112,11 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
         self.mphi_cfg = mphi_config(cfg, pos_dim)
-        wraps, self._wrap_warned = wrap_line(cfg, pos_dim)  # settled: no late wrap warning (_check_wrap)
+        wraps, self._wrap_declared, period = wrap_line(cfg, pos_dim)  # declared: position_period (_check_wrap)
+        self._wrap_warned = False  # rows that still jump by a turn: one warning line (_check_wrap)
         if wraps and not Path(store.metrics_path).exists():  # a new run: before the probe
             print(f"shaped-es: {self.run_name}: {wraps}", file=sys.stderr)
+            write_wrap_file(store.root, period, self._wrap_declared)
         self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
         self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
         # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
@@ -281,8 +283,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
 
     def _check_wrap(self, generation: int, big) -> None:
         """One warning line the first time a generation's recorded positions jump by about a turn (a wrapped
-        angle the run's start did not detect and the env does not declare: ``rollout/periodic.py``); such rows
-        are trained on as they are."""
+        angle the run's start did not detect, or one the env's ``position_period`` leaves out: a new user's arm
+        declared 360 for radians; ``rollout/periodic.py``); such rows are trained on as they are. Rows taken
+        continuous never jump, so a right period or a detected one never warns."""
         if self._wrap_warned or big is None or len(big) < 2:
             return
         starts = np.ones(len(big), bool)  # (N,) True where a row does not follow the one before in its episode
@@ -291,10 +294,11 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         if period is None:
             return
         self._wrap_warned = True
+        how = "the env's position_period leaves it out" if self._wrap_declared else "not seen by the start of the run"
+        fix = "check" if self._wrap_declared else "declare"
         print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded "
-              f"{periodic_describe(period, True, 'not seen by the start of the run')}"
-              f"; its steps and w - p are trained on as they are (the long way round across the cut): declare "
-              f"env.unwrapped.position_period (README: Angles that wrap)", file=sys.stderr)
+              f"{periodic_describe(period, True, how)}; its steps and w - p are trained on as they are (the long way "
+              f"round across the cut): {fix} env.unwrapped.position_period (README: Angles that wrap)", file=sys.stderr)
 
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:

@@ -166,11 +166,42 @@ def check_period(cfg: RunConfig, pos_dim: int) -> None:
         close_env(env, cfg.env)
 
 
-def wrap_line(cfg: RunConfig, pos_dim: int) -> tuple[str, bool]:
+WRAP_FILE = "position_period.json"  # RUN/: the period a shaped run takes its positions' steps modulo (none: no file)
+
+
+def write_wrap_file(root, period, declared: bool) -> None:
+    """``RUN/position_period.json``: the period (one per coordinate, 0: none) and where it came from, so a
+    finished run says it (the final JSON's ``shaping.position_period``; a new user's arm: 9/10 seeds with the
+    wrap taken out, 0/10 without, and nothing in the folder said which)."""
+    import json
+    from pathlib import Path
+
+    from shaped_es.rundir.atomic import atomic_write_text
+
+    atomic_write_text(Path(root) / WRAP_FILE, json.dumps(
+        {"position_period": [float(p) for p in period], "source": "declared" if declared else "detected"}) + "\n")
+
+
+def read_wrap_file(root) -> dict | None:
+    """What :func:`write_wrap_file` wrote (None: no file, or not that file's JSON)."""
+    import json
+    from pathlib import Path
+
+    try:
+        d = json.loads((Path(root) / WRAP_FILE).read_text())
+    except (OSError, ValueError):
+        return None
+    ok = isinstance(d, dict) and isinstance(d.get("position_period"), list) and d.get("source") in ("declared",
+                                                                                                      "detected")
+    return d if ok else None
+
+
+def wrap_line(cfg: RunConfig, pos_dim: int) -> tuple[str, bool, np.ndarray | None]:
     """The run's line where ``info['position']`` wraps (a heading in (-pi, pi]; ``rollout/periodic.py``): what
     the recorded steps and the labels' queries do about it, ``""`` where it does not (or the env has a batched
     core: the rollouts there take the positions as the core reports them); and whether that is settled (the env
-    declares its ``position_period``, or one was detected): else the guide watches the recorded rows."""
+    declares its ``position_period``): the guide's late check then says the declaration is wrong, not missing; and
+    the period (None: nothing wraps)."""
     from shaped_es.rollout import close_env, make_env, periodic
 
     env = make_env(cfg.env, cfg.env_kwargs)
@@ -180,9 +211,9 @@ def wrap_line(cfg: RunConfig, pos_dim: int) -> tuple[str, bool]:
     finally:
         close_env(env, cfg.env)
     if period is None:
-        return "", declared
+        return "", declared, None
     how = "" if declared else (f"; declare env.unwrapped.{periodic.PERIOD_ATTR} (None: it does not wrap) to say so "
                                "yourself")
     return (f"{periodic.describe(period, not declared)}: its recorded steps are made continuous and each step and "
-            f"w - p taken the short way{how}"), True
+            f"w - p taken the short way{how}"), declared, period
 

@@ -81,14 +81,18 @@ def declared(env: gym.Env, d: int):
     v = getattr(getattr(env, "unwrapped", env), PERIOD_ATTR, _UNSET)
     if v is _UNSET or v is None:
         return v
+    many = isinstance(v, (list, tuple, np.ndarray))
     try:
-        vals = [0.0 if x is None else float(x) for x in (v if isinstance(v, (list, tuple, np.ndarray)) else [v] * d)]
+        vals = [0.0 if x is None else float(x) for x in (v if many else [v] * d)]
     except (TypeError, ValueError):
         vals = None
-    if vals is None or len(vals) != d or not all(math.isfinite(x) and x >= 0 for x in vals):
-        raise EnvSpecError(f"{PERIOD_ATTR} = {v!r}: give one period (a positive number) for all coordinates of "
-                           f"info['{POSITION_KEY}'], a list of {d} (one per coordinate; None or 0 where it does not "
-                           "wrap), or None (nothing wraps)")
+    wrong = ("not a number" if vals is None else f"{len(vals)} periods for {d} coordinates" if len(vals) != d
+             else "a period that is negative or not finite" if not all(math.isfinite(x) and x >= 0 for x in vals)
+             else "")
+    if wrong:
+        raise EnvSpecError(f"{PERIOD_ATTR} = {v!r} ({wrong}): give one period (a positive number) for all "
+                           f"coordinates of info['{POSITION_KEY}'], a list of {d} (one per coordinate; None or 0 "
+                           "where it does not wrap), or None (nothing wraps)")
     out = np.array(vals, np.float64)
     return out if (out > 0).any() else None
 
@@ -137,7 +141,7 @@ def _action(space: gym.Space, rng: np.random.Generator, corner: np.ndarray | Non
     return np.where(bounded, (high + low) * 0.5 + (high - low) * 0.5 * a, a).astype(space.dtype)
 
 
-def _detect_env(env_id: str, env_kwargs: dict) -> np.ndarray | None:
+def detect_env(env_id: str, env_kwargs: dict) -> np.ndarray | None:
     """:func:`detect` on ``DETECT_EPISODES`` seeded random-action episodes of a fresh env (None if it fails: the
     rollout that follows reports the env's own error)."""
     rng = np.random.default_rng(20_261_206)
@@ -176,8 +180,7 @@ def period_of(env: gym.Env, env_id: str, env_kwargs: dict, d: int) -> np.ndarray
     if key not in _CACHE:
         own = declared(env, d)
         if own is _UNSET:
-            detectable = get_batch_core(env) is None and not runs_serially(env)
-            own = _detect_env(env_id, env_kwargs) if detectable else None
+            own = detect_env(env_id, env_kwargs) if detectable(env) else None
         _CACHE[key] = own
     per = _CACHE[key]
     return None if per is None or per.shape != (d,) else per
@@ -188,9 +191,19 @@ def describe(period: np.ndarray | None, detected: bool, how: str | None = None) 
     (``how``: another source than ``detected``'s)."""
     if period is None:
         return ""
-    parts = [f"[{k}] at {'2 pi' if abs(p - 2 * math.pi) < 1e-9 else f'{p:g}'}" for k, p in enumerate(period) if p > 0]
     how = how or ("detected from random-action episodes" if detected else f"the env's {PERIOD_ATTR}")
-    return f"info['{POSITION_KEY}'] wraps ({', '.join(parts)}; {how})"
+    return f"info['{POSITION_KEY}'] wraps ({coords_text(period)}; {how})"
+
+
+def coords_text(period: np.ndarray) -> str:
+    """``[0] at 2 pi, [1] at 360``: the coordinates that wrap and their periods."""
+    return ", ".join(f"[{k}] at {'2 pi' if abs(p - 2 * math.pi) < 1e-9 else f'{p:g}'}"
+                     for k, p in enumerate(period) if p > 0)
+
+
+def detectable(env: gym.Env) -> bool:
+    """Detection may run a fresh copy of ``env`` (not a batched core's, not a simulator's run serially)."""
+    return get_batch_core(env) is None and not runs_serially(env)
 
 
 def is_declared(env: gym.Env) -> bool:
@@ -198,5 +211,5 @@ def is_declared(env: gym.Env) -> bool:
     return getattr(getattr(env, "unwrapped", env), PERIOD_ATTR, _UNSET) is not _UNSET
 
 
-__all__ = ["PERIOD_ATTR", "Unwrapper", "declared", "describe", "detect", "detect_recorded", "is_declared",
-           "period_of", "wrap"]
+__all__ = ["PERIOD_ATTR", "Unwrapper", "coords_text", "declared", "describe", "detectable", "detect", "detect_recorded", "detect_env",
+           "is_declared", "period_of", "wrap"]
