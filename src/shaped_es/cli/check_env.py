@@ -22,6 +22,7 @@ from __future__ import annotations
 import contextlib
 import importlib.util
 import re
+import time
 import warnings
 from dataclasses import asdict, dataclass
 
@@ -286,28 +287,41 @@ def _controller(env: gym.Env, max_steps: int = 200) -> Check:
                                    "shaping.labels=controller needs one)")
 
 
-RETURN_EPISODES = 10  # episodes of each policy in the controller's line (seeds 0..9)
+RETURN_EPISODES = 10  # episodes of each policy in the controller's line (seeds 0..9), in rounds of this many
+RETURN_MAX = 50  # ... while the rounds so far took under RETURN_BUDGET_S seconds (two new users' bodies, whose
+RETURN_BUDGET_S = 3.0  # returns scale with a random goal distance: 10 episodes' thresholds moved by 10-20%)
 
 
 def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
-    """``; returns over 10 episodes: it 9.30, zero action 0.00, random actions -1.92 (a threshold: 8.37, 90% of the
-    way from zero action's return to its own, as the suite's were set)``, or where the controller raised, that one
-    line."""
+    """``; returns over 30 episodes: it 9.30, zero action 0.00, random actions -1.92 (a threshold: 8.37 +- 0.21,
+    90% of the way from zero action's return to its own, as the suite's were set; +-: 2 standard errors over the
+    episodes)``, or where the controller raised, that one line. Rounds of ``RETURN_EPISODES`` seeds (0, 1, ...)
+    while they take under ``RETURN_BUDGET_S`` in all, up to ``RETURN_MAX`` episodes."""
     space = env.action_space
     limit = getattr(getattr(env, "spec", None), "max_episode_steps", None) or max_steps
     middle = to_space(space, np.zeros(space.shape))  # the policy's zero output, as the rollouts map it
     policies = {"it": hook, "zero action": lambda o, i: middle, "random actions": None}
-    means = {}
-    for name, act in policies.items():
-        runs = [_episode(env, seed, limit, act) for seed in range(RETURN_EPISODES)]
-        failed = next((r["error"] for r in runs if r["error"]), None)
-        if failed:  # one line: the check itself passed
-            return f"; driving it over an episode: {failed}"
-        means[name] = float(np.mean([sum(r["rewards"]) for r in runs]))
+    returns: dict[str, list[float]] = {name: [] for name in policies}
+    t0 = time.perf_counter()
+    while True:
+        seeds = range(len(returns["it"]), len(returns["it"]) + RETURN_EPISODES)
+        for name, act in policies.items():
+            runs = [_episode(env, seed, limit, act) for seed in seeds]
+            failed = next((r["error"] for r in runs if r["error"]), None)
+            if failed:  # one line: the check itself passed
+                return f"; driving it over an episode: {failed}"
+            returns[name] += [float(sum(r["rewards"])) for r in runs]
+        n = len(returns["it"])
+        if n >= RETURN_MAX or time.perf_counter() - t0 > RETURN_BUDGET_S:
+            break
+    means = {k: float(np.mean(v)) for k, v in returns.items()}
     it, zero = means["it"], means["zero action"]
-    return (f"; returns over {RETURN_EPISODES} episodes: it {it:.2f}, zero action {zero:.2f}, "
-            f"random actions {means['random actions']:.2f} (a threshold: {suggested_threshold(it, zero):.2f}, 90% of "
-            f"the way from zero action's return to its own, as the suite's were set)")
+    per = suggested_threshold(np.array(returns["it"]), np.array(returns["zero action"]))  # (n,) paired by seed
+    spread = 2 * float(np.std(per, ddof=1)) / np.sqrt(n)
+    return (f"; returns over {n} episodes: it {it:.2f}, zero action {zero:.2f}, random actions "
+            f"{means['random actions']:.2f} (a threshold: {suggested_threshold(it, zero):.2f} +- {spread:.2f}, 90% of "
+            f"the way from zero action's return to its own, as the suite's were set; +-: 2 standard errors over the "
+            f"episodes)")
 
 
 def suggested_threshold(controller: float, zero: float) -> float:
