@@ -25,6 +25,7 @@ over lock-step episodes with a waypoint beside it.
 
 from __future__ import annotations
 
+import json
 import math
 
 import gymnasium as gym
@@ -174,8 +175,6 @@ def detect_env(env_id: str, env_kwargs: dict) -> np.ndarray | None:
 def period_of(env: gym.Env, env_id: str, env_kwargs: dict, d: int) -> np.ndarray | None:
     """The period ``(d,)`` of ``env``'s ``info['position']`` (0: not periodic), or None where nothing wraps:
     declared, else detected (module docstring); once per env id and kwargs in a process."""
-    import json
-
     key = env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
     if key not in _CACHE:
         own = declared(env, d)
@@ -211,5 +210,5 @@ def is_declared(env: gym.Env) -> bool:
     return getattr(getattr(env, "unwrapped", env), PERIOD_ATTR, _UNSET) is not _UNSET
 
 
-__all__ = ["PERIOD_ATTR", "Unwrapper", "coords_text", "declared", "describe", "detectable", "detect", "detect_recorded", "detect_env",
-           "is_declared", "period_of", "wrap"]
+__all__ = ["PERIOD_ATTR", "Unwrapper", "coords_text", "declared", "describe", "detect", "detect_env", "detect_recorded",
+           "detectable", "is_declared", "period_of", "wrap"]
