@@ -51,6 +51,30 @@ for _name, _kw in {"WrapTurn-v0": {}, "PlainTurn-v0": {"wrapped": False}, "WrapT
     gym.register(_name, entry_point=_Turn, kwargs=_kw, max_episode_steps=60)
 
 
+class _Pendulum(_Turn):
+    """A gravity pendulum (0: hanging) whose torque cannot hold it horizontal, its heading reported wrapped: the
+    cut is at the top, which neither random actions nor a held torque reach; a torque that flips pumps it over."""
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.th, self.om = float(self.np_random.uniform(-0.3, 0.3)), 0.0
+        return self._out()
+
+    def step(self, action):
+        self.om += 0.05 * (-10 * math.sin(self.th) + 5 * float(np.clip(action, -1, 1)[0]) - 0.1 * self.om)
+        self.th += 0.05 * self.om
+        obs, info = self._out()
+        return obs, 0.0, False, False, info
+
+
+gym.register("WrapPendulum-v0", entry_point=_Pendulum, max_episode_steps=200)
+
+
+def test_detection_pumps_a_swing_over_the_top():
+    np.testing.assert_array_equal(periodic.detect_env("WrapPendulum-v0", {}), [TAU])
+    assert periodic.detect_env("PlainTurn-v0", {}) is None
+
+
 def test_wrap_takes_each_periodic_coordinate_the_short_way():
     got = periodic.wrap(np.array([[6.2, 6.2], [-3.3, -3.3], [3.0, 3.0]]), np.array([TAU, 0.0]))
     np.testing.assert_allclose(got[:, 0], [6.2 - TAU, -3.3 + TAU, 3.0])

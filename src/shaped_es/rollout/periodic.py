@@ -13,7 +13,8 @@ Where the period comes from (:func:`period_of`, per env id and kwargs, once per 
 
 - the env declares it: ``env.unwrapped.position_period``, one number (every coordinate) or one per coordinate
   (``None`` or 0: that coordinate does not wrap); ``position_period = None`` turns detection off;
-- else it is **detected** (:func:`detect`) from a few seeded random-action episodes of a fresh env: a coordinate
+- else it is **detected** (:func:`detect`) from a few seeded random-action episodes of a fresh env (uniform, a
+  corner held, a corner flipping to pump a swing): a coordinate
   wraps at 2 pi (or 360) if its values stay within one period, it jumps by about a period at least twice, and
   every other step is small. The same seeds in every process, so every worker and a resumed run find the same.
   Not for envs whose episodes run serially (a simulator server: declare it there) or with a batched core (the
@@ -36,7 +37,9 @@ from shaped_es.envs.core import POSITION_KEY, get_batch_core, runs_serially
 
 PERIOD_ATTR = "position_period"  # env.unwrapped.position_period: a number, one per coordinate, or None
 PERIODS = (2 * math.pi, 360.0)  # what detection recognizes: radians, degrees
-DETECT_EPISODES = 8  # half of them uniform random actions, half one random corner of the action space held
+# a third each: uniform random actions; one random corner of the action space held; a corner whose sign flips
+# every 5-40 steps (it pumps a swing: a new user's pendulum whose cut is at the top crossed it only so)
+DETECT_EPISODES = 12
 DETECT_STEPS = 200  # at most this many steps of each (an env without a time limit, a long one)
 _UNSET = object()
 _CACHE: dict[str, np.ndarray | None] = {}
@@ -152,11 +155,14 @@ def detect_env(env_id: str, env_kwargs: dict) -> np.ndarray | None:
         for e in range(DETECT_EPISODES):
             _, info = env.reset(seed=int(rng.integers(2**31 - 1)))
             space = env.action_space
-            corner = None
-            if e % 2 and isinstance(space, gym.spaces.Box):
+            corner, flip = None, 0
+            if e % 3 and isinstance(space, gym.spaces.Box):
                 corner = rng.choice([-1.0, 1.0], size=space.shape)
+                flip = int(rng.integers(5, 41)) if e % 3 == 2 else 0
             pos = [np.asarray(info[POSITION_KEY], np.float64).reshape(-1)]
-            for _ in range(DETECT_STEPS):
+            for t in range(DETECT_STEPS):
+                if flip and t and t % flip == 0:
+                    corner = -corner
                 _, _, term, trunc, info = env.step(_action(space, rng, corner))
                 pos.append(np.asarray(info[POSITION_KEY], np.float64).reshape(-1))
                 if term or trunc:
