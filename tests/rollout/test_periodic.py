@@ -116,6 +116,12 @@ def test_detect_finds_a_wrapped_heading_and_nothing_else():
     both = [np.concatenate([periodic.wrap(e, np.array([TAU])), 0.01 * np.arange(len(e))[:, None]], axis=1)
             for e in _episodes(0.0, 0.3, 4)]
     np.testing.assert_array_equal(periodic.detect(both), [TAU, 0.0])
+    # recorded rows (a generation's, episodes one after another, a lone row among them) give what detect gives
+    for eps in (wrapped, degrees, walk, jumpy, both):
+        rows = [e.reshape(len(e), -1) for e in eps] + [np.full((1, eps[0].reshape(len(eps[0]), -1).shape[1]), 9.0)]
+        follows = np.concatenate([np.r_[np.ones(len(r) - 1, bool), False] for r in rows])  # (N,)
+        got, want = periodic.detect_recorded(np.concatenate(rows), follows), periodic.detect(eps)
+        assert (got is None and want is None) or np.array_equal(got, want)
 
 
 def test_declared_periods_and_a_bad_one_in_one_line():

@@ -73,7 +73,6 @@ from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, mean_returns
-from shaped_es.rollout.periodic import describe as periodic_describe, detect_recorded
 from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.shared_rows import SharedRows
@@ -280,25 +279,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             self._thread = threading.Thread(target=self._background, args=(generation, data, train, job),
                                             name="shaping", daemon=True)
             self._thread.start()
-
-    def _check_wrap(self, generation: int, big) -> None:
-        """One warning line the first time a generation's recorded positions jump by about a turn (a wrapped
-        angle the run's start did not detect, or one the env's ``position_period`` leaves out: a new user's arm
-        declared 360 for radians; ``rollout/periodic.py``); such rows are trained on as they are. Rows taken
-        continuous never jump, so a right period or a detected one never warns."""
-        if self._wrap_warned or big is None or len(big) < 2:
-            return
-        starts = np.ones(len(big), bool)  # (N,) True where a row does not follow the one before in its episode
-        starts[1:] = (big.episode[1:] != big.episode[:-1]) | (big.step[1:] != big.step[:-1] + 1)
-        period = detect_recorded(big.position, starts)
-        if period is None:
-            return
-        self._wrap_warned = True
-        how = "the env's position_period leaves it out" if self._wrap_declared else "not seen by the start of the run"
-        fix = "check" if self._wrap_declared else "declare"
-        print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded "
-              f"{periodic_describe(period, True, how)}; its steps and w - p are trained on as they are (the long way "
-              f"round across the cut): {fix} env.unwrapped.position_period (README: Angles that wrap)", file=sys.stderr)
 
     # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:

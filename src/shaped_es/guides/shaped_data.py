@@ -6,16 +6,19 @@ member's ``D_i``; ``dagger_rows``: the mean's DAgger set), trimmed to what the n
 ``GenerationData`` is a part of ``guides/shaped.py``'s ``ShapedGuide`` (its base class), which owns the
 state these methods use: ``_cache`` (generation -> ``_Block``), ``_silent`` (generations slept through),
 ``labels`` (the label source: ``inputs``), ``traj_root``, ``placement``, ``sh`` (the shaping section),
-``spec`` and ``_ckpt_margin``.
+``spec`` and ``_ckpt_margin``; and for the wrap check of the recorded positions (``_check_wrap``) ``run_name``,
+``_wrap_declared`` and ``_wrap_warned``.
 """
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from shaped_es.data import PackedTransitions, Transitions, concat_members, pack
+from shaped_es.rollout.periodic import describe, detect_recorded
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.trajectories import TrajectoryStoreError, read_generation
 
@@ -59,6 +62,23 @@ class GenerationData:
         big = packed.stacked()  # data.concat_members of its members, sharing the block's arrays
         q = self.labels.inputs(big)  # (N, k) what the label source reads besides the state
         self._cache[generation] = _Block(packed.unpack(), big, q, packed.members, packed.offsets, packed)
+
+    def _check_wrap(self, generation: int, big: Transitions | None) -> None:
+        """One warning line the first time a generation's recorded positions jump by about a turn (a wrapped
+        angle the run's start did not detect, or one the env's ``position_period`` leaves out: a new user's arm
+        declared 360 for radians; ``rollout/periodic.py``); such rows are trained on as they are. Rows taken
+        continuous never jump, so a right period or a detected one never warns."""
+        if self._wrap_warned or big is None or len(big) < 2:
+            return
+        period = detect_recorded(big.position, big.next_position()[0])
+        if period is None:
+            return
+        self._wrap_warned = True
+        how = "the env's position_period leaves it out" if self._wrap_declared else "not seen by the start of the run"
+        fix = "check" if self._wrap_declared else "declare"
+        print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded "
+              f"{describe(period, True, how)}; its steps and w - p are trained on as they are (the long way round "
+              f"across the cut): {fix} env.unwrapped.position_period (README: Angles that wrap)", file=sys.stderr)
 
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""

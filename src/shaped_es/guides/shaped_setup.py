@@ -197,11 +197,11 @@ def read_wrap_file(root) -> dict | None:
 
 
 def wrap_line(cfg: RunConfig, pos_dim: int) -> tuple[str, bool, np.ndarray | None]:
-    """The run's line where ``info['position']`` wraps (a heading in (-pi, pi]; ``rollout/periodic.py``): what
-    the recorded steps and the labels' queries do about it, ``""`` where it does not (or the env has a batched
-    core: the rollouts there take the positions as the core reports them); and whether that is settled (the env
-    declares its ``position_period``): the guide's late check then says the declaration is wrong, not missing; and
-    the period (None: nothing wraps)."""
+    """``(line, declared, period)``: the run's line where ``info['position']`` wraps (a heading in (-pi, pi];
+    ``rollout/periodic.py``), what the recorded steps and the labels' queries do about it, ``""`` where it does not
+    (or the env has a batched core: the rollouts there take the positions as the core reports them); whether the
+    env declares its ``position_period`` (the guide's late check then calls the declaration wrong, not missing);
+    and the period (None: nothing wraps)."""
     from shaped_es.rollout import close_env, make_env, periodic
 
     env = make_env(cfg.env, cfg.env_kwargs)

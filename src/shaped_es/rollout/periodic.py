@@ -110,11 +110,27 @@ def detect(episodes: list[np.ndarray]) -> np.ndarray | None:
     eps = [np.asarray(e, np.float64).reshape(len(e), -1) for e in episodes if len(e) > 1]
     if not eps:
         return None
-    d = eps[0].shape[1]
-    vals = np.concatenate(eps)  # (N, d)
-    steps = np.abs(np.concatenate([np.diff(e, axis=0) for e in eps]))  # (N - episodes, d)
-    out = np.zeros(d)
-    for k in range(d):
+    return _wraps(np.concatenate(eps), np.abs(np.concatenate([np.diff(e, axis=0) for e in eps])))
+
+
+def detect_recorded(position: np.ndarray, follows: np.ndarray) -> np.ndarray | None:
+    """:func:`detect` on recorded rows ``(N, d)`` (a generation's), ``follows`` ``(N,)`` True where row ``t + 1``
+    continues row ``t``'s episode (``Transitions.next_position``'s mask): a wrap the start's random-action episodes
+    did not show. Rows already unwrapped do not wrap."""
+    pos = np.asarray(position, np.float64)
+    cont = np.asarray(follows, bool)[:-1]  # (N - 1,) row i + 1 is row i's next step
+    if not cont.any():
+        return None
+    paired = np.zeros(len(pos), bool)  # (N,) rows of an episode with a step (detect's episodes of 2+ rows)
+    paired[:-1] |= cont
+    paired[1:] |= cont
+    return _wraps(pos[paired], np.abs(np.diff(pos, axis=0))[cont])
+
+
+def _wraps(vals: np.ndarray, steps: np.ndarray) -> np.ndarray | None:
+    """:func:`detect`'s rule on the positions ``(N, d)`` and the absolute steps ``(M, d)`` within episodes."""
+    out = np.zeros(vals.shape[1])
+    for k in range(vals.shape[1]):
         span = vals[:, k].max() - vals[:, k].min()
         for P in PERIODS:
             s = steps[:, k]
@@ -125,14 +141,6 @@ def detect(episodes: list[np.ndarray]) -> np.ndarray | None:
                 out[k] = P
                 break
     return out if (out > 0).any() else None
-
-
-def detect_recorded(position: np.ndarray, episode_starts: np.ndarray) -> np.ndarray | None:
-    """:func:`detect` on recorded rows ``(N, d)`` (a generation's), split where ``episode_starts`` ``(N,)`` is
-    True: a wrap the start's random-action episodes did not show (a pendulum a trained policy takes over the
-    cut). Rows already unwrapped do not wrap."""
-    cuts = np.flatnonzero(np.asarray(episode_starts, bool))
-    return detect([e for e in np.split(np.asarray(position), cuts) if len(e) > 1])
 
 
 def _action(space: gym.Space, rng: np.random.Generator, corner: np.ndarray | None):
