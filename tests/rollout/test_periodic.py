@@ -195,13 +195,17 @@ def test_check_env_says_a_heading_wraps_and_refuses_a_bad_period():
             "but random-action episodes jump by about a turn ([0] at 2 pi): check env.unwrapped.position_period")
 
 
-def test_a_wrap_the_start_missed_is_one_warning_line_and_a_detected_one_is_unwrapped(tmp_path, monkeypatch, capsys):
+def test_a_wrap_the_start_missed_is_taken_from_the_next_rollouts_and_a_detected_one_is_unwrapped(
+        tmp_path, monkeypatch, capsys):
     """A shaped run on the wrapped turntable: detected at the start, its first line says so and the recorded
     rows do not jump; where the start's random-action episodes miss the wrap (a pendulum only a trained policy
-    takes over the cut; simulated by a detection that finds nothing), generation rows that jump by a turn give
-    one warning line naming position_period; so does a declared period that leaves the jumps in (360 for
-    radians)."""
+    takes over the cut; simulated by a detection that finds nothing), the first generation whose rows jump by a
+    turn says so in one line and the rollouts after it record the heading continuous (the run folder says from
+    which generation; a resumed run keeps it); a declared period that leaves the jumps in (360 for radians) is
+    the env's word: one warning line naming position_period."""
     from helpers import train
+
+    from shaped_es.shaping.trajectories import read_generation
 
     base = {"method": "shaped", "generations": 2, "executor": "inline", "es": {"pairs": 4},
             "shaping": {"inverse_dynamics": {"frame": "world"}}}
@@ -214,11 +218,25 @@ def test_a_wrap_the_start_missed_is_one_warning_line_and_a_detected_one_is_unwra
     assert read_wrap_file(tmp_path / "found") == {"position_period": [TAU], "source": "detected"}
     monkeypatch.setattr(periodic, "_CACHE", {})
     monkeypatch.setattr(periodic, "detect_env", lambda env_id, kwargs: None)
-    train(tmp_path / "missed", {**base, "env": "WrapTurn-v0"})
-    assert read_wrap_file(tmp_path / "missed") is None
+    store = train(tmp_path / "missed", {**base, "env": "WrapTurn-v0", "generations": 4})
     err = capsys.readouterr().err
-    assert err.count("warning: generation") == 1 and "recorded info['position'] wraps ([0] at 2 pi; not seen by " \
-        "the start of the run); its steps and w - p are trained on as they are" in err
+    assert err.count("'s recorded info['position'] wraps") == 1 and "recorded info['position'] wraps ([0] at 2 pi; " \
+        "not seen by the start of the run): the next rollouts record it continuous" in err
+    first = int(err.split("generation ")[-1].split("'s recorded")[0])
+    assert read_wrap_file(tmp_path / "missed") == {"position_period": [TAU], "source": "detected",
+                                                   "generation": first}
+    from shaped_es.config import build_config
+    from shaped_es.trainer import Trainer
+
+    Trainer(build_config({**base, "env": "WrapTurn-v0", "generations": 6}), store, progress=False).run()  # resumed
+    assert "recorded info['position'] wraps" not in capsys.readouterr().err
+    jumps = []
+    for g in range(6):
+        steps = [np.abs(t.next_position()[1] - t.position)[t.next_position()[0]]  # (T', 1) within episodes
+                 for t in read_generation(store.trajectories_dir, g)]
+        jumps.append(int((np.concatenate(steps) > 5.0).sum()))
+    assert jumps[first] >= 2 and sum(jumps[first + 2:]) == 0 and first + 2 < 4, jumps  # continuous from g + 2 on
+
     monkeypatch.undo()
     train(tmp_path / "degrees", {**base, "env": "WrapTurnDegrees-v0"})  # declared, wrong: its rows still jump
     err = capsys.readouterr().err

@@ -23,6 +23,7 @@ class NoGuide:
 
     record = False
     expert = False  # rollouts also record the env's waypoint controller's actions
+    position_period = None  # (d,): the rollouts take info['position'] modulo it (RolloutTask.position_period)
     # es.obs_norm: the normalizer the next generation's members see (policies.ObsNorm; None: off), set by
     # the trainer before each after_tell (the shaped guide fits its clones through it)
     obs_norm = None

@@ -112,7 +112,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         pos_dim = waypoint_dim(cfg, probe)
         self.mphi_cfg = mphi_config(cfg, pos_dim)
         wraps, self._wrap_declared, period = wrap_line(cfg, pos_dim)  # declared: position_period (_check_wrap)
-        self._wrap_warned = False  # rows that still jump by a turn: one warning line (_check_wrap)
+        self._wrap_warned = False  # rows that still jump by a turn: one line (_check_wrap)
+        self.store_root, self.position_period = store.root, None  # (d,): a wrap the start missed (_check_wrap)
         if wraps and not Path(store.metrics_path).exists():  # a new run: before the probe
             print(f"shaped-es: {self.run_name}: {wraps}", file=sys.stderr)
             write_wrap_file(store.root, period, self._wrap_declared)
@@ -356,6 +357,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         st = {f"mechanism/{k}": v for k, v in self.mechanism.state_dict().items()}
         st |= {f"budget/{k}": v for k, v in self.budget.state_dict().items()}
         st["silent"] = np.array(sorted(self._silent), np.int64)
+        if self.position_period is not None:  # found after the start: the resumed rollouts take it too
+            st["late_period"] = np.asarray(self.position_period, np.float64)
         if self.track is not None:
             self.track.save(st, "mphi/", "mphi_parts")
             st["step_norm"] = self.step_norm
@@ -369,6 +372,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self.mechanism.load_state_dict({k[10:]: v for k, v in state.items() if k.startswith("mechanism/")})
         self.budget.load_state_dict({k[7:]: v for k, v in state.items() if k.startswith("budget/")})
         self._silent = {int(g) for g in np.asarray(state.get("silent", np.zeros(0)), np.int64).reshape(-1)}
+        if "late_period" in state:
+            self.position_period = np.asarray(state["late_period"], np.float64).reshape(-1)  # (d,)
+            self._wrap_warned = True
         self._cache.clear()
         if self.track is None:
             return

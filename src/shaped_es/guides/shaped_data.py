@@ -7,7 +7,7 @@ member's ``D_i``; ``dagger_rows``: the mean's DAgger set), trimmed to what the n
 state these methods use: ``_cache`` (generation -> ``_Block``), ``_silent`` (generations slept through),
 ``labels`` (the label source: ``inputs``), ``traj_root``, ``placement``, ``sh`` (the shaping section),
 ``spec`` and ``_ckpt_margin``; and for the wrap check of the recorded positions (``_check_wrap``) ``run_name``,
-``_wrap_declared`` and ``_wrap_warned``.
+``store_root``, ``_wrap_declared``, ``_wrap_warned`` and ``position_period``.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shaped_es.data import PackedTransitions, Transitions, concat_members, pack
+from shaped_es.guides.shaped_setup import write_wrap_file
 from shaped_es.rollout.periodic import describe, detect_recorded
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.trajectories import TrajectoryStoreError, read_generation
@@ -64,21 +65,32 @@ class GenerationData:
         self._cache[generation] = _Block(packed.unpack(), big, q, packed.members, packed.offsets, packed)
 
     def _check_wrap(self, generation: int, big: Transitions | None) -> None:
-        """One warning line the first time a generation's recorded positions jump by about a turn (a wrapped
-        angle the run's start did not detect, or one the env's ``position_period`` leaves out: a new user's arm
-        declared 360 for radians; ``rollout/periodic.py``); such rows are trained on as they are. Rows taken
-        continuous never jump, so a right period or a detected one never warns."""
+        """The first time a generation's recorded positions jump by about a turn (``rollout/periodic.py``), one
+        line: a wrapped angle the run's start did not detect (a pendulum only a trained policy swings over the
+        cut) is taken the short way from the rollouts that start after this one on (``position_period``, which
+        the trainer's tasks carry; checkpointed; ``RUN/position_period.json``), the rows already recorded are
+        trained on as they are until they leave the history; a period the env declares that leaves the jumps
+        in (a new user's arm declared 360 for radians) is the env's word: a warning only. Rows taken
+        continuous never jump, so a right period or a detected one never says anything."""
         if self._wrap_warned or big is None or len(big) < 2:
             return
         period = detect_recorded(big.position, big.next_position()[0])
         if period is None:
             return
         self._wrap_warned = True
-        how = "the env's position_period leaves it out" if self._wrap_declared else "not seen by the start of the run"
-        fix = "check" if self._wrap_declared else "declare"
-        print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded "
-              f"{describe(period, True, how)}; its steps and w - p are trained on as they are (the long way round "
-              f"across the cut): {fix} env.unwrapped.position_period (README: Angles that wrap)", file=sys.stderr)
+        if self._wrap_declared:
+            how = describe(period, True, "the env's position_period leaves it out")
+            print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded {how}; its steps and w - p are "
+                  f"trained on as they are (the long way round across the cut): check env.unwrapped.position_period "
+                  f"(README: Angles that wrap)", file=sys.stderr)
+            return
+        self.position_period = np.asarray(period, np.float64)  # (d,)
+        write_wrap_file(self.store_root, self.position_period, False, generation)
+        print(f"shaped-es: {self.run_name}: generation {generation}'s recorded "
+              f"{describe(period, True, 'not seen by the start of the run')}: the next rollouts record it continuous "
+              f"and take each step and w - p the short way; the {self.sh.history} generations' rows M_phi and the "
+              f"clones read already hold the jumps until they age out (declare env.unwrapped.position_period to "
+              f"have it from the start; README: Angles that wrap)", file=sys.stderr)
 
     def _generation(self, generation: int) -> list[Transitions]:
         """Every member's transitions of ``generation``: from memory (master placement) or the store."""

@@ -169,17 +169,20 @@ def check_period(cfg: RunConfig, pos_dim: int) -> None:
 WRAP_FILE = "position_period.json"  # RUN/: the period a shaped run takes its positions' steps modulo (none: no file)
 
 
-def write_wrap_file(root, period, declared: bool) -> None:
+def write_wrap_file(root, period, declared: bool, generation: int | None = None) -> None:
     """``RUN/position_period.json``: the period (one per coordinate, 0: none) and where it came from, so a
     finished run says it (the final JSON's ``shaping.position_period``; a new user's arm: 9/10 seeds with the
-    wrap taken out, 0/10 without, and nothing in the folder said which)."""
+    wrap taken out, 0/10 without, and nothing in the folder said which); ``generation``: found in that
+    generation's recorded rows (the rollouts after it took it the short way), not at the start."""
     import json
     from pathlib import Path
 
     from shaped_es.rundir.atomic import atomic_write_text
 
-    atomic_write_text(Path(root) / WRAP_FILE, json.dumps(
-        {"position_period": [float(p) for p in period], "source": "declared" if declared else "detected"}) + "\n")
+    d = {"position_period": [float(p) for p in period], "source": "declared" if declared else "detected"}
+    if generation is not None:
+        d["generation"] = int(generation)
+    atomic_write_text(Path(root) / WRAP_FILE, json.dumps(d) + "\n")
 
 
 def read_wrap_file(root) -> dict | None:

@@ -102,7 +102,8 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
         d = _contract(task, infos[0], None, seeds[0], 0)[0].size  # every episode's pair of this size
         pairs = [_contract(task, i, d, seeds[b], 0, dtype=np.float64) for b, i in enumerate(infos)]
         pos, wp = np.stack([p for p, _ in pairs]), np.stack([w for _, w in pairs])  # (B, d) float64
-        period = period_of(envs[0], task.env_id, task.env_kwargs, d)
+        late = task.position_period  # found in the run's own rows after its start (RolloutTask)
+        period = late if late is not None and len(late) == d else period_of(envs[0], task.env_id, task.env_kwargs, d)
         if period is not None:
             unwrap = Unwrapper(period)
             pos, wp = unwrap.start(pos, wp)

@@ -31,6 +31,9 @@ class RolloutTask:
     rowwise: bool = False  # each observation's action on its own, bit for bit (policies.forward; evaluate)
     obs_norm: ObsNorm | None = None  # the policies' input normalization (es.obs_norm), applied before forward
     obs_stats: bool = False  # also return each member's observation count, sum and sum of squares
+    # (d,) a period of info['position'] the run found in its own recorded rows after its start (the shaped guide's
+    # late check, guides/shaped_data.py); None: the env's own (rollout/periodic.period_of: declared or detected)
+    position_period: np.ndarray | None = None
     during: str = ""  # what the rollout is part of, for its errors ("": generation ``generation``; :meth:`where`)
 
     def where(self) -> str:
@@ -81,15 +84,16 @@ def mean_returns(results: list[RolloutResult]) -> np.ndarray:
 def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray,
                      workers: int, generation: int = 0, record: bool | np.ndarray = False,
                      max_steps: int | None = None, expert: bool = False, obs_norm: ObsNorm | None = None,
-                     obs_stats: bool = False) -> list[RolloutTask]:
+                     obs_stats: bool = False, position_period: np.ndarray | None = None) -> list[RolloutTask]:
     """A population ``params`` ``(P, n)`` on its episode seeds ``(P, E)``, as at most ``workers`` tasks of
     consecutive members (training rollouts); ``record``: every member, or a mask ``(P,)``; ``obs_norm``:
-    the members' input normalization; ``obs_stats``: return their observations' sums."""
+    the members' input normalization; ``obs_stats``: return their observations' sums; ``position_period``:
+    ``RolloutTask.position_period``."""
     members = np.arange(params.shape[0])
     rec = record if isinstance(record, (bool, np.bool_)) else np.asarray(record, dtype=bool).reshape(-1)
     return [RolloutTask(env_id, env_kwargs, spec, params[idx], members[idx], seeds[idx], generation=generation,
                         record=rec if isinstance(rec, (bool, np.bool_)) else rec[idx], max_steps=max_steps,
-                        expert=expert, obs_norm=obs_norm, obs_stats=obs_stats)
+                        expert=expert, obs_norm=obs_norm, obs_stats=obs_stats, position_period=position_period)
             for idx in np.array_split(members, max(1, min(len(members), workers)))]
 
 

@@ -136,7 +136,8 @@ class Trainer(CheckpointState, Rows, RunLoop):
         return population_tasks(self.cfg.env, self.cfg.env_kwargs, self.spec, params, seeds,
                                 self.executor.workers, g, record, self.cfg.rollout.max_steps,
                                 expert=self.guide.expert, obs_norm=self.obs_norm(),
-                                obs_stats=obs_stats and self.obs_stats is not None)
+                                obs_stats=obs_stats and self.obs_stats is not None,
+                                position_period=self.guide.position_period)
 
     def step(self, g: int) -> list[dict]:
         """Run generation ``g``; returns the metrics rows completed meanwhile (in order; with
