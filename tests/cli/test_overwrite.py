@@ -41,6 +41,9 @@ def test_the_same_runs_redraw_their_page_and_other_runs_are_refused(tmp_path, tw
     assert (page.read_text(), (page.parent / "summary.json").read_text()) == before
     assert main(["report", two_runs[0], "--out", str(page), "--force"]) == 0
     assert len([p for g in json.loads((page.parent / "summary.json").read_text())["runs"].values() for p in g]) == 1
+    # a page of some of these runs (a benchmark rerun on one seed drew it) is redrawn with all of them
+    assert main(["report", *two_runs, "--out", str(page)]) == 0
+    assert len([p for g in json.loads((page.parent / "summary.json").read_text())["runs"].values() for p in g]) == 2
 
 
 def test_runs_named_from_the_working_folder_redraw_their_page(tmp_path, two_runs, monkeypatch):
