@@ -13,7 +13,6 @@ from pathlib import Path
 
 import numpy as np
 
-from shaped_es.guides.probe_file import parse
 
 VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base", 5: "probe", 6: "shoot_base"}
 GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran
@@ -69,7 +68,10 @@ def probe_choices(dirs: list[Path]) -> dict | None:
     frames, shoot = Counter(), Counter()
     for d in dirs:
         try:
-            res = parse((Path(d) / "label_probe.json").read_bytes())
+            raw = (Path(d) / "label_probe.json").read_bytes()
+            from shaped_es.guides.probe_file import parse  # here, for runs that probed: its modules load SciPy, Numba
+
+            res = parse(raw)
         except (OSError, ValueError, TypeError, UnicodeDecodeError):
             continue
         frames[res.frame if res.chunk is None else f"{res.frame} with chunk targets"] += 1

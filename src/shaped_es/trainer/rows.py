@@ -16,7 +16,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.executors import Executor
-from shaped_es.guides.mechanisms.candidate import CHECK_METRIC
+from shaped_es.guides.mechanisms import CHECK_METRIC
 from shaped_es.policies import ObsNorm
 from shaped_es.rollout import policy_episode_tasks, run_task
 

@@ -32,6 +32,10 @@ from __future__ import annotations
 
 import numpy as np
 
+CHECK_METRIC = "check_env_steps"  # candidate with check_episodes: the env steps of this generation's check (counted
+#                                   in env_steps by the trainer, which imports this name from here, not candidate.py's
+#                                   chain of Numba kernels; 0 where nothing won before the check)
+
 
 class Mechanism:
     """Base of the label mechanisms: records everyone, evaluates nothing extra, has no state."""

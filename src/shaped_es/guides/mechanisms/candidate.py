@@ -37,7 +37,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.guides.concurrent import concurrently
-from shaped_es.guides.mechanisms import Mechanism, every_kth
+from shaped_es.guides.mechanisms import CHECK_METRIC, Mechanism, every_kth
 from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.rollout import population_tasks, run_task
 from shaped_es.shaping.surrogate import cosine
@@ -51,8 +51,6 @@ SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
 REVERT_METRIC = "jump_reverted"  # with revert_margin / revert_paired: 1 where this generation undid the last one's jump
 UNDO_METRIC = "undo_gain"  # with revert_paired: the ES step's own mean's return minus the jumped mean's (a jump's
 #                            next generation; NaN elsewhere)
-CHECK_METRIC = "check_env_steps"  # with check_episodes: the env steps of this generation's check (counted in
-#                                   env_steps by the trainer; 0 where nothing won before the check)
 
 
 def population_fell(now: np.ndarray, before: tuple[float, float, int], margin: float) -> bool:
