@@ -69,7 +69,8 @@ def test_the_report_counts_what_each_runs_label_probe_chose(tmp_path):
     base = {"query_clip": None, "returns": {}, "env_steps": 10, "seconds": 1.0, "reason": "r"}
     probes = [{"frame": "world", "shoot_on": True, "shoot_horizon": 16}, {"frame": "world", "shoot_on": False},
               {"frame": "both", "shoot_on": True, "shoot_horizon": 4}, {"frame": "both"},
-              {"frame": "both", "chunk": 4, "shoot_on": True, "shoot_horizon": 4}]
+              {"frame": "both", "chunk": 4, "shoot_on": True, "shoot_horizon": 4},
+              {"frame": "world", "query_clip": 4.0, "shoot_on": True, "shoot_horizon": 4}]
     dirs = []
     for i, p in enumerate(probes + ["not json", None]):
         d = tmp_path / f"run{i}"
@@ -78,9 +79,10 @@ def test_the_report_counts_what_each_runs_label_probe_chose(tmp_path):
             (d / "label_probe.json").write_text(json.dumps(base | p) if isinstance(p, dict) else p)
         dirs.append(d)
     got = probe_choices(dirs)
-    assert got == {"frame": {"world": 2, "both": 2, "both with chunk targets": 1},
-                   "shoot": {"16 steps": 1, "dropped": 1, "4 steps": 2, "config": 1}}
-    assert probe_choices(dirs[5:]) is None
+    assert got == {"frame": {"world": 2, "both": 2, "both with chunk targets": 1, "world, query clip 4": 1},
+                   "shoot": {"16 steps": 1, "dropped": 1, "4 steps": 3, "config": 1}}
+    assert probe_choices(dirs[6:]) is None
+    got = probe_choices(dirs[:5])
     s = shaping_summary([_run([nan, 1], [nan, 0], [nan, 1.0], [1, 1])]) | {"label_probe": got}
     text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
     assert "shaped's label probe, runs per choice: frame world 2, both 2, both with chunk targets 1; the shooting " \

@@ -64,6 +64,9 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     assert "below zero action's -1.20; best: shooting 16 steps 6.37, judged at generation 0; rivals" in told
     assert len(f"shaped-es: {told}") <= LINE_MAX
     assert "; best: " not in probe_line(replace(best, candidate="both"), "CarNav-v0", rivals)
+    # with shaping.mean_clone.probe_candidate=false nothing is judged at generation 0, and the line says so
+    off = probe_line(best, "CarNav-v0", rivals, judged=False)
+    assert "best: shooting 16 steps 6.37, not judged (shaping.mean_clone.probe_candidate=false)" in off
     # a new user's hovercraft: the chosen candidate not below zero action, the best far above it (6.38 against
     # -0.89 on the next line read as a contradiction): named too
     above = probe_line(replace(res, candidate="shoot:16"), "CarNav-v0", rivals)

@@ -74,7 +74,8 @@ def probe_choices(dirs: list[Path]) -> dict | None:
             res = parse(raw)
         except (OSError, ValueError, TypeError, UnicodeDecodeError):
             continue
-        frames[res.frame if res.chunk is None else f"{res.frame} with chunk targets"] += 1
+        clip = "" if res.query_clip is None else f", query clip {res.query_clip:g}"  # a new user missed a clip4 run
+        frames[(res.frame if res.chunk is None else f"{res.frame} with chunk targets") + clip] += 1
         shoot["dropped" if res.shoot_on is False else "config" if res.shoot_horizon is None
               else f"{res.shoot_horizon} steps"] += 1
     return {"frame": dict(frames), "shoot": dict(shoot)} if frames else None

@@ -13,9 +13,10 @@ from shaped_es.guides.probe_file import FILE
 from shaped_es.guides.rival import probe_shooting
 
 
-def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> str:
+def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judged: bool = True) -> str:
     """The run's one line on the probe ``res`` (every number: label_probe.json; tables: ``check-env --labels``);
-    ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs."""
+    ``rivals``: the rivals' names (``rival.names``), which name a shooting rival that runs; ``judged``: whether
+    the run judges the probe's best candidate at generation 0 (``shaping.mean_clone.probe_candidate``)."""
     name, h = variant_name(res.frame, res.query_clip, res.chunk), res.shoot_horizon
     default = next(iter(res.returns), name)
     d_frame, _, d_clip = default.partition("+clip")
@@ -37,7 +38,8 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = ()) -> st
         # a new user read "below zero action" as broken labels, a line before the probe's best candidate won at
         # generation 0; another read the two candidates' numbers as contradictory: the best is named either way
         if best:
-            score += f"; best: {best}, judged at generation 0"
+            score += f"; best: {best}, " + ("judged at generation 0" if judged else
+                                              "not judged (shaping.mean_clone.probe_candidate=false)")
     lost = "" if res.shoot_on else ", not above zero action" + ("; another is" if _drop_text(res) else "")
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")

@@ -144,12 +144,12 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                      if self.sh.labels == "mphi" else None)
         self.reference = reference_actions(self.sh.reference_run, spec) if self.sh.reference_run else None
         self.labels = label_source(cfg, spec, self.mphi, self.mphi_cfg, self.reference, probe)
-        # rival label variants whose labels make more candidates (guides/rival.py): another frame, the servo,
-        # the shooting labels (where the probe found their clone driving the body)
+        # rival label variants whose labels make more candidates (guides/rival.py): another frame, servo, shooting
         self.rivals = [] if self.mphi is None else rivals(cfg, self.mphi_cfg.frame, spec.obs_dim, pos_dim,
                                                           spec.act_dim, self.mphi_cfg, Path(store.root), **shooting)
         if probe_res is not None:  # the probe's choice, and the rivals beside it
-            print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals)),
+            judged = self.sh.mean_clone.probe_candidate and self.sh.mechanism == "candidate"  # at generation 0
+            print(f"shaped-es: {self.run_name}: " + probe_line(probe_res, cfg.env, rival_names(self.rivals), judged),
                   file=sys.stderr)
         elif self.sh.labels != "mphi" and not Path(store.metrics_path).exists():  # a new run: say where labels
             # come from (a new user's controller-label runs printed nothing about their labels)
