@@ -83,7 +83,19 @@ def test_a_rerun_with_fewer_methods_says_its_page_leaves_runs_out(tmp_path, caps
     assert _cli(*TINY, "--methods", "vanilla", "--generations", 2, "--out", out) == 0
     lines = [ln for ln in capsys.readouterr().err.splitlines() if "also holds" in ln]
     assert lines == [f"[benchmark] report.md shows this invocation's methods and seeds; {out / 'runs'} also holds "
-                     f"cmaes_s0 (1): shaped-es report {out} --out DIR/report.md draws them all"]
+                     f"cmaes_s0 (1): shaped-es report {out} --out {out / 'report.md'} draws them all"]
+    assert "longer:" not in capsys.readouterr().err
+    # the vanilla-only page above holds all its runs' rows; the advice's command redraws the whole page there
+    from shaped_es.cli.commands import main
+
+    assert main(["report", str(out), "--out", str(out / "report.md")]) == 0
+    # a rerun with a smaller budget than the runs have (a new user's): the page cuts them there, and says so
+    capsys.readouterr()
+    assert _cli(*TINY, "--methods", "vanilla", "--generations", 1, "--out", out) == 0
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "longer:" in ln]
+    assert lines == ["[benchmark] report.md reads every run up to generation 1 (this --generations); longer: "
+                     "vanilla_s0 (2 generations): their lines above are their last rows; --generations 2 (or "
+                     "shaped-es report, which reads each run to its end) uses them whole"]
 
 
 def test_a_changed_run_without_checkpoint_restarts(tmp_path):

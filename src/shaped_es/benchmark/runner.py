@@ -251,6 +251,21 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
                          f"directory is the {what}'s own: name a new or empty folder")
 
 
+def _longer(groups: dict[str, list[Path]], generations: int) -> list[str]:
+    """``name (G generations)`` of the runs with more rows than ``generations`` (extended by an earlier
+    invocation with a larger budget)."""
+    out = []
+    for dirs in groups.values():
+        for d in dirs:
+            try:
+                n = len(RunStore(d).read_metrics())
+            except (OSError, StoreError, ValueError):
+                continue
+            if n > generations:
+                out.append(f"{d.name} ({n} generations)")
+    return out
+
+
 def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     """``, last test reward 8.67``, where it reached the threshold (:func:`_reached`), and
     for a candidate run ``; candidates accepted 3 of 23 judged``, or ``; no candidate accepted ...`` where its
@@ -341,10 +356,16 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
 
     for line in verdict_lines(json.loads(Path(paths["summary"]).read_text())):  # the report's verdict, in brief
         log(f"[benchmark] {line}")
+    longer = _longer(groups, spec.generations)
+    if longer:  # a rerun with a smaller budget: the page cuts the runs there, the run lines above did not
+        log(f"[benchmark] report.md reads every run up to generation {spec.generations} (this --generations); "
+            f"longer: {', '.join(longer[:4])}{' ...' if len(longer) > 4 else ''}: their lines above are their "
+            f"last rows; --generations {max(int(x.rsplit('(', 1)[1].split()[0]) for x in longer)} (or shaped-es "
+            f"report, which reads each run to its end) uses them whole")
     shown = {d.name for dirs in groups.values() for d in dirs}
     left = sorted(p.name for p in (out / "runs").iterdir() if p.is_dir() and p.name not in shown)
     if left:  # a rerun with fewer methods or seeds: its page shows this invocation's runs only
         log(f"[benchmark] report.md shows this invocation's methods and seeds; {out / 'runs'} also holds "
             f"{', '.join(left[:4])}{' ...' if len(left) > 4 else ''} ({len(left)}): shaped-es report {out} "
-            f"--out DIR/report.md draws them all")
+            f"--out {out / 'report.md'} draws them all")
     return {**paths, "runs": status}
