@@ -247,6 +247,10 @@ class ShapingConfig(_Strict):
         "paper", description="mechanism paper: Delta = (theta* - mu_{g+1})/eta (paper), or each clone step "
         "theta* - theta minus its part in the span of the generation's perturbations (what the labels add)")
     history: Int = Field(5, gt=0, description="generations of a slot's data aggregated into D_i")
+    early_mphi: Bool = Field(False, description="M_phi and the rival models train on generation 0's steps before "
+                             "its clone, so generation 1 judges a candidate (otherwise the run's own first is "
+                             "generation 2's: M_phi trains beside a generation's rollouts on the previous one's "
+                             "steps); generation 1 then trains none (docs/benchmarks/early_mphi_v24)")
     placement: Literal["auto", "master", "workers"] = Field(
         "auto", description="where labels and cloning run: the master, in one batched computation on "
         "the data the rollouts send back (one machine), or the workers, on data read from the trajectory "

@@ -270,9 +270,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         if self.mphi is not None:
             self._pending.update(time_mphi_s=0.0, mphi_iterations=self.mphi.iterations,
                                  mphi_dataset_size=self.mphi.dataset_size)
-        train = self.mphi is not None and generation > 0
-        # g-1's steps are read here (a lost shard is a loud error on this thread); M_phi takes them in,
-        # then trains, in the shaping thread, beside the rollouts
+        train = self.mphi is not None and generation > 0 and not (self.sh.early_mphi and generation == 1)
+        # g-1's steps read here (a lost shard: a loud error on this thread), trained on beside the rollouts
         data = [t for t in self._generation(generation - 1) if len(t)] if train else []
         # the mechanism's work that may overlap the rollouts (after M_phi's training, in the same thread)
         job = self.mechanism.background_job(generation)
@@ -299,6 +298,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                 self._writes.append(self._writer.submit(self._write, blk.packed))
         t_wait = time.perf_counter()
         self._join_thread()
+        self._early_mphi(generation)  # shaping.early_mphi: generation 1's M_phi work, before generation 0's clone
         out = dict(self._pending, time_cloning_s=0.0, clone_cpu_time_s=0.0, shaping_active=0,
                    time_store_write_s=self._write_time)  # this generation's shards (+ M_phi data parts)
         if self.mphi is not None:

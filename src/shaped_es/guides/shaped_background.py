@@ -72,6 +72,14 @@ class BackgroundWork:
         except BaseException as exc:  # noqa: BLE001 - handed to the joining thread
             self._thread_error = exc
 
+    def _early_mphi(self, generation: int) -> None:
+        """``shaping.early_mphi``: at generation 0's end, M_phi and the rival models take in its steps and train
+        (what ``begin_generation`` would do beside generation 1's rollouts, and then skips), so generation 0's
+        clone, judged beside generation 1, has labels."""
+        if self.sh.early_mphi and generation == 0 and self.mphi is not None and self.awake:
+            self._background(1, [t for t in self._generation(0) if len(t)], True, None)
+            self._join_thread()
+
     def _join_thread(self) -> None:
         if self._thread is not None:
             self._thread.join()
