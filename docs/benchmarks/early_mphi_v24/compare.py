@@ -40,6 +40,19 @@ def boot(a, b, n=4000, rng=np.random.default_rng(0)):
     return [round(float(np.percentile(r, 2.5)), 2), round(float(np.percentile(r, 97.5)), 2)]
 
 
+def paired(pairs: list[tuple[int, dict, dict]], G: int) -> dict:
+    """Per task, from ``(seed, early run, default run)`` summaries (:func:`run`): the module docstring's numbers."""
+    gn, go = [n["g"] for _, n, _ in pairs], [o["g"] for _, _, o in pairs]
+    return dict(seeds=len(pairs), early=round(float(np.mean(gn)), 2), default=round(float(np.mean(go)), 2),
+                ratio=round(float(np.mean(gn) / np.mean(go)), 2), ci=boot(gn, go),
+                solved=[sum(g <= G for g in gn), sum(g <= G for g in go)],
+                late=[round(float(np.mean([n["late"] for _, n, _ in pairs])), 3),
+                      round(float(np.mean([o["late"] for _, _, o in pairs])), 3)],
+                accepted=[sum(n["acc"] for _, n, _ in pairs), sum(o["acc"] for _, _, o in pairs)],
+                wall_ratio_median=round(float(np.median([n["wall"] / o["wall"] for _, n, o in pairs])), 2),
+                per_seed=[(s, n["g"], o["g"]) for s, n, o in pairs])
+
+
 def main(dirs: list[Path]) -> dict:
     out = {}
     for task in SUITES["waypoints"]:
@@ -53,15 +66,7 @@ def main(dirs: list[Path]) -> dict:
                 pairs.append((s, new, old))
         if not pairs:
             continue
-        gn, go = [n["g"] for _, n, _ in pairs], [o["g"] for _, _, o in pairs]
-        out[task.env] = dict(seeds=len(pairs), early=round(float(np.mean(gn)), 2), default=round(float(np.mean(go)), 2),
-                             ratio=round(float(np.mean(gn) / np.mean(go)), 2), ci=boot(gn, go),
-                             solved=[sum(g <= G for g in gn), sum(g <= G for g in go)],
-                             late=[round(float(np.mean([n["late"] for _, n, _ in pairs])), 3),
-                                   round(float(np.mean([o["late"] for _, _, o in pairs])), 3)],
-                             accepted=[sum(n["acc"] for _, n, _ in pairs), sum(o["acc"] for _, _, o in pairs)],
-                             wall_ratio_median=round(float(np.median([n["wall"] / o["wall"] for _, n, o in pairs])), 2),
-                             per_seed=[(s, n["g"], o["g"]) for s, n, o in pairs])
+        out[task.env] = paired(pairs, G)
     full = [v for v in out.values() if v["seeds"] == 10]
     if full:
         out["geomean_ratio"] = round(float(np.exp(np.mean([np.log(v["ratio"]) for v in full]))), 3)

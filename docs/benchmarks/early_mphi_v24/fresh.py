@@ -7,9 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
-from compare import boot, run
+from compare import paired, run
 from shaped_es.benchmark.suite import SUITES
 from shaped_es.envs.thresholds import threshold_of
 
@@ -25,13 +23,7 @@ def main(early: Path, default: Path, tasks: list[str]) -> dict:
         pairs = [(s, n, o) for s, n, o in pairs if n and o]
         if not pairs:
             continue
-        gn, go = [n["g"] for _, n, _ in pairs], [o["g"] for _, _, o in pairs]
-        out[task.env] = dict(seeds=len(pairs), early=round(float(np.mean(gn)), 2), default=round(float(np.mean(go)), 2),
-                             ratio=round(float(np.mean(gn) / np.mean(go)), 2), ci=boot(gn, go),
-                             solved=[sum(g <= G for g in gn), sum(g <= G for g in go)],
-                             late=[round(float(np.mean([n["late"] for _, n, _ in pairs])), 3),
-                                   round(float(np.mean([o["late"] for _, _, o in pairs])), 3)],
-                             per_seed=[(s, n["g"], o["g"]) for s, n, o in pairs])
+        out[task.env] = paired(pairs, G)
     return out
 
 
