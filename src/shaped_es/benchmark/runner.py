@@ -251,9 +251,9 @@ def check_own_folder(out: Path, mark: str, what: str) -> None:
                          f"directory is the {what}'s own: name a new or empty folder")
 
 
-def _longer(groups: dict[str, list[Path]], generations: int) -> list[str]:
-    """``name (G generations)`` of the runs with more rows than ``generations`` (extended by an earlier
-    invocation with a larger budget)."""
+def _longer(groups: dict[str, list[Path]], generations: int) -> list[tuple[str, int]]:
+    """``(name, rows)`` of the runs with more rows than ``generations`` (extended by an earlier invocation with a
+    larger budget)."""
     out = []
     for dirs in groups.values():
         for d in dirs:
@@ -262,7 +262,7 @@ def _longer(groups: dict[str, list[Path]], generations: int) -> list[str]:
             except (OSError, StoreError, ValueError):
                 continue
             if n > generations:
-                out.append(f"{d.name} ({n} generations)")
+                out.append((d.name, n))
     return out
 
 
@@ -358,10 +358,11 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
         log(f"[benchmark] {line}")
     longer = _longer(groups, spec.generations)
     if longer:  # a rerun with a smaller budget: the page cuts the runs there, the run lines above did not
+        named = ", ".join(f"{name} ({n} generations)" for name, n in longer[:4])
         log(f"[benchmark] report.md reads every run up to generation {spec.generations} (this --generations); "
-            f"longer: {', '.join(longer[:4])}{' ...' if len(longer) > 4 else ''}: their lines above are their "
-            f"last rows; --generations {max(int(x.rsplit('(', 1)[1].split()[0]) for x in longer)} (or shaped-es "
-            f"report, which reads each run to its end) uses them whole")
+            f"longer: {named}{' ...' if len(longer) > 4 else ''}: their lines above are their last rows; "
+            f"--generations {max(n for _, n in longer)} (or shaped-es report, which reads each run to its end) "
+            f"uses them whole")
     shown = {d.name for dirs in groups.values() for d in dirs}
     left = sorted(p.name for p in (out / "runs").iterdir() if p.is_dir() and p.name not in shown)
     if left:  # a rerun with fewer methods or seeds: its page shows this invocation's runs only

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import numpy as np
 
-
 VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base", 5: "probe", 6: "shoot_base"}
 GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran
          "shoot_base": "shoot_base_gain"}

@@ -63,4 +63,3 @@ def _censored(name: str, m: dict, ref: str, r: dict) -> list[str]:
     who, n, bound = (ref, short_r, "upper") if short_r else (name, short_m, "lower")
     runs = "1 unsolved run counts its" if n == 1 else f"{n} unsolved runs count their"
     return [f"({who}'s {runs} whole length: the ratios are {bound} bounds)"]
-

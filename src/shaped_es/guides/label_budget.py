@@ -279,4 +279,3 @@ def _judged(summary: dict) -> str:
     """``12 judged generations`` (``1 judged generation``)."""
     n = summary["candidates_judged"]
     return f"{n} judged generation{'s' * (n != 1)}"
-
