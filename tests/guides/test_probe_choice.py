@@ -1,9 +1,35 @@
 """The label probe's choice rules (guides/probe_choice.py): the frame's test on simulated candidates and labels,
 the signed-rank test, and the rule for the extensions the probe offers (chunk targets, a longer clip)."""
 
-import numpy as np
+import subprocess
+import sys
 
-from shaped_es.guides.probe_choice import choose, choose_targets, clone_beats
+import numpy as np
+from scipy.stats import wilcoxon
+
+from shaped_es.guides.probe_choice import choose, choose_targets, clone_beats, signed_rank_greater
+
+
+def test_signed_rank_is_scipys_wilcoxon_on_the_probes_sizes():
+    # ties and zeros up to 13 episodes (SciPy's exhaustive permutation test), none up to 40 (its exact law)
+    rng = np.random.default_rng(0)
+    for i in range(600):
+        if i % 2:
+            d = rng.integers(-4, 5, size=int(rng.integers(2, 14))) * 0.5
+        else:
+            d = rng.standard_t(2, size=int(rng.integers(2, 41))) + rng.normal()
+        if np.any(d != 0):
+            want = float(wilcoxon(d, alternative="greater").pvalue)
+            assert np.isclose(signed_rank_greater(d), want, rtol=1e-9, atol=1e-12), d
+    assert signed_rank_greater(np.arange(1.0, 11.0)) == 1 / 2**10  # every sign positive: the one extreme
+    assert signed_rank_greater(np.array([0.0, -1.0])) == 1.0
+
+
+def test_a_shaped_guide_does_not_import_scipy_stats():
+    # scipy.stats costs every shaped run ~1 s at its start (the probe's test is written by hand for that)
+    code = "import sys, shaped_es.guides.shaped; print('scipy.stats' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
 
 
 def test_choose_replaces_the_default_only_where_zero_action_beats_its_labels():
