@@ -39,6 +39,10 @@ def check_run(cfg: RunConfig, warn: bool = True) -> EnvProbe:
     _check_workers(cfg)
     for check in method.checks:  # the method's own (methods.Method.checks)
         resolve(check)(cfg, probe)
+    if cfg.video_every is not None:  # videos need rgb_array frames: refused here, before the run writes its config
+        from shaped_es.trained.render import check_renders
+
+        check_renders(cfg.env, cfg.env_kwargs)
     return probe
 
 

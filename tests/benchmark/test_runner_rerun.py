@@ -75,6 +75,17 @@ def test_rerun_with_one_methods_settings_changed_reuses_the_others(tmp_path):
     assert len(_metrics(out, "cmaes_s0").strip().splitlines()) == 3
 
 
+def test_a_benchmark_of_another_env_into_the_same_folder_says_so(tmp_path):
+    # a new user pointed a second env's benchmark at the first's folder: it was told to delete "those" runs
+    out = tmp_path / "b"
+    assert _cli(*TINY, "--methods", "vanilla", "--generations", 1, "--out", out) == 0
+    other = [a if a != "CartPole-v1" else "Pendulum-v1" for a in TINY]
+    with pytest.raises(StoreError) as exc:
+        _cli(*other, "--methods", "vanilla", "--generations", 1, "--out", out)
+    assert str(exc.value) == (f"{out} holds a benchmark of another env (CartPole-v1), not Pendulum-v1: a benchmark "
+                              f"folder is one env's; use another --out")
+
+
 def test_a_rerun_with_fewer_methods_says_its_page_leaves_runs_out(tmp_path, capsys):
     """A new user extended vanilla and cmaes only; the page then lacked the shaped runs, and nothing said so."""
     out = tmp_path / "b"

@@ -58,3 +58,17 @@ def test_the_suite_counts_run_lines_only():
                 "[benchmark] report.md shows this invocation's methods and seeds; DIR/runs also holds shaped_s1 (1)",
                 "[benchmark] estimate: shaped ~1 min"):
         assert not RUN_LINE.match(msg)
+
+
+def test_a_threshold_no_one_gave_is_named_as_such():
+    """A new user's car without a registered threshold: the bar was Vanilla-ES's final mean, the reward for
+    leaving the arena, and the verdict read "wall time to it 7.44x" where Vanilla-ES learned nothing."""
+    from shaped_es.benchmark.summary import FALLBACK_SOURCE
+
+    summary = _summary(_method(3, 19.4, 2.75), _method(3, 10.0, -4.65))
+    summary["threshold"] = {"value": -4.80778, "source": FALLBACK_SOURCE}
+    lines = verdict_lines(summary)
+    assert len(lines) == 2 and lines[1].startswith("-4.80778 is the best baseline's final mean (the env registers "
+                                                   "no reward_threshold and no --threshold was given)")
+    summary["threshold"]["source"] = "given (--threshold)"
+    assert len(verdict_lines(summary)) == 1

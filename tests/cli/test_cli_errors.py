@@ -1,4 +1,5 @@
-"""How a command ends on a lost simulator server: one line that names the resume command."""
+"""How a command ends on a lost simulator server or an env that raised mid-run: one line that names the resume
+command (for a plain env error, once the env is fixed: a resume imports the env's module as it is then)."""
 
 import argparse
 
@@ -6,7 +7,7 @@ from shaped_es.cli.errors import USAGE_ERROR, error_line
 from shaped_es.rollout import EnvError
 
 
-def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_does_not(tmp_path):
+def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_names_it_after_a_fix(tmp_path):
     a = argparse.Namespace(command="train", out=str(tmp_path / "run"))
     (tmp_path / "run").mkdir()
     (tmp_path / "run" / "config.yaml").write_text("env: CarlaNav-v0\n")  # the hint names only a run that exists
@@ -17,4 +18,7 @@ def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_does_not(
     assert line.startswith("shaped-es: error: env 'CarlaNav-v0' raised CarlaServerLost")
     assert f"; continue with: shaped-es resume {tmp_path / 'run'} (traceback in" in line
     line, _ = error_line(EnvError("env 'X' raised ValueError: bad", "Traceback ..."), a, debug=False)
+    assert f"bad; once the env is fixed, continue with: shaped-es resume {tmp_path / 'run'} (traceback in" in line
+    fresh = argparse.Namespace(command="train", out=str(tmp_path / "never"))  # no run was left: no hint
+    line, _ = error_line(EnvError("env 'X' raised ValueError: bad", "Traceback ..."), fresh, debug=False)
     assert "resume" not in line

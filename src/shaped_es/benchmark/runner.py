@@ -176,7 +176,7 @@ def _reuse(old: RunConfig, new: RunConfig) -> RunConfig:
 def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str, RunConfig]]:
     """Per run: ``("new" | "restart" | "reuse", config to run with)``; refuses (``StoreError``, one line
     naming every such run) runs with finished generations whose own settings changed."""
-    plan, changed = {}, []
+    plan, changed, other_env = {}, [], []  # other_env: the envs of changed runs made on another env
     for name, cfg in cfgs.items():
         store = RunStore(runs_dir / name)
         if not store.exists():
@@ -189,12 +189,19 @@ def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str
             plan[name] = ("restart", cfg)  # nothing done yet (e.g. a run that failed to start)
         else:
             changed.append((name, _first_difference(old, cfg)))
+            other_env += [old.env] if old.env != cfg.env else []
+    if changed and len(other_env) == len(changed):  # a folder of another env's study, not changed settings
+        envs = ", ".join(sorted(set(other_env)))
+        env = next(iter(cfgs.values())).env
+        raise StoreError(f"{runs_dir.parent} holds a benchmark of another env ({envs}), not {env}: a benchmark "
+                         f"folder is one env's; use another --out")
     if changed:
         names = ", ".join(n for n, _ in changed)
         fields = ", ".join(sorted({f for _, d in changed for f in d.split(", ")})[:3])
+        others = "the other runs are reused: " if plan else ""
         raise StoreError(f"runs {names} in {runs_dir} hold a different config ({fields}) with finished "
-                         f"generations; the other runs are reused: delete those to redo them with these "
-                         f"settings, or use another --out")
+                         f"generations; {others}delete those to redo them with these settings, or use another "
+                         f"--out")
     return plan
 
 

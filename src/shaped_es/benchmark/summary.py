@@ -55,6 +55,7 @@ from shaped_es.report.plots import load_metrics
 from shaped_es.report.stats import t_interval
 
 Metrics = dict[str, np.ndarray]
+FALLBACK_SOURCE = "best baseline's final mean test reward"  # the threshold's source where none was given
 REFERENCE = "shaped"  # the paper's method: the fallback threshold is the best of the *other* methods
 PHASE_COLUMN = re.compile(r"^(time_.+_s|gen_time_s|rollout_time_s)$")
 COST_COLUMNS = ("wall_time_s", "cpu_time_s", "env_steps")
@@ -195,7 +196,7 @@ def resolve_threshold(threshold: float | None, finals: dict[str, float], cfg: Ru
     default = env_threshold(cfg)
     if default is not None:
         return {"value": default[0], "source": default[1]}
-    return {**pick_target(finals, reference), "source": "best baseline's final mean test reward"}
+    return {**pick_target(finals, reference), "source": FALLBACK_SOURCE}
 
 
 def summarize(groups: dict[str, list[Metrics]], level: float = 0.95, reference: str = REFERENCE,

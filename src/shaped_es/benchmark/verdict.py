@@ -9,6 +9,7 @@ bootstrap intervals), the late test reward's IQM, and for a shaped method the ca
 from __future__ import annotations
 
 from shaped_es.benchmark.markdown import ratio_text
+from shaped_es.benchmark.summary import FALLBACK_SOURCE
 
 BASELINE = "vanilla"  # what each other method is set against (the first method where it did not run)
 
@@ -48,6 +49,10 @@ def verdict_lines(summary: dict) -> list[str]:
             parts.append(f"candidates accepted {sh['candidates_accepted']} of {sh['candidates_judged']}"
                          + (f" ({none} of {sh['runs']} runs none: {ref}'s own steps there)" if none else ""))
         lines.append("; ".join(parts))
+    if (summary.get("threshold") or {}).get("source") == FALLBACK_SOURCE:
+        lines.append(f"{thr:g} is the best baseline's final mean (the env registers no reward_threshold and no "
+                     f"--threshold was given): where no baseline learned it is no bar, so read the late test "
+                     f"reward; give --threshold R or register reward_threshold (check-env suggests one from a waypoint_controller)")
     return lines
 
 

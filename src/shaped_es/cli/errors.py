@@ -109,10 +109,14 @@ def error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[
         detail = own + "\n" + detail
     if debug:
         print(detail, file=sys.stderr, end="")
+    from shaped_es.rollout import EnvSpecError
+
     if isinstance(exc, _user_errors()):
         msg, code = str(exc), USAGE_ERROR
         where = _log_detail(a, detail) if own else ""
         hint = continue_hint(a) if getattr(exc, "worker_fault", False) else ""  # a lost simulator server
+        if own and not hint and isinstance(exc, EnvSpecError) and (hint := continue_hint(a)):
+            hint = f"once the env is fixed, {hint}"  # the env raised mid-run: what was saved is resumable
         msg += f"; {hint}" if hint else ""
     elif isinstance(exc, MemoryError):
         msg = (f"out of memory ({_first(exc) or 'MemoryError'}); a smaller policy.hidden, es.pairs or "
