@@ -139,6 +139,34 @@ def test_declared_periods_and_a_bad_one_in_one_line():
     check_period(build_config({"env": "WrapTurnDeclared-v0", "method": "shaped"}), 1)
 
 
+def test_wrap_text_is_check_envs_and_the_runs_one_line():
+    assert periodic.wrap_text(None, False) == ""
+    assert periodic.wrap_text(np.array([TAU, 0.0]), False) == (
+        "info['position'] wraps ([0] at 2 pi; detected from random-action episodes): shaped runs record it "
+        "continuous and take each step and w - p the short way (declare env.unwrapped.position_period to say so "
+        "yourself, None if it does not wrap)")
+    assert periodic.wrap_text(np.array([360.0]), True) == (  # declared: no hint
+        "info['position'] wraps ([0] at 360; the env's position_period): shaped runs record it continuous and take "
+        "each step and w - p the short way")
+
+
+def test_a_runs_start_makes_one_env_for_the_declared_period(monkeypatch):
+    """preflight's check_period reads the declaration; the guide's wrap_line takes it from there."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.shaped_setup import check_period, wrap_line
+
+    made = []
+    make = periodic.make_env
+    monkeypatch.setattr(periodic, "make_env", lambda *a: made.append(a) or make(*a))
+    monkeypatch.setattr(periodic, "_DECLARATIONS", {})
+    monkeypatch.setattr(periodic, "_CACHE", {})
+    cfg = build_config({"env": "WrapTurnDeclared-v0", "method": "shaped"})
+    check_period(cfg, 1)
+    line, declared, period = wrap_line(cfg, 1)
+    assert len(made) == 1 and declared and line == periodic.wrap_text(np.array([TAU]), True)
+    np.testing.assert_array_equal(period, [TAU])
+
+
 def _recorded(env_id):
     spec = MLPSpec(3, 1, (4,))
     params = (spec.init(0) + 0.5).astype(np.float32)[None]  # (1, n): turns steadily, across the cut

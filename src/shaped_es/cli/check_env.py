@@ -252,8 +252,8 @@ def _waypoints(runs: list[dict], env=None, env_id: str = "", env_kwargs: dict | 
 
 
 def _wraps(env, env_id: str, env_kwargs: dict | None, d: int) -> tuple[str, bool]:
-    """``; info['position'] wraps ([0] at 2 pi; detected ...): shaped runs take its steps the short way`` where
-    the position is periodic (``rollout/periodic.py``: a wrapped heading), ``""`` otherwise; and whether a
+    """``; info['position'] wraps ([0] at 2 pi; detected ...): shaped runs record it continuous ...``
+    (``periodic.wrap_text``) where the position is periodic (a wrapped heading), ``""`` otherwise; and whether a
     declared ``position_period`` disagrees with what random-action episodes show (a new user's arm declared 360
     for radians, and None for joints that jump by 2 pi: both passed in silence)."""
     if env is None:
@@ -267,10 +267,7 @@ def _wraps(env, env_id: str, env_kwargs: dict | None, d: int) -> tuple[str, bool
            f"env.unwrapped.{periodic.PERIOD_ATTR}") if odd else ""
     if period is None:
         return but, odd
-    told = "" if declared else (f" (declare env.unwrapped.{periodic.PERIOD_ATTR} to say so yourself, None if it does "
-                                "not wrap)")
-    return (f"; {periodic.describe(period, not declared)}: shaped runs record it continuous and take each step and "
-            f"w - p the short way{told}{but}"), odd
+    return f"; {periodic.wrap_text(period, declared)}{but}", odd
 
 
 def _controller(env: gym.Env, max_steps: int = 200) -> Check:

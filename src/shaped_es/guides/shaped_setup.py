@@ -156,14 +156,10 @@ def label_source(cfg: RunConfig, spec: MLPSpec, mphi, mphi_cfg, reference, probe
 
 def check_period(cfg: RunConfig, pos_dim: int) -> None:
     """A ``position_period`` the env declares that the rollouts cannot use: one error line before the run
-    directory is written (``rollout/periodic.py``)."""
-    from shaped_es.rollout import close_env, make_env, periodic
+    directory is written (``rollout/periodic.py``); what it declares is kept for :func:`wrap_line`."""
+    from shaped_es.rollout import periodic
 
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        periodic.declared(env, pos_dim)
-    finally:
-        close_env(env, cfg.env)
+    periodic.declaration(cfg.env, dict(cfg.env_kwargs), pos_dim)
 
 
 WRAP_FILE = "position_period.json"  # RUN/: the period a shaped run takes its positions' steps modulo (none: no file)
@@ -205,18 +201,9 @@ def wrap_line(cfg: RunConfig, pos_dim: int) -> tuple[str, bool, np.ndarray | Non
     (or the env has a batched core: the rollouts there take the positions as the core reports them); whether the
     env declares its ``position_period`` (the guide's late check then calls the declaration wrong, not missing);
     and the period (None: nothing wraps)."""
-    from shaped_es.rollout import close_env, make_env, periodic
+    from shaped_es.rollout import periodic
 
-    env = make_env(cfg.env, cfg.env_kwargs)
-    try:
-        period = periodic.period_of(env, cfg.env, dict(cfg.env_kwargs), pos_dim)
-        declared = periodic.is_declared(env)
-    finally:
-        close_env(env, cfg.env)
-    if period is None:
-        return "", declared, None
-    how = "" if declared else (f"; declare env.unwrapped.{periodic.PERIOD_ATTR} (None: it does not wrap) to say so "
-                               "yourself")
-    return (f"{periodic.describe(period, not declared)}: its recorded steps are made continuous and each step and "
-            f"w - p taken the short way{how}"), declared, period
-
+    # no env made here where preflight's check_period read the declaration in this process (a train's start)
+    declared = periodic.declaration(cfg.env, dict(cfg.env_kwargs), pos_dim).declares
+    period = periodic.period_of(None, cfg.env, dict(cfg.env_kwargs), pos_dim)
+    return periodic.wrap_text(period, declared), declared, period

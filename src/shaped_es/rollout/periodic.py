@@ -28,11 +28,12 @@ from __future__ import annotations
 
 import json
 import math
+from typing import NamedTuple
 
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.env_probe import EnvSpecError, make_env
+from shaped_es.env_probe import EnvSpecError, close_env, make_env
 from shaped_es.envs.core import POSITION_KEY, get_batch_core, runs_serially
 
 PERIOD_ATTR = "position_period"  # env.unwrapped.position_period: a number, one per coordinate, or None
@@ -43,6 +44,7 @@ DETECT_EPISODES = 12
 DETECT_STEPS = 200  # at most this many steps of each (an env without a time limit, a long one)
 _UNSET = object()
 _CACHE: dict[str, np.ndarray | None] = {}
+_DECLARATIONS: dict[str, Declaration] = {}  # env id, kwargs and d -> what the env says (:func:`declaration`)
 
 
 def wrap(x: np.ndarray, period: np.ndarray) -> np.ndarray:
@@ -186,17 +188,47 @@ def detect_env(env_id: str, env_kwargs: dict) -> np.ndarray | None:
             pass
 
 
-def period_of(env: gym.Env, env_id: str, env_kwargs: dict, d: int) -> np.ndarray | None:
+class Declaration(NamedTuple):
+    """What an env says of its period (:func:`declaration`)."""
+
+    declares: bool  # it has a position_period (even None)
+    period: np.ndarray | None  # :func:`declared`'s (d,) where it declares one (None: it does not, or declares None)
+    detectable: bool  # :func:`detectable`
+
+
+def declaration(env_id: str, env_kwargs: dict, d: int, env: gym.Env | None = None) -> Declaration:
+    """What the env declares, read from ``env`` or from one env made here; once per env id, kwargs and ``d`` in a
+    process, so a shaped run's preflight (``check_period``) and its guide's line (``wrap_line``) make one env for
+    it, not two. A bad declaration raises (:func:`declared`), each time."""
+    key = f"{_key(env_id, env_kwargs)}/{d}"
+    if key not in _DECLARATIONS:
+        made = env is None
+        env = make_env(env_id, env_kwargs) if made else env
+        try:
+            own = declared(env, d)
+            _DECLARATIONS[key] = Declaration(own is not _UNSET, None if own is _UNSET else own, detectable(env))
+        finally:
+            if made:
+                close_env(env, env_id)
+    return _DECLARATIONS[key]
+
+
+def period_of(env: gym.Env | None, env_id: str, env_kwargs: dict, d: int) -> np.ndarray | None:
     """The period ``(d,)`` of ``env``'s ``info['position']`` (0: not periodic), or None where nothing wraps:
-    declared, else detected (module docstring); once per env id and kwargs in a process."""
-    key = env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
+    declared, else detected (module docstring); once per env id and kwargs in a process (``env`` None: what
+    :func:`declaration` has, or one env made for it)."""
+    key = _key(env_id, env_kwargs)
     if key not in _CACHE:
-        own = declared(env, d)
-        if own is _UNSET:
-            own = detect_env(env_id, env_kwargs) if detectable(env) else None
-        _CACHE[key] = own
+        said = declaration(env_id, env_kwargs, d, env)
+        _CACHE[key] = said.period if said.declares else (detect_env(env_id, env_kwargs) if said.detectable
+                                                         else None)
     per = _CACHE[key]
     return None if per is None or per.shape != (d,) else per
+
+
+def _key(env_id: str, env_kwargs: dict) -> str:
+    """The caches' key of an env id and its kwargs."""
+    return env_id + json.dumps(env_kwargs, sort_keys=True, default=str)
 
 
 def describe(period: np.ndarray | None, detected: bool, how: str | None = None) -> str:
@@ -206,6 +238,17 @@ def describe(period: np.ndarray | None, detected: bool, how: str | None = None) 
         return ""
     how = how or ("detected from random-action episodes" if detected else f"the env's {PERIOD_ATTR}")
     return f"info['{POSITION_KEY}'] wraps ({coords_text(period)}; {how})"
+
+
+def wrap_text(period: np.ndarray | None, declared: bool) -> str:
+    """``info['position'] wraps ([0] at 2 pi; detected ...): shaped runs record it continuous ...``: the one line
+    check-env and a shaped run's start give a position that wraps, with the hint to declare it where it was
+    detected; ``""`` where nothing wraps."""
+    if period is None:
+        return ""
+    hint = "" if declared else f" (declare env.unwrapped.{PERIOD_ATTR} to say so yourself, None if it does not wrap)"
+    return (f"{describe(period, not declared)}: shaped runs record it continuous and take each step and w - p the "
+            f"short way{hint}")
 
 
 def coords_text(period: np.ndarray) -> str:
@@ -224,5 +267,5 @@ def is_declared(env: gym.Env) -> bool:
     return getattr(getattr(env, "unwrapped", env), PERIOD_ATTR, _UNSET) is not _UNSET
 
 
-__all__ = ["PERIOD_ATTR", "Unwrapper", "coords_text", "declared", "describe", "detect", "detect_env", "detect_recorded",
-           "detectable", "is_declared", "period_of", "wrap"]
+__all__ = ["PERIOD_ATTR", "Declaration", "Unwrapper", "coords_text", "declaration", "declared", "describe", "detect",
+           "detect_env", "detect_recorded", "detectable", "is_declared", "period_of", "wrap", "wrap_text"]
