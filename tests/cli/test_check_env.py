@@ -22,11 +22,17 @@ class Point(gym.Env):
             self.action_space = gym.spaces.Box(-2, 2, (2,), np.float32)
         if flaw == "unbounded":
             self.action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
+        if flaw == "thrust_steer":  # thrust in [0, 5], steering in [-0.3, 0.3]
+            self.action_space = gym.spaces.Box(np.array([0, -0.3], np.float32), np.array([5, 0.3], np.float32))
         self.calls = 0
 
     def _info(self):
         if self.flaw == "no_waypoints" or (self.flaw == "some_waypoints" and self.t % 2):
             return {}
+        if self.flaw == "waypoints_typo":
+            return {"position": self.x.copy(), "waypoints": np.zeros(2, np.float32)}
+        if self.flaw == "waypoint_3d":
+            return {"position": self.x.copy(), "waypoint": np.zeros(3, np.float32)}
         if self.flaw == "column_waypoints":  # (2, 1) columns, a NumPy habit: rollouts read them flattened
             return {"position": self.x.reshape(2, 1), "waypoint": np.zeros((2, 1), np.float32)}
         return {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
@@ -46,7 +52,7 @@ class Point(gym.Env):
 
 
 for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step",
-             "wide_actions", "column_waypoints"):
+             "wide_actions", "column_waypoints", "thrust_steer", "waypoints_typo", "waypoint_3d"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 
@@ -92,7 +98,7 @@ ES_AND_PPO = ["vanilla", "guided", "cmaes", "ppo"]
 
 @pytest.mark.parametrize("flaw, name, status, methods", [
     ("no_waypoints", "waypoints", NO, ES_AND_PPO),  # optional: every method but shaped
-    ("some_waypoints", "waypoints", FAIL, []),
+    ("some_waypoints", "waypoints", NO, ES_AND_PPO),  # only shaped reads them: "no" for it, not FAIL for all
     ("unseeded", "seeding", WARN, ["vanilla", "guided", "cmaes", "shaped", "shaped_cmaes", "ppo"]),  # no repro
     ("nan_reward", "steps", FAIL, []),
     ("unbounded", "spaces", FAIL, []),
@@ -107,6 +113,28 @@ def test_the_waypoint_lines_name_the_call_and_the_shapes():
     """A new user's env lacked the keys at reset only, and another gave a 3-d waypoint to a 2-d position."""
     waypoints = next(c for c in check_env("CheckPoint-some_waypoints-v0") if c.name == "waypoints")
     assert waypoints.detail.startswith("info['position'] and info['waypoint'] missing from step 1 (others have both")
+    assert waypoints.detail.endswith(": --method shaped cannot use it; every other method trains (README: "
+                                     "environment contract)")
+
+
+def test_a_broken_contract_names_the_key_and_leaves_the_other_methods():
+    """Three new users' slips: a 3-d waypoint beside a 2-d position read "cannot train here" while --method
+    vanilla trained; 'waypoints' for 'waypoint' said only "no info['position'] / info['waypoint']"."""
+    checks = check_env("CheckPoint-waypoint_3d-v0")
+    waypoints = next(c for c in checks if c.name == "waypoints")
+    assert waypoints.status == NO and "got position (2,), waypoint (3,): --method shaped cannot use it" in waypoints.detail
+    assert trains_with(checks) == ES_AND_PPO
+    typo = next(c for c in check_env("CheckPoint-waypoints_typo-v0") if c.name == "waypoints")
+    assert typo.status == NO and typo.detail.startswith(
+        "no info['waypoint'] (info['position'] is there; did you mean 'waypoints'?): every method but shaped")
+    none = next(c for c in check_env("CheckPoint-no_waypoints-v0") if c.name == "waypoints")
+    assert none.detail.startswith("no info['position'] / info['waypoint']: every method but shaped")
+
+
+def test_action_bounds_are_shown_per_dimension_where_they_differ():
+    spaces = {c.name: c.detail for c in check_env("CheckPoint-thrust_steer-v0")}["spaces"]
+    assert "actions Box(2) in [0, 5] x [-0.3, 0.3] (the policy's [-1, 1] rescaled)" in spaces
+    assert "actions Box(2) in [-2, 2] (" in {c.name: c.detail for c in check_env("CheckPoint-wide_actions-v0")}["spaces"]
 
 
 def test_column_waypoints_pass_as_the_rollouts_read_them():

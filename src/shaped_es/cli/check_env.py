@@ -20,6 +20,7 @@ capability the env lacks: only ``shaped`` needs waypoints), ``warn`` (it trains,
 from __future__ import annotations
 
 import contextlib
+import difflib
 import importlib.util
 import re
 import time
@@ -119,8 +120,19 @@ def _spaces(env: gym.Env) -> Check:
     if not (np.isfinite(act.low).all() and np.isfinite(act.high).all()):
         return Check("spaces", FAIL, f"the action Box needs finite bounds (the policy's [-1, 1] output is "
                                      f"rescaled to them), got low {act.low}, high {act.high}")
-    return Check("spaces", OK, f"observations {floats}; actions Box({act.shape[0]}) in "
-                               f"[{_num(act.low.min())}, {_num(act.high.max())}] (the policy's [-1, 1] rescaled)")
+    return Check("spaces", OK, f"observations {floats}; actions Box({act.shape[0]}) in {_bounds(act)} (the "
+                               f"policy's [-1, 1] rescaled)")
+
+
+def _bounds(act: gym.spaces.Box) -> str:
+    """``[-1, 1]`` where every dimension has the same bounds, else each one's (``[0, 5] x [-0.3, 0.3]``; a new
+    user's thrust and steering read as one range ``[-0.3, 5]``), past 6 dimensions the lowest and highest."""
+    low, high = np.asarray(act.low).ravel(), np.asarray(act.high).ravel()
+    if (low == low[0]).all() and (high == high[0]).all():
+        return f"[{_num(low[0])}, {_num(high[0])}]"
+    if low.size > 6:
+        return f"[{_num(low.min())}, {_num(high.max())}] (the bounds differ per dimension)"
+    return " x ".join(f"[{_num(lo)}, {_num(hi)}]" for lo, hi in zip(low, high))
 
 
 def _order(space: gym.Space) -> str:
@@ -223,24 +235,27 @@ def _same(a: dict, b: dict) -> bool:
 def _waypoints(runs: list[dict], env=None, env_id: str = "", env_kwargs: dict | None = None) -> Check:
     infos = [i for r in runs for i in r["infos"]]
     have = [POSITION_KEY in i and WAYPOINT_KEY in i for i in infos]
+    # only shaped reads the two keys: a broken contract is "no" for it, never a FAIL for every method (a new
+    # user's 3-d waypoint beside a 2-d position read "cannot train here" while --method vanilla trained)
+    others = ": --method shaped cannot use it; every other method trains (README: environment contract)"
     if not any(have):
-        return Check("waypoints", NO, f"no info['{POSITION_KEY}'] / info['{WAYPOINT_KEY}']: every method but "
-                                      f"shaped trains on it (README: environment contract)")
+        return Check("waypoints", NO, f"{_missing_keys(infos)}: every method but shaped trains on it (README: "
+                                      f"environment contract)")
     if not all(have):  # the first call without them, and which key (a new user's reset lacked them)
         where, missing = next(("reset" if t == 0 else f"step {t}", [k for k in (POSITION_KEY, WAYPOINT_KEY)
                                                                     if k not in i])
                               for r in runs for t, i in enumerate(r["infos"])
                               if POSITION_KEY not in i or WAYPOINT_KEY not in i)
-        return Check("waypoints", FAIL, f"{' and '.join(f'info[{k!r}]' for k in missing)} missing from {where} "
-                                        f"(others have both keys): shaped needs them from reset and every step")
+        return Check("waypoints", NO, f"{' and '.join(f'info[{k!r}]' for k in missing)} missing from {where} "
+                                      f"(others have both keys; shaped needs them from reset and every step){others}")
     shapes = {(np.shape(i[POSITION_KEY]), np.shape(i[WAYPOINT_KEY])) for i in infos}
     # the rollouts read each flattened (env_probe.waypoint_pair): a (2, 1) column is the 2-d point it holds
     sizes = {(int(np.prod(p)), int(np.prod(w))) for p, w in shapes}
     if len(shapes) != 1 or len({n for pair in sizes for n in pair}) != 1 or next(iter(sizes))[0] == 0:
         got = "; ".join(f"position {p}, waypoint {w}" for p, w in sorted(shapes))
-        return Check("waypoints", FAIL, f"position and waypoint must both be (d,) arrays of one d, got {got}")
+        return Check("waypoints", NO, f"position and waypoint must both be (d,) arrays of one d, got {got}{others}")
     if not all(np.isfinite(np.asarray(i[k], float)).all() for i in infos for k in (POSITION_KEY, WAYPOINT_KEY)):
-        return Check("waypoints", FAIL, "a position or waypoint is not finite")
+        return Check("waypoints", NO, f"a position or waypoint is not finite{others}")
     d, shape = next(iter(sizes))[0], next(iter(shapes))[0]
     flat = "" if len(shape) == 1 else ", scalars read as (1,)" if not shape else f", {shape} arrays read flattened"
     try:
@@ -249,6 +264,19 @@ def _waypoints(runs: list[dict], env=None, env_id: str = "", env_kwargs: dict | 
         return Check("waypoints", NO, f"{exc}: --method shaped refuses it; every other method trains")
     return Check("waypoints", WARN if odd else OK, f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] ({d}-d{flat}) "
                                                    f"from reset and every step: --method shaped can use it" + wraps)
+
+
+def _missing_keys(infos: list[dict]) -> str:
+    """``no info['waypoint'] (info['position'] is there; did you mean 'waypoints'?)``: which of the two keys no
+    call gave, and the info's own keys that look like them (a new user's env said ``waypoints``)."""
+    keys = {k for i in infos for k in i if isinstance(k, str)}
+    missing = [k for k in (POSITION_KEY, WAYPOINT_KEY) if k not in keys]
+    text = "no " + " / ".join(f"info[{k!r}]" for k in missing)
+    there = [f"info[{k!r}] is there" for k in (POSITION_KEY, WAYPOINT_KEY) if k in keys]
+    close = [c for k in missing for c in difflib.get_close_matches(k, sorted(keys - {POSITION_KEY, WAYPOINT_KEY}),
+                                                                    n=1, cutoff=0.7)]
+    notes = there + ([f"did you mean {' / '.join(map(repr, close))}?"] if close else [])
+    return text + (f" ({'; '.join(notes)})" if notes else "")
 
 
 def _wraps(env, env_id: str, env_kwargs: dict | None, d: int) -> tuple[str, bool]:

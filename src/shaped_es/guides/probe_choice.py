@@ -89,7 +89,7 @@ def _closest(clones: dict[str, np.ndarray], incumbent: str, scale: float) -> str
         # "(0.57)" beside "the probe's return spread" read as the spread itself (a new user's pusher): say what it is
         why = f"a gain below {MIN_SHARE:.0%} of the probe's return spread {scale:.2f} ({MIN_SHARE * scale:.2f})"
     else:
-        why = f"signed-rank p {p:.2f}, needs < {CLONE_P:g}"
+        why = f"signed-rank p {p:.3g}, needs < {CLONE_P:g}"  # 0.0508 read "0.05" with two decimals
     return f" (closest: {variant_text(name)}'s {np.mean(clones[name]):.2f} against {own:.2f}, {why})"
 
 
