@@ -184,6 +184,19 @@ def test_report_without_mphi_columns_notes_it(runs, tmp_path):
     assert not (tmp_path / "rep" / "figures" / "fig5_mphi_loss.png").exists()
 
 
+def test_a_redrawn_page_drops_only_its_own_figure_it_no_longer_draws(runs, tmp_path):
+    groups, configs = group_runs(runs)
+    fig5 = tmp_path / "rep" / "figures" / "fig5_mphi_loss.png"
+    write_report(tmp_path / "rep" / "report.md", groups, configs)
+    mine = tmp_path / "rep" / "figures" / "my_notes.png"
+    mine.write_bytes(b"a user's own file")
+    assert fig5.is_file()
+    groups, configs = group_runs(runs[:4])  # no run logs M_phi's losses: Fig. 5 is not drawn
+    write_report(tmp_path / "rep" / "report.md", groups, configs)
+    assert not fig5.exists() and mine.read_bytes() == b"a user's own file"
+    assert (tmp_path / "rep" / "figures" / "fig4_test_reward.png").is_file()
+
+
 def test_report_says_which_method_beats_which(tmp_path):
     """6 seeds a side, every vanilla seed above every cmaes seed: P = 1 [1, 1], exact Mann-Whitney
     p = 2 / C(12, 6) = 0.0022 -> 'vanilla > cmaes'; the reverse and identical methods are not verdicts."""

@@ -259,10 +259,25 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
         if extra:
             summary.update(resolve(extra)(next(c for c in configs.values() if c.method == name)))
     summary_path = Path(summary_path) if summary_path else root / "summary.json"
+    _drop_undrawn(summary_path, root, rel)
     atomic_write_text(summary_path, json.dumps(summary, indent=2))
     atomic_write_text(out_md, render_markdown(summary, rel, runs, summary["settings"], title))
     return {"report": str(out_md), "summary": str(summary_path),
             **{k: str(f) if f else None for k, f in figs.items()}}
+
+
+def _drop_undrawn(summary_path: Path, root: Path, drawn: dict[str, str | None]) -> None:
+    """Delete a figure this page drew before (its previous ``summary.json`` lists it, at its fixed name) that the
+    redrawn page no longer draws (Fig. 5 once no run logs M_phi's losses): a stale picture beside a page that
+    says it was not drawn. Nothing else is deleted: a file the page's summary does not list is not its own."""
+    try:
+        old = json.loads(summary_path.read_text()).get("figures") or {}
+    except (OSError, ValueError, AttributeError):
+        return
+    own = {f"figures/{name}" for name in (FIG4, FIG5, PROFILE)}
+    for key, path in old.items() if isinstance(old, dict) else ():
+        if path in own and drawn.get(key) is None:
+            (root / path).unlink(missing_ok=True)
 
 
 def _rel(d: Path, root: Path) -> str:
