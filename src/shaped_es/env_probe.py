@@ -188,6 +188,8 @@ class EnvProbe:
     unbounded_action: str | None = None
     # Whether the env offers the optional scripted waypoint controller (envs/core.py hook)
     controller: bool | None = field(default=None, compare=False)
+    # A Discrete action space: "zero action" (a zero policy output) is then its action 0, not a middle action
+    discrete: bool = field(default=False, compare=False)
 
 
 def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
@@ -209,7 +211,8 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
                 error = EnvError(f"env {env_id!r} raised {exception_line(exc)} in reset(seed=0)",
                                  traceback.format_exc())
         return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
-                        unbounded_action=unbounded, controller=has_controller(env))
+                        unbounded_action=unbounded, controller=has_controller(env),
+                        discrete=isinstance(space, gym.spaces.Discrete))
     finally:
         close_env(env, env_id)
 

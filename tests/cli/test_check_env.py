@@ -112,7 +112,7 @@ def test_each_flaw_is_named_on_its_line(flaw, name, status, methods):
 def test_the_waypoint_lines_name_the_call_and_the_shapes():
     """A new user's env lacked the keys at reset only, and another gave a 3-d waypoint to a 2-d position."""
     waypoints = next(c for c in check_env("CheckPoint-some_waypoints-v0") if c.name == "waypoints")
-    assert waypoints.detail.startswith("info['position'] and info['waypoint'] missing from step 1 (others have both")
+    assert waypoints.detail.startswith("info['position'] and info['waypoint'] missing from step 1 (the other calls have both")
     assert waypoints.detail.endswith(": --method shaped cannot use it; every other method trains (README: "
                                      "environment contract)")
 

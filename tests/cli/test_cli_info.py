@@ -6,6 +6,8 @@ import re
 import subprocess
 import sys
 
+import gymnasium as gym
+import numpy as np
 import pytest
 import yaml
 
@@ -149,3 +151,37 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert text.strip().splitlines()[-1].startswith("labels: no waypoint contract")
     out = json.loads(_out(capsys, ["check-env", "CartPole-v1", "--labels", "--json"]).out)
     assert out["labels"]["verdict"].startswith("no waypoint contract")
+
+
+class _GridMoves(gym.Env):
+    """Five moves of 0.1 (0 stays) towards a goal, the two-key contract: a Discrete body."""
+
+    observation_space = gym.spaces.Box(-3, 3, (4,), np.float32)
+    action_space = gym.spaces.Discrete(5)
+    MOVES = np.array([[0, 0], [0, 1], [0, -1], [-1, 0], [1, 0]], np.float32) * 0.1
+
+    def _out(self):
+        d = self.goal - self.pos
+        info = {"position": self.pos.copy(), "waypoint": self.pos + d * min(1.0, 0.1 / max(np.linalg.norm(d), 1e-6))}
+        return np.concatenate([self.pos, self.goal]).astype(np.float32), info
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.pos, self.goal = np.zeros(2, np.float32), self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        return self._out()
+
+    def step(self, action):
+        before = np.linalg.norm(self.goal - self.pos)
+        self.pos = self.pos + self.MOVES[int(action)]
+        return (*self._out()[:1], float(before - np.linalg.norm(self.goal - self.pos)), False, False,
+                self._out()[1])
+
+
+gym.register("CheckGridMoves-v0", entry_point=_GridMoves, max_episode_steps=30)
+
+
+def test_check_env_labels_says_what_zero_action_is_on_a_discrete_body(capsys):
+    """A new user's grid, whose action 0 moved: "beats zero action" read as a verdict; zero action is action 0."""
+    out = _out(capsys, ["check-env", "CheckGridMoves-v0", "--labels"]).out
+    assert "labels: zero action is action 0 here (a Discrete space: the argmax of a zero output); make action 0 " \
+           "the no-op" in out

@@ -221,6 +221,9 @@ def test_a_missing_info_key_is_named():
     with pytest.raises(ConfigError, match=r"its reset info has no 'waypoint' \(see the README"):
         waypoint_dim(cfg, probe)
     assert waypoint_dim(cfg, EnvProbe(4, 2, 100, reset_info={"position": [0.0, 0.0], "waypoint": [1.0, 0.0]})) == 2
+    typo = EnvProbe(4, 2, 100, reset_info={"position": [0.0, 0.0], "waypoints": [1.0, 0.0]})
+    with pytest.raises(ConfigError, match=r"has no 'waypoint'; did you mean 'waypoints'\? \(see the README"):
+        waypoint_dim(cfg, typo)
 
 
 def test_a_controller_label_run_says_where_its_labels_come_from_once(tmp_path, capsys):

@@ -20,7 +20,6 @@ capability the env lacks: only ``shaped`` needs waypoints), ``warn`` (it trains,
 from __future__ import annotations
 
 import contextlib
-import difflib
 import importlib.util
 import re
 import time
@@ -30,7 +29,7 @@ from dataclasses import asdict, dataclass
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess, get_batch_core, has_controller
 from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic, to_space
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
@@ -247,7 +246,7 @@ def _waypoints(runs: list[dict], env=None, env_id: str = "", env_kwargs: dict | 
                               for r in runs for t, i in enumerate(r["infos"])
                               if POSITION_KEY not in i or WAYPOINT_KEY not in i)
         return Check("waypoints", NO, f"{' and '.join(f'info[{k!r}]' for k in missing)} missing from {where} "
-                                      f"(others have both keys; shaped needs them from reset and every step){others}")
+                                      f"(the other calls have both; shaped needs them from reset and every step){others}")
     shapes = {(np.shape(i[POSITION_KEY]), np.shape(i[WAYPOINT_KEY])) for i in infos}
     # the rollouts read each flattened (env_probe.waypoint_pair): a (2, 1) column is the 2-d point it holds
     sizes = {(int(np.prod(p)), int(np.prod(w))) for p, w in shapes}
@@ -273,8 +272,7 @@ def _missing_keys(infos: list[dict]) -> str:
     missing = [k for k in (POSITION_KEY, WAYPOINT_KEY) if k not in keys]
     text = "no " + " / ".join(f"info[{k!r}]" for k in missing)
     there = [f"info[{k!r}] is there" for k in (POSITION_KEY, WAYPOINT_KEY) if k in keys]
-    close = [c for k in missing for c in difflib.get_close_matches(k, sorted(keys - {POSITION_KEY, WAYPOINT_KEY}),
-                                                                    n=1, cutoff=0.7)]
+    close = contract_key_guess(missing, keys)
     notes = there + ([f"did you mean {' / '.join(map(repr, close))}?"] if close else [])
     return text + (f" ({'; '.join(notes)})" if notes else "")
 

@@ -290,6 +290,8 @@ def cmd_check_env(a: argparse.Namespace) -> int:
         print(json.dumps({"env": a.env_id, "checks": as_dicts(checks), "trains_with": methods}
                          | ({"labels": labels} if labels is not None else {})))
     elif labels is not None:
+        if labels.get("zero_is"):
+            print(f"labels: {labels['zero_is']}")
         if "chosen" in labels:
             means = " | ".join(f"{k} {np.mean(v):.2f}" for k, v in labels["returns"].items())
             print(f"labels: label-driven return over {len(labels['zero_action'])} episodes: {means} | zero "

@@ -44,6 +44,7 @@ label training states, never at test time.
 
 from __future__ import annotations
 
+import difflib
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
@@ -55,6 +56,13 @@ WAYPOINT_KEY = "waypoint"
 # lock-step (``rollout`` and PPO's test episodes honour it).
 SERIAL_EPISODES_KEY = "serial_episodes"
 REWARD_TERM_PREFIX = "reward_"
+
+
+def contract_key_guess(missing: list[str], keys) -> list[str]:
+    """The info's own keys that look like the contract's ``missing`` ones (a new user's env said ``waypoints``):
+    one close match per missing key, for a "did you mean" in the error lines."""
+    others = sorted({k for k in keys if isinstance(k, str)} - {POSITION_KEY, WAYPOINT_KEY})
+    return [c for k in missing for c in difflib.get_close_matches(k, others, n=1, cutoff=0.7)]
 EPISODE_SEED_HIGH = 2**63 - 1  # an env reset without a seed draws its episode seed as np_random.integers(this)
 
 

@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 
 from shaped_es.config import ConfigError, RunConfig
-from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
+from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import EnvProbe, probe_env
 
@@ -27,8 +27,10 @@ def waypoint_dim(cfg: RunConfig, probe: EnvProbe | None = None) -> int:
     info = probe.reset_info
     missing = [k for k in (POSITION_KEY, WAYPOINT_KEY) if k not in info]  # the one(s) missing, by name
     if missing:
+        guess = contract_key_guess(missing, info)
+        mean = f"; did you mean {' / '.join(map(repr, guess))}?" if guess else ""
         raise ConfigError(f"--method shaped needs info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'] "
-                          f"from {cfg.env}; its reset info has no {' or '.join(repr(k) for k in missing)} "
+                          f"from {cfg.env}; its reset info has no {' or '.join(repr(k) for k in missing)}{mean} "
                           f"(see the README's environment contract)")
     return int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
 

@@ -29,7 +29,9 @@ def _rgb_env(env_id: str, env_kwargs: dict) -> gym.Env:
     modes = probe.metadata.get("render_modes") or []
     close_env(probe)
     if "rgb_array" not in modes:
-        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames (render modes: {modes})")
+        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames (render modes: {modes}); an env renders "
+                           f"with 'rgb_array' in metadata['render_modes'] and a render() that returns an (H, W, 3) "
+                           f"uint8 array (README: your own env)")
     try:
         return make_env(env_id, {**env_kwargs, "render_mode": "rgb_array"})
     except EnvSpecError as exc:
