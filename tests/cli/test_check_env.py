@@ -221,3 +221,34 @@ def test_the_controller_line_says_what_it_returns_against_zero_and_random_action
     assert "; +-: 2 standard errors over the episodes)" in detail
     broken = next(c for c in check_env("CheckPoint-brokenctl-v0") if c.name == "controller")
     assert broken.status == OK and "raised RuntimeError: no gains set" in broken.detail
+
+
+class DiscreteSteered(gym.Env):
+    """Five moves (0 stays) towards the origin, with a controller: a Discrete body's controller line."""
+
+    observation_space = gym.spaces.Box(-10, 10, (2,), np.float32)
+    action_space = gym.spaces.Discrete(5)
+    MOVES = np.array([[0, 0], [0.1, 0], [-0.1, 0], [0, 0.1], [0, -0.1]], np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = self.np_random.uniform(-1, 1, 2).astype(np.float32)
+        return self.x.copy(), {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
+
+    def step(self, action):
+        self.x = self.x + self.MOVES[int(action)]
+        return self.x.copy(), -float(np.linalg.norm(self.x)), False, False, {"position": self.x.copy(),
+                                                                            "waypoint": np.zeros(2, np.float32)}
+
+    def waypoint_controller(self, obs, info):
+        i = int(np.argmax(np.abs(obs)))
+        return (1 if obs[0] < 0 else 2) if i == 0 else (3 if obs[1] < 0 else 4)
+
+
+gym.register("CheckPoint-discrete_steered-v0", entry_point=DiscreteSteered, max_episode_steps=20)
+
+
+def test_the_controller_line_on_a_discrete_body():
+    """A new user's grid: the controller's returns and a threshold were given for Box actions only, silently."""
+    detail = next(c for c in check_env("CheckPoint-discrete_steered-v0") if c.name == "controller").detail
+    assert "returns over " in detail and ", zero action " in detail and "(a threshold: " in detail

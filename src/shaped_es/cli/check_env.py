@@ -303,7 +303,7 @@ def _controller(env: gym.Env, max_steps: int = 200) -> Check:
     if has_controller(env):
         detail = "waypoint_controller(obs, info): the oracle labels (shaping.labels=controller) can use it"
         hook = getattr(getattr(env, "unwrapped", env), "waypoint_controller", None)
-        if get_batch_core(env) is None and callable(hook) and isinstance(env.action_space, gym.spaces.Box):
+        if get_batch_core(env) is None and callable(hook):  # Discrete too: its zero action is action 0
             detail += _returns_text(env, hook, max_steps)
         return Check("controller", OK, detail)
     return Check("controller", NO, "no waypoint_controller(obs, info) (optional: the oracle label source "

@@ -236,7 +236,8 @@ class ShapingConfig(_Strict):
     labels: Literal[LABEL_SOURCES] = Field(
         "mphi", description="where action labels come from: M_phi, the learned inverse-dynamics model (the "
         "paper); reference, a finished run's policy (shaping.reference_run); controller, the env's scripted "
-        "waypoint controller (oracles: what labels can give at most)")
+        "waypoint controller (the oracle: what perfect labels give through the same candidate, without the probe's "
+        "candidate or the rivals)")
     mechanism: Literal[tuple(MECHANISMS)] = Field(
         "candidate", description="how labels become search: paper (every member cloned, Delta = (theta* - "
         "mu)/eta spans Guided ES's subspace), candidate (the mean's clone is evaluated beside the "

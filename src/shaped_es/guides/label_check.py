@@ -76,7 +76,9 @@ def unjudged_horizons(res: ProbeResult, mp) -> str:
     return f"{', '.join(map(str, held[:-1]))} and {held[-1]} steps" if len(held) > 1 else f"{held[0]} steps"
 
 
-SOURCE_TEXT = {"controller": "the env's waypoint_controller, the oracle: what labels can give at most",
+SOURCE_TEXT = {"controller": "the env's waypoint_controller, the oracle: the perfect labels' own candidate (without the "
+                             "probe's candidate or the rivals, which the learned default has: on some bodies it is "
+                             "faster)",
                "reference": "a finished run's policy (shaping.reference_run)"}
 
 
