@@ -7,7 +7,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from shaped_es.cli.check_env import FAIL, NO, OK, WARN, check_env, describe_env, trains_with
+from shaped_es.cli.check_env import FAIL, NO, OK, WARN, check_env, trains_with
 
 
 class Point(gym.Env):
@@ -171,14 +171,6 @@ def test_no_time_limit_rules_out_ppo():
     checks = check_env("CheckPoint-nolimit-v0", max_steps=30)
     assert _status(checks)["time limit"] == WARN and "ppo" not in trains_with(checks)
     assert "vanilla" in trains_with(checks)
-
-
-def test_describe_env():
-    d = describe_env("CarNav-v0")
-    assert d["presets"] == ["default", "paper"] and d["waypoints"] == 2 and d["time_limit"] == 250
-    assert describe_env("CartPole-v1")["waypoints"] is None
-    blackjack = describe_env("Blackjack-v1")  # a Tuple of Discretes: flattened to one one-hot vector
-    assert blackjack["error"] is None and blackjack["obs"] == 32 + 11 + 2 and blackjack["act"] == 2
 
 
 def test_the_threshold_line_is_benchmarks_at_the_kwargs_reward_scale():

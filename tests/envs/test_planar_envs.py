@@ -188,7 +188,7 @@ def test_ended_episodes_stay_unchanged():
 
 
 def test_envs_lists_the_presets_from_the_env_module():
-    from shaped_es.cli.check_env import _presets
+    from shaped_es.cli.describe_env import _presets
 
     assert _presets("PointVel-v0") == ["default"] and _presets("CarNav-v0") == ["default", "paper"]
     assert _presets("ReacherWay-v0") == ["default"] and _presets("CartPole-v1") == []

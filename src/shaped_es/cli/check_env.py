@@ -1,5 +1,5 @@
-"""What an env needs to train here, checked by running it (``shaped-es check-env ID``, ``shaped-es envs``;
-the habit of Stable-Baselines3's ``check_env``).
+"""What an env needs to train here, checked by running it (``shaped-es check-env ID``; the habit of
+Stable-Baselines3's ``check_env``).
 
 :func:`check_env` makes the env and runs a few episodes of random actions, reporting one :class:`Check`
 per requirement: Gymnasium's own API checker (a warning at most: training needs only what the checks
@@ -12,15 +12,13 @@ episode that never ends never returns), the success threshold ``benchmark`` uses
 waypoint contract of ``--method shaped`` (``info["position"]`` and ``info["waypoint"]``, equal ``(d,)``
 shapes, finite, from ``reset`` and every ``step``). A check's ``status`` is ``ok``, ``no`` (an optional
 capability the env lacks: only ``shaped`` needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL``
-(it cannot train).
+(it cannot train). A broken waypoint contract is ``no``: only shaped reads it.
 
-:func:`describe_env` is the short form ``shaped-es envs`` lists for every registered id.
+``describe_env.py`` holds the short form ``shaped-es envs`` lists for every registered id.
 """
 
 from __future__ import annotations
 
-import contextlib
-import importlib.util
 import re
 import time
 import warnings
@@ -352,63 +350,6 @@ def suggested_threshold(controller: float, zero: float) -> float:
     returns 0 (the suite's progress rewards); where returns are negative (a distance penalty), 0.9 x the
     controller's would ask for more than the controller does."""
     return zero + 0.9 * (controller - zero)
-
-
-def describe_env(env_id: str) -> dict:
-    """What ``shaped-es envs`` lists of a registered id: its presets (built-in envs), dims, time limit and
-    waypoint dimension (None: no contract), from one env made and reset; ``error`` if it cannot be made."""
-    from shaped_es.rollout import probe_env
-
-    out = {"id": env_id, "presets": _presets(env_id), "obs": None, "act": None, "time_limit": None,
-           "waypoints": None, "error": None}
-    try:
-        with warnings.catch_warnings(), quiet_mujoco():
-            warnings.simplefilter("ignore")
-            probe = probe_env(env_id, reset=True)
-    except Exception as exc:  # noqa: BLE001 - listed with its reason (EnvSpecError mostly)
-        out["error"] = _line(str(exc)).removeprefix(f"cannot make env {env_id!r}: ")
-        return out
-    info = probe.reset_info or {}
-    out.update(obs=probe.obs_dim, act=probe.act_dim, time_limit=probe.time_limit)
-    if POSITION_KEY in info and WAYPOINT_KEY in info:
-        out["waypoints"] = int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
-    return out
-
-
-@contextlib.contextmanager
-def quiet_mujoco():
-    """MuJoCo's own warnings (e.g. Gymnasium's v4 models use a deprecated ``settotalmass``) go nowhere
-    while inside: MuJoCo's default prints them to the terminal and appends them to ``MUJOCO_LOG.TXT`` in
-    the working folder, which a listing of envs must not do. A no-op without MuJoCo."""
-    if importlib.util.find_spec("mujoco") is None:
-        yield
-        return
-    import mujoco
-
-    old = mujoco.get_mju_user_warning()
-    mujoco.set_mju_user_warning(lambda msg: None)
-    try:
-        yield
-    finally:
-        mujoco.set_mju_user_warning(old)
-
-
-def _presets(env_id: str) -> list[str]:
-    from shaped_es.envs import BUILTIN
-
-    if env_id not in BUILTIN:
-        return []
-    import importlib
-
-    module = BUILTIN[env_id][0]  # its PRESETS: in the env's module, else in a config module beside it
-    for name in (module, module.rsplit(".", 1)[0] + ".config"):
-        try:
-            presets = getattr(importlib.import_module(name), "PRESETS", None)
-        except ImportError:
-            continue
-        if presets is not None:
-            return sorted(presets)
-    return []
 
 
 def _line(text: str) -> str:

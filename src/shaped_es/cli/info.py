@@ -222,7 +222,7 @@ def cmd_envs(a: argparse.Namespace) -> int:
 
     import shaped_es  # noqa: F401 - registers the built-in envs
     from shaped_es.config import ConfigError
-    from shaped_es.cli.check_env import describe_env
+    from shaped_es.cli.describe_env import describe_env
 
     for m in a.modules or []:
         try:
