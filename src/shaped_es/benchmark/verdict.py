@@ -52,7 +52,8 @@ def verdict_lines(summary: dict) -> list[str]:
     if (summary.get("threshold") or {}).get("source") == FALLBACK_SOURCE:
         lines.append(f"{thr:g} is the best baseline's final mean (the env registers no reward_threshold and no "
                      f"--threshold was given): where no baseline learned it is no bar, so read the late test "
-                     f"reward; give --threshold R or register reward_threshold (check-env suggests one from a waypoint_controller)")
+                     f"reward; give --threshold R or register reward_threshold (check-env suggests one from a "
+                     f"waypoint_controller)")
     return lines
 
 

@@ -56,6 +56,7 @@ WAYPOINT_KEY = "waypoint"
 # lock-step (``rollout`` and PPO's test episodes honour it).
 SERIAL_EPISODES_KEY = "serial_episodes"
 REWARD_TERM_PREFIX = "reward_"
+EPISODE_SEED_HIGH = 2**63 - 1  # an env reset without a seed draws its episode seed as np_random.integers(this)
 
 
 def contract_key_guess(missing: list[str], keys) -> list[str]:
@@ -63,7 +64,6 @@ def contract_key_guess(missing: list[str], keys) -> list[str]:
     one close match per missing key, for a "did you mean" in the error lines."""
     others = sorted({k for k in keys if isinstance(k, str)} - {POSITION_KEY, WAYPOINT_KEY})
     return [c for k in missing for c in difflib.get_close_matches(k, others, n=1, cutoff=0.7)]
-EPISODE_SEED_HIGH = 2**63 - 1  # an env reset without a seed draws its episode seed as np_random.integers(this)
 
 
 @runtime_checkable

@@ -72,7 +72,7 @@ def signed_rank_greater(diff: np.ndarray) -> float:
     counts = np.zeros(int(ranks2.sum()) + 1)  # counts[t]: sign assignments whose positive doubled sum is t
     counts[0] = 1.0
     for r in ranks2:
-        counts[r:] = counts[r:] + counts[:-r].copy()
+        counts[r:] = counts[r:] + counts[:-r]  # the sum is a new array before it is written back
     return float(counts[observed:].sum() / counts.sum())
 
 
