@@ -21,7 +21,8 @@ from shaped_es.methods import METHODS
 LAYERS: list[tuple[str, ...]] = [
     ("seeding", "data", "monitor", "safe_yaml"),  # leaves: seeds, the Transitions record, what a run
     # reports (progress, TensorBoard, W&B, warnings in error.log, callbacks), YAML with bounded aliases
-    ("envs", "policies", "strategies"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs)
+    ("envs", "policies", "strategies", "actions"),  # the independent blocks (envs/carla, CarlaNav-v0, inside envs);
+    # actions: a policy output as an action of a space and back
     ("shaped_es", "shaping", "methods", "executors"),  # package init; the method's pure blocks; registries
     ("env_probe",),  # an env before its first rollout
     ("config", "rollout"),  # config/: the schema, how a key is spelt, a config's text read as data

@@ -129,11 +129,11 @@ def test_actions_map_to_the_space():
 
 
 def test_a_rollouts_action_map_is_the_spaces_mapping_bit_for_bit():
-    """rollout.actions.action_map (the bounds' arithmetic done once per rollout) gives what _to_env_action gives,
+    """actions.action_map (the bounds' arithmetic done once per rollout) gives what _to_env_action gives,
     value, dtype and type, on [-1, 1], asymmetric and float64 Boxes and a Discrete space."""
     import gymnasium as gym
 
-    from shaped_es.rollout.actions import _to_env_action, action_map
+    from shaped_es.actions import _to_env_action, action_map
 
     rng = np.random.default_rng(0)
     spaces = [gym.spaces.Box(-1.0, 1.0, (6,), np.float32), gym.spaces.Box(-3.0, 5.0, (3,), np.float32),

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import gymnasium as gym
 import numpy as np
 
+from shaped_es.actions import is_choice, output_width
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
 from shaped_es.policies import MLPSpec
 
@@ -145,16 +146,16 @@ def _missing_module(module: str, exc: ModuleNotFoundError) -> str | None:
 
 def env_dims(env: gym.Env) -> tuple[int, int]:
     """(obs_dim, act_dim) of a flat-Box-observation env (:func:`make_env` flattens the others Gymnasium can)
-    with a Box or Discrete action space."""
+    with an action space a policy acts in (``actions.output_width``: a flat Box, Discrete, MultiDiscrete or
+    MultiBinary; ``act_dim`` is the policy's output width)."""
     obs_space, act_space = env.observation_space, env.action_space
     if not isinstance(obs_space, gym.spaces.Box) or len(obs_space.shape) != 1:
         raise EnvSpecError(f"observation space must be a Box, or a space Gymnasium can flatten into one (Dict, "
                            f"Tuple, Discrete, MultiBinary, MultiDiscrete), got {obs_space}")
-    if isinstance(act_space, gym.spaces.Box) and len(act_space.shape) == 1:
-        return int(obs_space.shape[0]), int(act_space.shape[0])
-    if isinstance(act_space, gym.spaces.Discrete):
-        return int(obs_space.shape[0]), int(act_space.n)
-    raise EnvSpecError(f"action space must be a flat Box or Discrete, got {act_space}")
+    width = output_width(act_space)
+    if width is None:
+        raise EnvSpecError(f"action space must be a flat Box, Discrete, MultiDiscrete or MultiBinary, got {act_space}")
+    return int(obs_space.shape[0]), width
 
 
 def env_time_limit(env: gym.Env) -> int | None:
@@ -188,7 +189,8 @@ class EnvProbe:
     unbounded_action: str | None = None
     # Whether the env offers the optional scripted waypoint controller (envs/core.py hook)
     controller: bool | None = field(default=None, compare=False)
-    # A Discrete action space: "zero action" (a zero policy output) is then its action 0, not a middle action
+    # A space of choices (Discrete, MultiDiscrete, MultiBinary): "zero action" (a zero policy output) is then
+    # its action 0, not a middle action
     discrete: bool = field(default=False, compare=False)
 
 
@@ -212,7 +214,7 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
                                  traceback.format_exc())
         return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
                         unbounded_action=unbounded, controller=has_controller(env),
-                        discrete=isinstance(space, gym.spaces.Discrete))
+                        discrete=is_choice(space))
     finally:
         close_env(env, env_id)
 

@@ -183,5 +183,5 @@ gym.register("CheckGridMoves-v0", entry_point=_GridMoves, max_episode_steps=30)
 def test_check_env_labels_says_what_zero_action_is_on_a_discrete_body(capsys):
     """A new user's grid, whose action 0 moved: "beats zero action" read as a verdict; zero action is action 0."""
     out = _out(capsys, ["check-env", "CheckGridMoves-v0", "--labels"]).out
-    assert "labels: zero action is action 0 here (a Discrete space: the argmax of a zero output); make action 0 " \
-           "the no-op" in out
+    assert "labels: zero action is action 0 here (a space of choices: a zero output's argmax is action 0 of each " \
+           "choice" in out and "make action 0 the no-op" in out

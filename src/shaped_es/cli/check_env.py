@@ -1,18 +1,18 @@
 """What an env needs to train here, checked by running it (``shaped-es check-env ID``; the habit of
 Stable-Baselines3's ``check_env``).
 
-:func:`check_env` makes the env and runs a few episodes of random actions, reporting one :class:`Check`
-per requirement: Gymnasium's own API checker (a warning at most: training needs only what the checks
-below test), the spaces the policy needs (a flat ``Box`` observation, or a space Gymnasium flattens into
-one, a ``Dict`` say; a flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is
-rescaled to, or ``Discrete``), seeding (the same ``reset(seed=s)`` and actions give the same episode: runs reproduce and
-the members of a generation face the same episodes), finiteness and fixed shapes of observations and
-rewards (a run stops at the first that is not), a time limit (PPO's budget needs one; without it an
-episode that never ends never returns), the success threshold ``benchmark`` uses (optional), and the
-waypoint contract of ``--method shaped`` (``info["position"]`` and ``info["waypoint"]``, equal ``(d,)``
-shapes, finite, from ``reset`` and every ``step``). A check's ``status`` is ``ok``, ``no`` (an optional
-capability the env lacks: only ``shaped`` needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL``
-(it cannot train). A broken waypoint contract is ``no``: only shaped reads it.
+:func:`check_env` makes the env and runs a few episodes of random actions, reporting one :class:`Check` per
+requirement: Gymnasium's own API checker (a warning at most: training needs only what the checks below test), the
+spaces the policy needs (a flat ``Box`` observation, or a space Gymnasium flattens into one, a ``Dict`` say; a
+flat ``Box`` action with finite bounds, which the policy's ``[-1, 1]`` output is rescaled to, or a space of
+choices: ``Discrete``, ``MultiDiscrete``, ``MultiBinary``), seeding (the same ``reset(seed=s)`` and actions give
+the same episode: runs reproduce and the members of a generation face the same episodes), finiteness and fixed
+shapes of observations and rewards (a run stops at the first that is not), a time limit (PPO's budget needs one;
+without it an episode that never ends never returns), the success threshold ``benchmark`` uses (optional), and the
+waypoint contract of ``--method shaped`` (``info["position"]`` and ``info["waypoint"]``, equal ``(d,)`` shapes,
+finite, from ``reset`` and every ``step``). A check's ``status`` is ``ok``, ``no`` (an optional capability the env
+lacks: only ``shaped`` needs waypoints), ``warn`` (it trains, with a caveat) or ``FAIL`` (it cannot train). A
+broken waypoint contract is ``no``: only shaped reads it.
 
 ``describe_env.py`` holds the short form ``shaped-es envs`` lists for every registered id.
 """
@@ -28,7 +28,8 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess, get_batch_core, has_controller
-from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic, to_space
+from shaped_es.actions import is_choice, output_width, zero_action
+from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
@@ -110,10 +111,15 @@ def _spaces(env: gym.Env) -> Check:
     own = flattened_from(env)
     floats = f"{obs.shape[0]} floats" + ("" if own is None else f" (its {type(own).__name__} observations "
                                                                    f"flattened{_order(own)})")
-    if isinstance(act, gym.spaces.Discrete):
-        return Check("spaces", OK, f"observations {floats}; actions Discrete({act.n}) (argmax)")
-    if not isinstance(act, gym.spaces.Box) or len(act.shape) != 1:
-        return Check("spaces", FAIL, f"the action space must be a flat Box or Discrete, got {act}")
+    if output_width(act) is None:
+        return Check("spaces", FAIL, f"the action space must be a flat Box, Discrete, MultiDiscrete or MultiBinary, "
+                                     f"got {act}")
+    if is_choice(act):  # the policy's outputs: an argmax per choice, or a sign per bit (actions.py)
+        how = {"Discrete": "argmax", "MultiDiscrete": "an argmax per sub-action"}.get(type(act).__name__, "a bit set "
+                                                                                        "per positive output")
+        zero = "sets no bit" if isinstance(act, gym.spaces.MultiBinary) else "is action 0"
+        return Check("spaces", OK, f"observations {floats}; actions {act} ({how}: {output_width(act)} policy "
+                                   f"outputs; a zero output {zero})")
     if not (np.isfinite(act.low).all() and np.isfinite(act.high).all()):
         return Check("spaces", FAIL, f"the action Box needs finite bounds (the policy's [-1, 1] output is "
                                      f"rescaled to them), got low {act.low}, high {act.high}")
@@ -320,7 +326,7 @@ def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
     while they take under ``RETURN_BUDGET_S`` in all, up to ``RETURN_MAX`` episodes."""
     space = env.action_space
     limit = getattr(getattr(env, "spec", None), "max_episode_steps", None) or max_steps
-    middle = to_space(space, np.zeros(space.shape))  # the policy's zero output, as the rollouts map it
+    middle = zero_action(space)  # the policy's zero output, as the rollouts map it
     policies = {"it": hook, "zero action": lambda o, i: middle, "random actions": None}
     returns: dict[str, list[float]] = {name: [] for name in policies}
     t0 = time.perf_counter()

@@ -186,9 +186,9 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     if env_probe.discrete:  # a new user's grid read "beats zero action" of a moving action 0 as a verdict
-        out["zero_is"] = ("zero action is action 0 here (a Discrete space: the argmax of a zero output); make "
-                          "action 0 the no-op for the lines below to mean what they say (README: environment "
-                          "contract)")
+        out["zero_is"] = ("zero action is action 0 here (a space of choices: a zero output's argmax is action 0 of "
+                          "each choice, every bit clear of a MultiBinary); make action 0 the no-op for the lines "
+                          "below to mean what they say (README: environment contract)")
     best = variant_name(res.frame, res.query_clip, res.chunk)
     gain, se = paired(res.returns[best], res.zero_action)
     horizons = unjudged_horizons(res, cfg.shaping.inverse_dynamics)

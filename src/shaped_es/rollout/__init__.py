@@ -54,7 +54,7 @@ from shaped_es.env_probe import (  # noqa: F401 - re-exported: the env's side of
     probe_env,
 )
 from shaped_es.envs.core import get_batch_core, runs_serially
-from shaped_es.rollout.actions import _to_env_action, to_space  # noqa: F401 - re-exported
+from shaped_es.actions import _to_env_action, to_space  # noqa: F401 - re-exported
 from shaped_es.rollout.batched import _run_batched, _run_batched_groups
 from shaped_es.rollout.gym_loop import _run_gym, _run_serial
 from shaped_es.rollout.record import _Recorder  # noqa: F401 - re-exported

@@ -15,11 +15,11 @@ from shaped_es.env_probe import OLD_STEP, BadOutput, env_time_limit, observation
     step_output
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.policies import forward
-from shaped_es.rollout.actions import action_map
+from shaped_es.actions import action_map, from_space
 from shaped_es.rollout.checks import _bad_output, _check_obs, _check_pairs, _contract
 from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
 from shaped_es.rollout.periodic import Unwrapper, period_of
-from shaped_es.rollout.record import _controller, _from_env_action, _join_episodes, _Recorder
+from shaped_es.rollout.record import _controller, _join_episodes, _Recorder
 from shaped_es.rollout.task import RolloutResult, RolloutTask, _finish, _policy_input
 from shaped_es.rollout.worker_envs import _envs
 
@@ -131,7 +131,7 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
         if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
             ex = np.zeros_like(act)
             for b in np.flatnonzero(alive):
-                ex[b] = _from_env_action(envs[b].action_space, hooks[b](obs[b], infos[b]))
+                ex[b] = from_space(envs[b].action_space, hooks[b](obs[b], infos[b]))
         rew = np.zeros(B, dtype=np.float64)
         nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
         stepped = alive.copy()

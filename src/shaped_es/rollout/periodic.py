@@ -35,6 +35,7 @@ import numpy as np
 
 from shaped_es.env_probe import EnvSpecError, close_env, make_env
 from shaped_es.envs.core import POSITION_KEY, get_batch_core, runs_serially
+from shaped_es.actions import random_action
 
 PERIOD_ATTR = "position_period"  # env.unwrapped.position_period: a number, one per coordinate, or None
 PERIODS = (2 * math.pi, 360.0)  # what detection recognizes: radians, degrees
@@ -147,8 +148,8 @@ def _wraps(vals: np.ndarray, steps: np.ndarray) -> np.ndarray | None:
 
 def _action(space: gym.Space, rng: np.random.Generator, corner: np.ndarray | None):
     """A random action of ``space``: uniform (``corner`` None) or the given corner (signs ``(act,)``) of a Box."""
-    if isinstance(space, gym.spaces.Discrete):
-        return int(space.start + rng.integers(space.n))
+    if not isinstance(space, gym.spaces.Box):
+        return random_action(space, rng)
     low, high = np.asarray(space.low, np.float64), np.asarray(space.high, np.float64)
     a = rng.uniform(-1, 1, space.shape) if corner is None else corner
     bounded = np.isfinite(low) & np.isfinite(high)

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import gymnasium as gym
 import numpy as np
 
 from shaped_es.data import PackedTransitions, Transitions
@@ -79,18 +78,6 @@ def _controller(task, owner):
         raise EnvSpecError(f"env {task.env_id!r} offers no {CONTROLLER_HOOK}(...) (shaping.labels=controller "
                            f"needs one; see the README's environment contract)")
     return hook
-
-
-def _from_env_action(space: gym.Space, a) -> np.ndarray:
-    """An action of ``space`` on the policy's ``[-1, 1]`` scale (the inverse of the rollout's ``_to_env_action``;
-    Discrete: +1 for the chosen action, -1 elsewhere)."""
-    if isinstance(space, gym.spaces.Discrete):
-        out = -np.ones(int(space.n), np.float32)
-        out[int(a) - int(space.start)] = 1.0
-        return out
-    low, high = space.low.astype(np.float64), space.high.astype(np.float64)
-    x = 2.0 * (np.asarray(a, np.float64).reshape(low.shape) - low) / (high - low) - 1.0
-    return np.clip(x, -1.0, 1.0).astype(np.float32)
 
 
 def _join_episodes(generation: int, member: int, eps: list[tuple[int, Transitions]]) -> Transitions:

@@ -22,7 +22,7 @@ from multiprocessing import get_context
 import numpy as np
 
 from shaped_es.env_probe import EnvError, observation, reset_output, step_output
-from shaped_es.rollout.actions import _to_env_action
+from shaped_es.actions import _to_env_action
 
 BATCHED_LOOP = "batched core"
 GYM_LOOP = "gymnasium, one env per copy"

@@ -10,11 +10,13 @@
     seeds = policy.evaluation_seeds(15)              # the episodes of shaped-es evaluate --episodes 15
     obs, _ = env.reset(seed=0)
     action = policy.predict(obs)                     # one observation -> one action
-    actions = policy.predict(obs_batch)              # (B, obs_dim) -> (B, act_dim), or (B,) for Discrete
+    actions = policy.predict(obs_batch)              # (B, obs_dim) -> (B, act_dim), (B,) for Discrete, (B, k) for
+                                                     # MultiDiscrete(nvec of k), (B, n) for MultiBinary(n)
     module = policy.to_torch()                       # torch.nn.Module, same actions as predict
 
 Actions are those ``shaped-es evaluate`` feeds the env: ES policies output ``[-1, 1]``, rescaled to a
-``Box``'s bounds (argmax for ``Discrete``); PPO runs give SB3's deterministic action (clipped to the
+``Box``'s bounds (an argmax for ``Discrete``, one per sub-action for ``MultiDiscrete``, a sign per bit for
+``MultiBinary``: ``shaped_es/actions.py``); PPO runs give SB3's deterministic action (clipped to the
 bounds). PPO runs load the same way (``policy.sb3_policy`` is the SB3 ``ActorCriticPolicy``).
 
 A run trained with ``es.obs_norm`` saves the normalizer its policies saw (``policy.obs_norm``,
@@ -117,7 +119,8 @@ class Policy:
 
     def to_torch(self):
         """A ``torch.nn.Module``: ``obs`` float tensor ``(B, obs_dim)`` -> the actions ``predict`` gives
-        (``Box``: float ``(B, act_dim)``; ``Discrete``: int64 ``(B,)``). ES: ``module.net`` is the MLP
+        (``Box``: float ``(B, act_dim)``; ``Discrete``: int64 ``(B,)``; ``MultiDiscrete``: int64 ``(B, k)``;
+        ``MultiBinary``: int8 ``(B, n)``). ES: ``module.net`` is the MLP
         (``nn.Linear`` + ``tanh`` layers, output in ``[-1, 1]``; with ``obs_norm`` its buffers
         ``obs_mean``, ``obs_std`` normalize the input first); PPO: ``module.policy`` is SB3's."""
         if self.sb3_policy is not None:
@@ -223,6 +226,8 @@ def _torch_modules():
     import torch
     from torch import nn
 
+    from shaped_es.actions import is_choice
+
     class ESActor(nn.Module):
         def __init__(self, spec, theta: np.ndarray, space: gym.Space, obs_norm=None):
             super().__init__()
@@ -238,10 +243,13 @@ def _torch_modules():
                     lin.bias.copy_(torch.from_numpy(theta[bs].copy()))
                 layers += [lin, nn.Tanh()]
             self.net = nn.Sequential(*layers)
-            self.discrete = isinstance(space, gym.spaces.Discrete)
-            if self.discrete:
+            self.kind = type(space).__name__ if is_choice(space) else "Box"
+            if isinstance(space, gym.spaces.Discrete):
                 self.start = int(space.start)
-            else:
+            elif isinstance(space, gym.spaces.MultiDiscrete):  # actions.to_space: an argmax per sub-action
+                self.sizes = [int(n) for n in space.nvec]
+                self.register_buffer("start", torch.as_tensor(np.asarray(space.start), dtype=torch.int64))
+            elif self.kind == "Box":
                 low = torch.as_tensor(space.low, dtype=torch.float32)
                 high = torch.as_tensor(space.high, dtype=torch.float32)
                 self.register_buffer("centre", (high + low) * 0.5)  # rollout.to_space's rescaling
@@ -253,8 +261,12 @@ def _torch_modules():
 
                 obs = torch.clamp((obs - self.obs_mean) / self.obs_std, -OBS_CLIP, OBS_CLIP)
             a = self.net(obs)
-            if self.discrete:
+            if self.kind == "Discrete":
                 return a.argmax(dim=-1) + self.start
+            if self.kind == "MultiDiscrete":
+                return torch.stack([p.argmax(dim=-1) for p in torch.split(a, self.sizes, dim=-1)], -1) + self.start
+            if self.kind == "MultiBinary":
+                return (a > 0).to(torch.int8)
             return self.centre + self.half_width * a
 
     class SB3Actor(nn.Module):
