@@ -27,7 +27,7 @@ def test_ratios_to_the_threshold_with_their_intervals():
     ratios = {"generations": {"ratio": 0.5, "ci": [0.31, 0.78]}, "wall_time_s": {"ratio": 1.73, "ci": [1.25, 2.41]}}
     (line,) = verdict_lines(_summary(_method(5, 19.4, 9.23), _method(4, 10.0, 9.41), ratios))
     assert line.startswith("shaped vs vanilla: 5/5 vs 4/5 seeds reached 9; generations to it 0.50x [0.31, 0.78]; "
-                           "wall time to it 1.73x [1.25, 2.41]; (vanilla's 1 unsolved run counts its whole length: "
+                           "wall time to it 1.73x [1.25, 2.41] (vanilla's 1 unsolved run counts its whole length: "
                            "the ratios are upper bounds); whole runs' wall time 1.94x")
     # a new user's arm: Vanilla-ES reached it on no seed; and the other way round; and both short
     (line,) = verdict_lines(_summary(_method(5, 19.4, 9.23), _method(0, 10.0, 9.41), ratios))

@@ -35,8 +35,8 @@ def verdict_lines(summary: dict) -> list[str]:
                 parts.append(f"generations to it {ratio_text(ratios['generations'])}")
             if ratios.get("wall_time_s"):
                 parts.append(f"wall time to it {ratio_text(ratios['wall_time_s'])}")
-            if ratios.get("generations") or ratios.get("wall_time_s"):
-                parts += _censored(name, m, ref, r)
+            if ratios.get("generations") or ratios.get("wall_time_s"):  # the ratios' note, beside them
+                parts[-1] += "".join(f" {note}" for note in _censored(name, m, ref, r))
         else:
             parts.append("neither reached it")
         if m.get("wall_time_s") and r.get("wall_time_s"):

@@ -26,7 +26,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
                                                                          if res.query_clip else "") else []))
     why = ("the default choice" if name == default else f"beat the default, {differs}"
            if res.reason.startswith("its") else f"the default's labels, {differs}, lost to zero action")
-    own, what = (res.clones, "candidate") if res.clones.get(name) else (res.returns, "labels")
+    own, what = (res.clones, "its candidate") if res.clones.get(name) else (res.returns, "labels")
     zero, own = res.zero_action, own.get(name)
     score = ""
     if own and zero:
@@ -38,7 +38,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
         # a new user read "below zero action" as broken labels, a line before the probe's best candidate won at
         # generation 0; another read the two candidates' numbers as contradictory: the best is named either way
         if best:
-            score += f"; best: {best}, " + ("judged at generation 0" if judged else
+            score += f"; the probe's best: {best}, " + ("judged at generation 0" if judged else
                                               "not judged (shaping.mean_clone.probe_candidate=false)")
     lost = "" if res.shoot_on else ", not above zero action" + ("; another is" if _drop_text(res) else "")
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
