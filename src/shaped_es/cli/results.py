@@ -26,9 +26,14 @@ def add_evaluate_parser(sub) -> argparse.ArgumentParser:
 
 
 def cmd_evaluate(a: argparse.Namespace) -> int:
-    from shaped_es.trained.evaluate import evaluate_run
+    from shaped_es.rundir.store import RunStore
+    from shaped_es.trained.evaluate import evaluate_run, selection_note
 
-    print(json.dumps(evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)))
+    result = evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)
+    print(json.dumps(result))
+    note = selection_note(RunStore(a.run_dir), result)
+    if note:
+        print(f"shaped-es: {a.run_dir}: {note}", file=sys.stderr)
     return 0
 
 

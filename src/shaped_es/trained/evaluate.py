@@ -47,8 +47,29 @@ def es_returns(cfg, arrays: dict, which: str, seeds: np.ndarray, run_dir, execut
     return np.concatenate([r.returns[0] for r in res])  # (E,)
 
 
+def selection_note(store: RunStore, result: dict) -> str | None:
+    """For ``best``: one line where its fresh episodes ``result`` (``evaluate_run``'s) score below the test reward
+    that made it the best by more than 2 standard errors of their mean. That test reward is the highest of the
+    run's noisy test means, so it reads high where episodes differ (a new user's slipping drive: chosen at 9.16,
+    6.90 on 15 new episodes, with the final mean above the best on 50); None where it does not, or for ``mean``."""
+    best, r = result.get("test_reward_when_chosen"), np.asarray(result["episode_returns"], np.float64)  # (E,)
+    if result["policy"] != "best" or best is None or r.size < 2:
+        return None
+    se = float(r.std(ddof=1) / np.sqrt(r.size))
+    if not r.mean() < best - 2 * se:
+        return None
+    tests = sum(row.get("test_reward_mean") not in (None, "") for row in store.read_metrics())
+    where = f" at generation {result['policy_generation']}" if result.get("policy_generation") is not None else ""
+    return (f"note: the best policy's test reward {best:.2f}{where} is the highest of the run's {tests} test "
+            f"means; on these {r.size} new episodes it scores {r.mean():.2f} +- {2 * se:.2f} (2 standard errors): "
+            f"the highest of many noisy tests reads high where episodes differ. --policy mean evaluates the "
+            f"search's final mean; more --episodes narrow both")
+
+
 def _summary(store: RunStore, which: str, meta: dict, returns: np.ndarray, seeds: np.ndarray) -> dict:
+    chosen = meta.get("best_test_reward") if which == "best" else None
     return {"run_dir": str(store.root), "policy": which,
+            "test_reward_when_chosen": None if chosen is None else float(chosen),  # best: the test that chose it
             "policy_generation": policy_generation(store, meta, which),  # best: when it was found
             "checkpoint_generations": meta["generation"],  # the generations the checkpoint covers
             "episodes": int(len(returns)), "reward_mean": float(returns.mean()),
