@@ -142,9 +142,10 @@ class SlipDrive(_WaypointLine, gym.Env):
     heading_std = 0.03
     goal_radius = 0.1
 
-    def __init__(self, slip_lo=0.5, heading_std=0.03):
+    def __init__(self, slip_lo=0.5, heading_std=0.03, heading_first=False):
         self.slip_lo = float(slip_lo)
         self.heading_std = float(heading_std)
+        self.heading_first = bool(heading_first)
 
     def _obs_info(self):
         c, s = math.cos(self.th), math.sin(self.th)
@@ -172,10 +173,14 @@ class SlipDrive(_WaypointLine, gym.Env):
         left, right = a[0] * slip[0], a[1] * slip[1]
         v = 0.5 * (left + right)
         w = (right - left) / self.track
+        noise = self.heading_std * float(rng.normal())
+        if self.heading_first:
+            self.th = self.th + self.dt * w + noise
         self.pos = np.clip(
             self.pos + self.dt * v * np.array([math.cos(self.th), math.sin(self.th)]), -3.0, 3.0
         )
-        self.th = self.th + self.dt * w + self.heading_std * float(rng.normal())
+        if not self.heading_first:
+            self.th = self.th + self.dt * w + noise
         self._advance(self.pos)
         d = float(math.hypot(self.goal[0] - self.pos[0], self.goal[1] - self.pos[1]))
         reward = 10.0 * (self.dist - d) / self.d0
