@@ -9,7 +9,8 @@ lock-step with one batched policy forward per step:
 - any other Gymnasium env is stepped one instance per episode (the policy forward is still batched).
 
 Actions come out of the policy in ``[-1, 1]``; Box spaces are rescaled to their bounds (which must be
-finite: an unbounded Box is refused before the first rollout), Discrete spaces take the argmax. An env
+finite: an unbounded Box is refused before the first rollout), Discrete spaces take the argmax, MultiDiscrete an
+argmax per sub-action, MultiBinary a bit per positive output (``shaped_es/actions.py``). An env
 without a time limit, with ``rollout.max_steps`` unset, has its episodes cut at :data:`DEFAULT_MAX_STEPS`
 (with a warning before the first rollout), so an env that never terminates cannot hang a run. Results
 depend only on the task's parameters and seeds, never on the process running it. Making and probing an
@@ -20,8 +21,8 @@ Recording (``RolloutTask.record``: every member, or a mask of them) keeps each r
 :class:`~shaped_es.data.PackedTransitions`; ``RolloutResult.transitions`` unpacks it into per-member
 views); with ``RolloutTask.expert`` the env's scripted waypoint controller (``envs/core.py``) is asked at
 every recorded step too, and its action kept as ``Transitions.expert``, mapped to the policy's
-``[-1, 1]`` scale (Box: the inverse of the rescaling above; Discrete: +1 for the chosen action, -1
-elsewhere).
+``[-1, 1]`` scale (``actions.from_space``: Box, the inverse of the rescaling above; a choice, +1 for the chosen
+option and -1 elsewhere).
 
 Here: which loop runs a task (:func:`run_task`, :func:`run_tasks`) and the episode cap of an endless env.
 ``task.py`` what a rollout is given and gives back; ``batched.py`` the lock-step loop of a batched core;
