@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import shaped_es
-from shaped_es.actions import (_to_env_action, action_map, from_space, is_choice, output_width, random_action,
-                               to_space, zero_action)
+from shaped_es.actions import (_to_env_action, action_map, action_problem, from_space, is_choice, output_width,
+                               random_action, to_space, zero_action)
 
 MD = gym.spaces.MultiDiscrete([3, 2, 4], start=[-1, 0, 2])
 MB = gym.spaces.MultiBinary(5)
@@ -59,6 +59,23 @@ def test_from_space_inverts_to_space_and_each_mapping_agrees(space):
     np.testing.assert_array_equal(zero, expected[type(space).__name__])
 
 
+def test_what_makes_a_controllers_return_no_action():
+    """A new user's gear 3 of MultiDiscrete([3, 5]) became "straight and gentle left" labels, silently."""
+    md = gym.spaces.MultiDiscrete([3, 5])
+    assert action_problem(md, [3, 0]) == "sub-action 0's 3 is outside 0..2"
+    assert action_problem(MD, [-1, 1, 6]) == "sub-action 2's 6 is outside 2..5"  # start [-1, 0, 2]
+    assert action_problem(md, [0, 3, 0]) == "3 values, the space takes 2"
+    assert action_problem(md, 3) == "1 value, the space takes 2"
+    assert action_problem(md, [1.5, 2]) == "a value that is not a whole number"
+    assert action_problem(gym.spaces.Discrete(4, start=1), 0) == "0 is outside 1..4"
+    assert action_problem(MB, [2, 0, 0, 0, 0]) == "a value other than 0 or 1"
+    assert action_problem(SPACES[0], [np.nan, 0]) == "a non-finite value"
+    assert action_problem(SPACES[0], "ab") == "str, not numbers"
+    for ok, space in ((np.array([2.0, 1.0]), md), ([True, False, True, False, True], MB), (np.int64(4), SPACES[1]),
+                      ([5.0, -9.0], SPACES[0])):  # floats of whole numbers, bools; a Box beyond its bounds is clipped
+        assert action_problem(space, ok) is None
+
+
 class _GridMD(gym.Env):
     """A point moved 0.1 a step along each axis by MultiDiscrete([3, 3]) (0 stays, 1 +, 2 -) towards a goal, or
     pushed by four on/off thrusters (MultiBinary(4): +x, -x, +y, -y), with the two-key contract and a controller."""
@@ -103,7 +120,13 @@ class _Thrusters(_GridMD):
         return (np.array([d[0] > 0.05, d[0] < -0.05, d[1] > 0.05, d[1] < -0.05])).astype(np.int8)
 
 
+class _GearOutOfRange(_GridMD):
+    def waypoint_controller(self, obs, info):
+        return np.array([3, 0])  # a choice past nvec: 3 of 3
+
+
 gym.register("ActionsTest-GridMD-v0", entry_point=_GridMD, max_episode_steps=25)
+gym.register("ActionsTest-GearOutOfRange-v0", entry_point=_GearOutOfRange, max_episode_steps=25)
 gym.register("ActionsTest-Thrusters-v0", entry_point=_Thrusters, max_episode_steps=25)
 
 
@@ -133,8 +156,24 @@ def test_check_env_says_how_a_choice_space_is_acted_in():
 
     grid = next(c for c in check_env("ActionsTest-GridMD-v0") if c.name == "spaces")
     assert grid.status == "ok" and "MultiDiscrete([3 3]) (an argmax per sub-action: 6 policy outputs; a zero " \
-                                   "output is action 0)" in grid.detail
+                                   "output is action [0 0])" in grid.detail
     bits = next(c for c in check_env("ActionsTest-Thrusters-v0") if c.name == "spaces")
     assert "MultiBinary(4) (a bit set per positive output: 4 policy outputs; a zero output sets no bit)" in bits.detail
     ctl = next(c for c in check_env("ActionsTest-Thrusters-v0") if c.name == "controller")
     assert "returns over " in ctl.detail and ", zero action 0.00" in ctl.detail
+
+
+def test_a_controller_that_returns_no_action_stops_the_run_in_one_line_and_check_env_warns(tmp_path):
+    from shaped_es.cli.check_env import check_env
+    from shaped_es.env_probe import EnvError
+
+    cfg = {"env": "ActionsTest-GearOutOfRange-v0", "method": "shaped", "executor": "inline", "generations": 1,
+           "seed": 0, "es": {"pairs": 2}, "policy": {"hidden": [4]}, "rollout": {"episodes": 1, "test_episodes": 1},
+           "tensorboard": False, "shaping.labels": "controller"}
+    with pytest.raises(EnvError, match=r"^env 'ActionsTest-GearOutOfRange-v0': its waypoint_controller returned "
+                                       r"\[3 0\], not an action of MultiDiscrete\(\[3 3\]\) \(sub-action 0's 3 is "
+                                       r"outside 0\.\.2\) \(generation 0, episode seed \d+, step 0\)"):
+        shaped_es.train(cfg, tmp_path / "r")
+    ctl = next(c for c in check_env("ActionsTest-GearOutOfRange-v0") if c.name == "controller")
+    assert ctl.status == "warn" and "it returned [3 0], not an action of MultiDiscrete([3 3]) (sub-action 0's 3 " \
+                                   "is outside 0..2; seed 0, step 0)" in ctl.detail

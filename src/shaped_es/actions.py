@@ -80,6 +80,36 @@ def from_space(space: gym.Space, a) -> np.ndarray:
     return np.clip(x, -1.0, 1.0).astype(np.float32)
 
 
+def action_problem(space: gym.Space, a) -> str | None:
+    """What makes ``a`` (a scripted controller's return) no action of ``space``, or None where it is one: the wrong
+    number of values, a non-finite or non-integer value, a choice out of its range (``from_space`` would otherwise
+    turn gear 3 of ``MultiDiscrete([3, 5])`` into another sub-action's +1 and train on it silently). A Box action
+    beyond its bounds is one (clipped, as the rollouts clip the policy's)."""
+    try:
+        x = np.asarray(a, np.float64)
+    except (TypeError, ValueError):
+        return f"{type(a).__name__}, not numbers"
+    want = 1 if isinstance(space, gym.spaces.Discrete) else int(np.prod(space.shape))
+    if x.size != want:
+        return f"{x.size} value{'s' if x.size != 1 else ''}, the space takes {want}"
+    if not np.isfinite(x).all():
+        return "a non-finite value"
+    if not is_choice(space):
+        return None
+    if not np.array_equal(x, np.round(x)):
+        return "a value that is not a whole number"
+    if isinstance(space, gym.spaces.MultiBinary):
+        return None if np.isin(x, (0, 1)).all() else "a value other than 0 or 1"
+    low = np.ravel(np.asarray(space.start, np.float64))  # (k,) the first option of each choice
+    high = low + (np.ravel(space.nvec) if isinstance(space, gym.spaces.MultiDiscrete) else int(space.n)) - 1
+    out = np.flatnonzero((x.ravel() < low) | (x.ravel() > high))
+    if out.size:
+        i = int(out[0])
+        where = f"sub-action {i}'s " if isinstance(space, gym.spaces.MultiDiscrete) else ""
+        return f"{where}{x.ravel()[i]:g} is outside {int(low[i])}..{int(high[i])}"
+    return None
+
+
 def zero_action(space: gym.Space):
     """The action of a zero policy output (the middle of a Box, action 0 of a choice), as ``env.step`` takes it."""
     return _to_env_action(space, np.zeros(output_width(space) or 0, np.float32))

@@ -28,7 +28,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess, get_batch_core, has_controller
-from shaped_es.actions import is_choice, output_width, zero_action
+from shaped_es.actions import action_problem, is_choice, output_width, zero_action
 from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
@@ -117,7 +117,7 @@ def _spaces(env: gym.Env) -> Check:
     if is_choice(act):  # the policy's outputs: an argmax per choice, or a sign per bit (actions.py)
         how = {"Discrete": "argmax", "MultiDiscrete": "an argmax per sub-action"}.get(type(act).__name__, "a bit set "
                                                                                         "per positive output")
-        zero = "sets no bit" if isinstance(act, gym.spaces.MultiBinary) else "is action 0"
+        zero = "sets no bit" if isinstance(act, gym.spaces.MultiBinary) else f"is action {_zero_text(act)}"
         return Check("spaces", OK, f"observations {floats}; actions {act} ({how}: {output_width(act)} policy "
                                    f"outputs; a zero output {zero})")
     if not (np.isfinite(act.low).all() and np.isfinite(act.high).all()):
@@ -194,6 +194,11 @@ def _episodes(env, env_id, env_kwargs, episodes: int, max_steps: int, seed: int)
     return out
 
 
+def _zero_text(space: gym.Space) -> str:
+    """The action a zero policy output is in a space of choices: ``0``, ``-1``, ``[0 0]``, ``[-1 -2]``."""
+    return str(zero_action(space)).replace("\n", " ")
+
+
 def _episode(env: gym.Env, seed: int, max_steps: int, act=None) -> dict:
     """One episode of random actions (the action space seeded with ``seed``), or of ``act(obs, info)``'s; what
     came back, or the first problem as ``error``."""
@@ -214,7 +219,20 @@ def _episode(env: gym.Env, seed: int, max_steps: int, act=None) -> dict:
             rec["infos"].append(info)
             if t == max_steps:
                 break
-            a = env.action_space.sample() if act is None else np.asarray(act(obs, info), env.action_space.dtype)
+            if act is None:
+                a = env.action_space.sample()
+            else:
+                try:
+                    a = act(obs, info)
+                except Exception as exc:  # noqa: BLE001 - the controller's own error, as one line
+                    rec["error"] = f"it raised {type(exc).__name__}: {_line(str(exc))} (seed {seed}, step {t})"
+                    break
+                problem = action_problem(env.action_space, a)
+                if problem:  # the rollouts refuse it too (a gear out of range would become another option's label)
+                    rec["error"] = (f"it returned {_line(str(a))[:60]}, not an action of {env.action_space} ({problem}; "
+                                    f"seed {seed}, step {t})")
+                    break
+                a = np.asarray(a, env.action_space.dtype)
             obs, reward, terminated, truncated, info = env.step(a)
             r = np.asarray(reward)
             if r.shape != () or r.dtype.kind not in "biuf" or not np.isfinite(r):
@@ -308,7 +326,11 @@ def _controller(env: gym.Env, max_steps: int = 200) -> Check:
         detail = "waypoint_controller(obs, info): the oracle labels (shaping.labels=controller) can use it"
         hook = getattr(getattr(env, "unwrapped", env), "waypoint_controller", None)
         if get_batch_core(env) is None and callable(hook):  # Discrete too: its zero action is action 0
-            detail += _returns_text(env, hook, max_steps)
+            text, drove = _returns_text(env, hook, max_steps)
+            if not drove:  # a new user's controller raised or returned no action, and the line said "ok"
+                return Check("controller", WARN, f"waypoint_controller(obs, info) cannot drive the env as it is (the "
+                                                 f"oracle labels, shaping.labels=controller, would stop the run){text}")
+            detail += text
         return Check("controller", OK, detail)
     return Check("controller", NO, "no waypoint_controller(obs, info) (optional: the oracle label source "
                                    "shaping.labels=controller needs one)")
@@ -319,11 +341,11 @@ RETURN_MAX = 50  # ... while the rounds so far took under RETURN_BUDGET_S second
 RETURN_BUDGET_S = 3.0  # returns scale with a random goal distance: 10 episodes' thresholds moved by 10-20%)
 
 
-def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
+def _returns_text(env: gym.Env, hook, max_steps: int) -> tuple[str, bool]:
     """``; returns over 30 episodes: it 9.30, zero action 0.00, random actions -1.92 (a threshold: 8.37 +- 0.21,
     90% of the way from zero action's return to its own, as the suite's were set; +-: 2 standard errors over the
     episodes)``, or where the controller raised, that one line. Rounds of ``RETURN_EPISODES`` seeds (0, 1, ...)
-    while they take under ``RETURN_BUDGET_S`` in all, up to ``RETURN_MAX`` episodes."""
+    while they take under ``RETURN_BUDGET_S`` in all, up to ``RETURN_MAX`` episodes; and whether the episodes ran."""
     space = env.action_space
     limit = getattr(getattr(env, "spec", None), "max_episode_steps", None) or max_steps
     middle = zero_action(space)  # the policy's zero output, as the rollouts map it
@@ -335,8 +357,8 @@ def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
         for name, act in policies.items():
             runs = [_episode(env, seed, limit, act) for seed in seeds]
             failed = next((r["error"] for r in runs if r["error"]), None)
-            if failed:  # one line: the check itself passed
-                return f"; driving it over an episode: {failed}"
+            if failed:  # one line
+                return f"; driving it over an episode: {failed}", False
             returns[name] += [float(sum(r["rewards"])) for r in runs]
         n = len(returns["it"])
         if n >= RETURN_MAX or time.perf_counter() - t0 > RETURN_BUDGET_S:
@@ -348,7 +370,7 @@ def _returns_text(env: gym.Env, hook, max_steps: int) -> str:
     return (f"; returns over {n} episodes: it {it:.2f}, zero action {zero:.2f}, random actions "
             f"{means['random actions']:.2f} (a threshold: {suggested_threshold(it, zero):.2f} +- {spread:.2f}, 90% of "
             f"the way from zero action's return to its own, as the suite's were set; +-: 2 standard errors over the "
-            f"episodes)")
+            f"episodes)"), True
 
 
 def suggested_threshold(controller: float, zero: float) -> float:

@@ -16,6 +16,12 @@ def _bad_output(task: RolloutTask, what: str, seed, step: int) -> EnvError:
                     f"{int(seed)}, step {step}); check the env's step/reset")
 
 
+def _bad_controller(task: RolloutTask, what: str, seed, step: int) -> EnvError:
+    """The env's scripted waypoint controller (the oracle labels, ``envs/core.py``) failed: ``what`` it did."""
+    return EnvError(f"env {task.env_id!r}: its waypoint_controller {what} ({task.where()}, episode seed {int(seed)}, "
+                    f"step {step}); it must return an action of the env's action space, as env.step takes it")
+
+
 def _check_obs(task, obs: np.ndarray, shape: tuple, seed, step: int) -> np.ndarray:
     if obs.shape != shape:
         raise _bad_output(task, f"an observation of shape {obs.shape}, its observation space says {shape}",

@@ -11,12 +11,12 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.data import pack
-from shaped_es.env_probe import OLD_STEP, BadOutput, env_time_limit, observation, old_api, reset_output, reward, \
-    step_output
+from shaped_es.env_probe import OLD_STEP, BadOutput, env_time_limit, exception_line, observation, old_api, \
+    reset_output, reward, step_output
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.policies import forward
-from shaped_es.actions import action_map, from_space
-from shaped_es.rollout.checks import _bad_output, _check_obs, _check_pairs, _contract
+from shaped_es.actions import action_map, action_problem, from_space
+from shaped_es.rollout.checks import _bad_controller, _bad_output, _check_obs, _check_pairs, _contract
 from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
 from shaped_es.rollout.periodic import Unwrapper, period_of
 from shaped_es.rollout.record import _controller, _join_episodes, _Recorder
@@ -48,6 +48,21 @@ def _step(env: gym.Env, action) -> tuple:
             raise BadOutput(OLD_STEP) from None
         raise
     return step_output(out)
+
+
+def _controller_action(task: RolloutTask, space: gym.Space, hook, obs, info, seed, step: int) -> np.ndarray:
+    """The controller's action for ``(obs, info)`` on the policy's ``[-1, 1]`` scale, ``(act,)``; one error naming
+    the controller where it raises or returns no action of ``space`` (a gear out of range would else become
+    another option's label, silently)."""
+    try:
+        a = hook(obs, info)
+    except Exception as exc:  # noqa: BLE001 - the env's own code: one line naming it
+        raise _bad_controller(task, f"raised {exception_line(exc)}", seed, step) from None
+    problem = action_problem(space, a)
+    if problem:
+        text = np.array2string(np.asarray(a), threshold=8) if np.ndim(a) else repr(a)
+        raise _bad_controller(task, f"returned {text[:60]}, not an action of {space} ({problem})", seed, step)
+    return from_space(space, a)
 
 
 def _run_serial(task: RolloutTask, default_cap: int) -> RolloutResult:
@@ -131,7 +146,7 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
         if hooks is not None:  # (B, a): the controller's action where the episode runs, else zeros
             ex = np.zeros_like(act)
             for b in np.flatnonzero(alive):
-                ex[b] = from_space(envs[b].action_space, hooks[b](obs[b], infos[b]))
+                ex[b] = _controller_action(task, envs[b].action_space, hooks[b], obs[b], infos[b], seeds[b], t)
         rew = np.zeros(B, dtype=np.float64)
         nobs, npos, nwp = obs.copy(), pos.copy(), wp.copy()
         stepped = alive.copy()

@@ -104,6 +104,8 @@ class Policy:
         if self.sb3_policy is not None:
             act, _ = self.sb3_policy.predict(x, deterministic=True)  # (B, ...) clipped to the bounds
             act = np.asarray(act)
+            if not isinstance(self.action_space, gym.spaces.Box):  # SB3 gives MultiBinary's bits as float32
+                act = act.astype(self.action_space.dtype)
         else:
             from shaped_es.policies import forward
             from shaped_es.rollout import to_space
@@ -274,6 +276,7 @@ def _torch_modules():
             super().__init__()
             self.policy = policy
             self.box = isinstance(space, gym.spaces.Box)
+            self.dtype = None if self.box else getattr(torch, np.dtype(space.dtype).name)  # predict's, as the space's
             if self.box:
                 self.register_buffer("low", torch.as_tensor(space.low, dtype=torch.float32))
                 self.register_buffer("high", torch.as_tensor(space.high, dtype=torch.float32))
@@ -285,7 +288,7 @@ def _torch_modules():
                     act = self.low + (act + 1.0) * 0.5 * (self.high - self.low)
                 else:
                     act = torch.clamp(act, self.low, self.high)
-            return act
+            return act if self.dtype is None else act.to(self.dtype)
 
     return ESActor, SB3Actor
 
