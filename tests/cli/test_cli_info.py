@@ -57,7 +57,8 @@ def test_envs_lists_ids_presets_and_the_waypoint_contract(capsys):
     lines = {line.split()[0]: line for line in text.splitlines() if line and not line[0].isspace()}
     assert "default, paper" in lines["CarNav-v0"] and "yes (2-d)" in lines["CarNav-v0"]
     assert "yes (3-d)" in lines["UR5Reach-v0"] and lines["CartPole-v1"].rstrip().endswith("no")
-    assert "cannot be made" not in text and "--all" in text  # the ids that cannot be made: only with --all
+    assert "cannot be used here:" not in text and "--all" in text  # the ids that cannot be used: only with --all
+    assert "(act: the policy's outputs: the action size of a Box, the options of a Discrete" in text
     assert lines["Blackjack-v1"].split()[2] == "45"  # a Tuple of Discretes, flattened one-hot (32 + 11 + 2)
     rows = [json.loads(x) for x in _out(capsys, ["envs", "--all", "--json"]).out.splitlines()]
     by = {r["id"]: r for r in rows}

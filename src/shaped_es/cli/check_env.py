@@ -229,8 +229,8 @@ def _episode(env: gym.Env, seed: int, max_steps: int, act=None) -> dict:
                     break
                 problem = action_problem(env.action_space, a)
                 if problem:  # the rollouts refuse it too (a gear out of range would become another option's label)
-                    rec["error"] = (f"it returned {_line(str(a))[:60]}, not an action of {env.action_space} ({problem}; "
-                                    f"seed {seed}, step {t})")
+                    rec["error"] = (f"it returned {_line(str(a))[:60]}, not an action of {env.action_space} "
+                                    f"({problem}; seed {seed}, step {t})")
                     break
                 a = np.asarray(a, env.action_space.dtype)
             obs, reward, terminated, truncated, info = env.step(a)

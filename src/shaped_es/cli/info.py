@@ -101,7 +101,9 @@ def add_parsers(sub) -> None:
                        description="List the Gymnasium ids this machine can make (each made and reset once), "
                        "with their presets, dims, time limit and whether they meet the waypoint contract that "
                        "--method shaped needs. An own env: --import mymodule (or --env mymodule:Id in train).")
-    e.add_argument("--all", action="store_true", help="also the ids that cannot be made here, with the reason")
+    e.add_argument("--all", action="store_true",
+                   help="also the ids that cannot be used here (not made, or spaces a policy cannot act in), with "
+                        "the reason")
     e.add_argument("--import", dest="modules", action="append", metavar="MODULE",
                    help="import MODULE first, so the envs it registers are listed (repeatable; default: none)")
     e.add_argument("--json", action="store_true", help="one JSON object per env, one per line")
@@ -237,13 +239,16 @@ def cmd_envs(a: argparse.Namespace) -> int:
         for d in shown:
             print(json.dumps(d))
         return 0
-    head = ("id", "presets", "obs", "act", "time limit", "waypoint contract (--method shaped)")
+    head = ("id", "presets", "obs", "act", "time limit", "waypoint contract (--method shaped)")  # act: policy outputs
     table = [[d["id"], ", ".join(d["presets"]) or "-", _cell(d["obs"]), _cell(d["act"]), _cell(d["time_limit"]),
               (f"yes ({d['waypoints']}-d)" if d["waypoints"] else "no") if d["error"] is None
-              else f"cannot be made: {d['error']}"] for d in shown]
+              else f"cannot be used here: {d['error']}"] for d in shown]
     widths = [max(len(str(r[i])) for r in [head, *table]) for i in range(len(head) - 1)]
     for r in [head, *table]:
         print("  ".join(str(c).ljust(w) for c, w in zip(r, widths)) + "  " + str(r[-1]))
+    if any(d["act"] is not None for d in made):  # a MultiDiscrete([3, 5]) read "act 8" as wrong
+        print("\n(act: the policy's outputs: the action size of a Box, the options of a Discrete, all sub-actions' "
+              "options of a MultiDiscrete, the bits of a MultiBinary)")
     if broken and not a.all:
         print(f"\n{len(broken)} more registered ids cannot be used here (a missing package, or spaces an MLP "
               f"policy cannot take): shaped-es envs --all lists each with its reason; shaped-es check-env ID "
