@@ -110,6 +110,11 @@ def action_problem(space: gym.Space, a) -> str | None:
     return None
 
 
+def action_text(a) -> str:
+    """A controller's return as its error lines quote it: one line, at most 60 characters (``[3 0]``, ``3``)."""
+    return " ".join(str(a).split())[:60]
+
+
 def zero_action(space: gym.Space):
     """The action of a zero policy output (the middle of a Box, action 0 of a choice), as ``env.step`` takes it."""
     return _to_env_action(space, np.zeros(output_width(space) or 0, np.float32))

@@ -28,7 +28,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess, get_batch_core, has_controller
-from shaped_es.actions import action_problem, is_choice, output_width, zero_action
+from shaped_es.actions import action_problem, action_text, is_choice, output_width, zero_action
 from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
@@ -229,7 +229,7 @@ def _episode(env: gym.Env, seed: int, max_steps: int, act=None) -> dict:
                     break
                 problem = action_problem(env.action_space, a)
                 if problem:  # the rollouts refuse it too (a gear out of range would become another option's label)
-                    rec["error"] = (f"it returned {_line(str(a))[:60]}, not an action of {env.action_space} "
+                    rec["error"] = (f"it returned {action_text(a)}, not an action of {env.action_space} "
                                     f"({problem}; seed {seed}, step {t})")
                     break
                 a = np.asarray(a, env.action_space.dtype)

@@ -15,7 +15,7 @@ from shaped_es.env_probe import OLD_STEP, BadOutput, env_time_limit, exception_l
     reset_output, reward, step_output
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 from shaped_es.policies import forward
-from shaped_es.actions import action_map, action_problem, from_space
+from shaped_es.actions import action_map, action_problem, action_text, from_space
 from shaped_es.rollout.checks import _bad_controller, _bad_output, _check_obs, _check_pairs, _contract
 from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
 from shaped_es.rollout.periodic import Unwrapper, period_of
@@ -60,8 +60,7 @@ def _controller_action(task: RolloutTask, space: gym.Space, hook, obs, info, see
         raise _bad_controller(task, f"raised {exception_line(exc)}", seed, step) from None
     problem = action_problem(space, a)
     if problem:
-        text = np.array2string(np.asarray(a), threshold=8) if np.ndim(a) else repr(a)
-        raise _bad_controller(task, f"returned {text[:60]}, not an action of {space} ({problem})", seed, step)
+        raise _bad_controller(task, f"returned {action_text(a)}, not an action of {space} ({problem})", seed, step)
     return from_space(space, a)
 
 
