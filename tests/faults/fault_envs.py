@@ -114,13 +114,19 @@ class Faulty(gym.Env):
 class Reach(gym.Env):
     """A point following waypoints 0.5 apart along a random direction; carries info position/waypoint.
     ``fault`` (from step ``at_step`` on): none | nan_position | inf_waypoint | position_missing |
-    waypoint_3d (a 3-d waypoint from reset on, beside the 2-d position)."""
+    waypoint_3d (a 3-d waypoint from reset on, beside the 2-d position) | reward_array1 (every reward an
+    array of shape (1,), as some simulators' bindings return it: one number, which every path must take)."""
 
     observation_space = gym.spaces.Box(-20, 20, (4,), np.float32)
     action_space = gym.spaces.Box(-1, 1, (2,), np.float32)
 
-    def __init__(self, fault: str = "none", at_step: int = 3):
-        self.fault, self.at_step, self.t = fault, int(at_step), 0
+    metadata = {"render_modes": ["rgb_array"]}
+
+    def __init__(self, fault: str = "none", at_step: int = 3, render_mode: str | None = None):
+        self.fault, self.at_step, self.t, self.render_mode = fault, int(at_step), 0, render_mode
+
+    def render(self):
+        return np.zeros((8, 8, 3), np.uint8)  # a blank frame: enough for render's loop
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
@@ -157,6 +163,8 @@ class Reach(gym.Env):
             self.k += 1
             reward = 10.0
         reward -= 0.1 * float(np.linalg.norm(self._wp() - self.x))
+        if self.fault == "reward_array1":
+            reward = np.array([reward])
         return self._obs(), reward, False, False, self._info()
 
 

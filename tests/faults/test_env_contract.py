@@ -85,3 +85,17 @@ def test_no_checkpoint_holds_a_non_finite_guide_array_and_resume_names_the_fallb
     assert res.returncode == 2
     line = one_error_line(res.stderr)
     assert f"{key} holds non-finite values" in line and "to resume from gen_000002" in line, line
+
+
+def test_a_reward_that_is_an_array_of_one_trains_shaped_and_renders(tmp_path, faults_path):
+    """A new user's simulator returned each reward as an array of shape (1,): the rollouts took it, while the
+    label probe, ``render`` and PPO's test episodes called ``float`` on it (an internal TypeError) and check-env
+    called it "not a finite number". Every path now reads a reward by the rollouts' rule (``env_probe.reward``)."""
+    from shaped_es.cli.check_env import check_env
+
+    run = tmp_path / "run"
+    argv = ["train", *reach("reward_array1"), "--out", str(run)]
+    assert main(argv) == 0
+    checks = {c.name: c for c in check_env("fault_envs:Reach-v0", {"fault": "reward_array1"})}
+    assert checks["steps"].status == "ok", checks["steps"]
+    assert main(["render", str(run), "--out", str(tmp_path / "r.gif")]) == 0

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 import torch
 
+from shaped_es.env_probe import reward as one_reward
 from shaped_es.envs.core import runs_serially
 from shaped_es.rollout import make_env
 
@@ -89,7 +90,7 @@ class DeterministicEpisodes:
                 # would then differ from the same policy driving a plain gymnasium loop
                 act, _ = policy.predict(obs[b : b + 1], deterministic=True)  # (1, ...) clipped to the bounds
                 o, r, term, trunc, _ = envs[b].step(act[0])
-                obs[b], returns[b] = o, returns[b] + float(r)
+                obs[b], returns[b] = o, returns[b] + one_reward(r)
                 alive[b] = not (term or trunc)
                 steps += 1
             t += 1

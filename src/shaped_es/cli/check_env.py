@@ -29,6 +29,8 @@ import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess, get_batch_core, has_controller
 from shaped_es.actions import action_problem, action_text, is_choice, output_width, zero_action
+from shaped_es.env_probe import BadOutput
+from shaped_es.env_probe import reward as one_reward
 from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic
 
 OK, NO, WARN, FAIL = "ok", "no", "warn", "FAIL"
@@ -234,11 +236,14 @@ def _episode(env: gym.Env, seed: int, max_steps: int, act=None) -> dict:
                     break
                 a = np.asarray(a, env.action_space.dtype)
             obs, reward, terminated, truncated, info = env.step(a)
-            r = np.asarray(reward)
-            if r.shape != () or r.dtype.kind not in "biuf" or not np.isfinite(r):
+            try:  # the rollouts' own rule: a real number or an array of one
+                r = one_reward(reward)
+            except BadOutput:
+                r = None
+            if r is None or not np.isfinite(r):
                 rec["error"] = f"step {t + 1} (seed {seed}): reward {reward!r} is not a finite number"
                 break
-            rec["rewards"].append(float(r))
+            rec["rewards"].append(r)
             if terminated or truncated:
                 rec["obs"].append(np.asarray(obs, dtype=np.float64))
                 rec["infos"].append(info)

@@ -90,6 +90,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.config import RunConfig
+from shaped_es.env_probe import reward as one_reward
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import make_env, to_space
@@ -262,7 +263,7 @@ def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0
             while True:
                 a = label(np.asarray(obs, np.float32).reshape(1, -1), query(pos, wp, prev, frame, mix))[0]
                 obs, r, term, trunc, info = env.step(to_space(env.action_space, np.clip(a, -1, 1)))
-                ret, t = ret + float(r), t + 1
+                ret, t = ret + one_reward(r), t + 1
                 if term or trunc or (cfg.rollout.max_steps is not None and t >= cfg.rollout.max_steps):
                     break
                 p, w = pair(info)

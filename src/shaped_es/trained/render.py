@@ -19,6 +19,7 @@ import numpy as np
 
 from shaped_es import seeding
 from shaped_es.config import check_seed
+from shaped_es.env_probe import reward as one_reward
 from shaped_es.rollout import DEFAULT_MAX_STEPS, EnvSpecError, close_env, env_time_limit, make_env
 from shaped_es.rundir.store import RunStore, StoreError
 from shaped_es.trained.load import load_policy
@@ -102,7 +103,7 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
             total, t, done = 0.0, 0, False
             while not done and (cap is None or t < cap):
                 obs, r, term, trunc, _ = env.step(act(np.asarray(obs, dtype=np.float32)))
-                total, t, done = total + float(r), t + 1, term or trunc
+                total, t, done = total + one_reward(r), t + 1, term or trunc
                 if t % every == 0 or done:
                     frames.append(_frame(env, cfg.env))
             returns.append(total)
