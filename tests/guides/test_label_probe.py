@@ -332,7 +332,8 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
         def __init__(self, horizon):
             self.horizon = horizon
 
-    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None, thetas=None, keep=0, protect=()):  # frames
+    def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None, thetas=None, keep=0, protect=(),
+               on_round=None):  # frames
         #                                                                                  real, shooters fake
         own = [(lab, k) for lab, k in zip(labels, keys) if not isinstance(lab, Shooter)]
         own_thetas: list = []
@@ -820,3 +821,24 @@ def test_a_1d_waypoint_space_is_probed_in_the_world_frame_alone(tmp_path, capsys
     assert res.frame == "world" and set(res.returns) <= set(out["returns"])
     assert "labels: frame=world" in err and "generation 0: the label probe's best simulated candidate" in err
     assert int(rows[0]["candidate_accepted"]) == 1 and float(rows[0]["candidate_rival"]) == 5  # the probe's, won
+
+
+def test_a_long_probe_says_how_far_it_is_and_a_short_one_stays_quiet():
+    """A new user's simulator (10 ms a step) ran a probe of 6 minutes that printed nothing before generation 0;
+    the probe now estimates its rest from its data's pace and says so, then each DAgger round; a probe
+    estimated under ``SAY_AFTER_S`` (the built-in envs') prints nothing more."""
+    import time
+
+    lines = []
+    slow = label_probe.Pace(lines.append, time.perf_counter() - 10.0)  # its data took 10 s
+    slow.after_data(1000, 10, 13, 16)  # 100 steps an episode: (13 + 16 * 3) * 10 episodes at 100 steps/s
+    slow.after_round(0)
+    assert len(lines) == 2 and "about 610 s more before generation 0" in lines[0], lines
+    assert "the labels of 12 variants drive 10 episodes each, then 16 candidates" in lines[0]
+    assert lines[1].startswith("label probe: DAgger round 1 of 3 done")
+    quiet = []
+    fast = label_probe.Pace(quiet.append, time.perf_counter() - 0.01)
+    fast.after_data(1000, 10, 13, 16)
+    fast.after_round(0)
+    assert quiet == []
+    label_probe.Pace(None, time.perf_counter() - 10.0).after_data(1000, 10, 13, 16)  # nowhere to say it: fine

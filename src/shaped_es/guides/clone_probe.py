@@ -83,13 +83,14 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
 def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions],
                       labels: list[LabelSource], seeds: np.ndarray, keys: list[int],
                       executor=None, thetas: list | None = None, keep: int = 0,
-                      protect: tuple[int, ...] = ()) -> list[tuple[np.ndarray, int]]:
+                      protect: tuple[int, ...] = (), on_round=None) -> list[tuple[np.ndarray, int]]:
     """:func:`clone_rounds` of several label sources in lock-step, each with its own ``keys[v]``: per round
     one compiled fit of every variant's clone and one batched rollout of them all (the probe's rollouts
     are 10 episodes a variant, where a batched env's per-step overhead dominates), on the run's
     ``executor``'s workers if given (:func:`roll_out`). Every variant's numbers are its own run's: the fit's
     rows and the env's episodes do not interact. ``thetas``: a list that gets each variant's simulated
-    candidate ``(n,)`` float32, the policy whose returns are returned (the last round's clone).
+    candidate ``(n,)`` float32, the policy whose returns are returned (the last round's clone). ``on_round``
+    (round index -> None): called after each round's rollouts (the probe's progress lines).
 
     ``keep`` > 0 (successive halving): after the first round only the ``keep`` variants with the best mean
     return, and those in ``protect``, go on; a variant cut there returns its first round's returns, steps and
@@ -125,6 +126,8 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
             if len(s_new):
                 S_all[v] = np.concatenate([S_all[v], s_new]) if len(S_all[v]) else s_new  # (N + N', obs)
                 A_all[v] = np.concatenate([A_all[v], a_new]) if len(A_all[v]) else a_new  # (N + N', act)
+        if on_round is not None:
+            on_round(r)
     if thetas is not None:
         thetas.extend(theta[v].copy() for v in range(V))
     return [(rets[v], int(steps[v])) for v in range(V)]

@@ -4,6 +4,8 @@ a user can act on."""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, probe_seeds, zero_labels
@@ -183,7 +185,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> 
     cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
     env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
     spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
-    res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim))
+    res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim),
+                say=lambda line: print(f"shaped-es: {line}", file=sys.stderr, flush=True))  # a long probe's progress
     out = {"env": env_id, "seed": seed, "zero_action": res.zero_action}  # the run's seed seeds its probe
     if env_probe.discrete:  # a new user's grid read "beats zero action" of a moving action 0 as a verdict
         out["zero_is"] = ("zero action is action 0 here (a space of choices: a zero output's argmax is action 0 of "

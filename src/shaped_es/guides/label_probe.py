@@ -97,7 +97,7 @@ from shaped_es.rollout import make_env, to_space
 from shaped_es.rollout.periodic import Unwrapper, period_of
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
-from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, roll_out, shoot_labels
+from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, fit_on, roll_out, shoot_labels
 from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets, clone_beats, keep_shoot,
                                           nearest_horizon, unjudged)
 from shaped_es.guides.probe_variants import long_variants, probe_frames, variant_name, variants
@@ -295,11 +295,42 @@ def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix:
     return rets, steps
 
 
+SAY_AFTER_S = 20.0  # a probe estimated to take longer than this says how far it is (a slow simulator's run
+#                     printed nothing for 6 minutes before generation 0: it looked hung)
+
+
+class Pace:
+    """Progress lines of a long probe: after its data, an estimate of the rest (from the data's own pace and
+    episode length); after each DAgger round of the simulated candidates, how far it is. Silent where the
+    estimate is below :data:`SAY_AFTER_S` (the built-in envs' 1-10 s probes print nothing more)."""
+
+    def __init__(self, say, t0: float):
+        self.say, self.t0, self.on = say, t0, False
+
+    def after_data(self, steps: int, episodes: int, drives: int, sims: int) -> None:
+        spent = time.perf_counter() - self.t0
+        if self.say is None or steps <= 0 or episodes <= 0 or spent <= 0:
+            return
+        rest = (drives + sims * ROUNDS) * EPISODES * steps / episodes * spent / steps  # s, at the data's pace
+        self.on = spent + rest > SAY_AFTER_S
+        if self.on:
+            self.say(f"label probe: {steps:,} env steps of babbling and members around the initial mean in "
+                     f"{spent:.0f} s; about {rest:.0f} s more before generation 0 (the labels of {drives - 1} "
+                     f"variants drive {EPISODES} episodes each, then {sims} candidates are cloned and driven over "
+                     f"{ROUNDS} DAgger rounds; once per run, kept in label_probe.json)")
+
+    def after_round(self, r: int) -> None:
+        if self.on:
+            self.say(f"label probe: DAgger round {r + 1} of {ROUNDS} done ({time.perf_counter() - self.t0:.0f} s)")
+
+
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
-          executor=None) -> ProbeResult:
+          executor=None, say=None) -> ProbeResult:
     """Run the probe (module docstring) and return what it chose; its recorded rollouts (the data and the
-    simulated candidates) run on ``executor``'s workers if given, the label-driven episodes here."""
+    simulated candidates) run on ``executor``'s workers if given, the label-driven episodes here. ``say``
+    (a line -> None): where a long probe's progress lines go (:class:`Pace`; None: nowhere)."""
     t0 = time.perf_counter()
+    pace = Pace(say, t0)
     x0 = seeding.initial_mean(spec, cfg.seed)
     data, steps = collect(cfg, spec, x0, executor)
     seeds = probe_seeds(cfg)
@@ -308,6 +339,8 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     frames = probe_frames(pos_dim)
     base = variants(mp.query_clip, chunk_len, frames)
     vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len, frames)
+    n_shoot = len(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else 0
+    pace.after_data(steps, GENERATIONS * (MEMBERS + BABBLERS) * cfg.rollout.episodes, len(vs) + 1, len(vs) + n_shoot)
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[tuple[str, int | None], tuple[InverseDynamics, float]] = {}
@@ -341,7 +374,8 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     keys = ([i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(base)]
             + [LONG_KEY + j for j in range(len(vs) - len(base))] + list(range(one, one + len(horizons))))
     sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, keys, executor, thetas, mp.probe_keep,
-                             (0,))  # the default variant always runs every round: the others are judged against it
+                             (0,), on_round=pace.after_round)  # the default variant runs every round: the
+    #                                                                    others are judged against it
     for (frame, clip, chunk), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip, chunk)] = [float(v) for v in r]
         steps += n

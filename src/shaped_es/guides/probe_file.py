@@ -53,8 +53,9 @@ def parse(raw: bytes) -> ProbeResult:
 
 
 def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
-                  mphi_cfg: InverseDynamicsConfig, executor=None) -> tuple[ProbeResult, bool]:
-    """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path``."""
+                  mphi_cfg: InverseDynamicsConfig, executor=None, say=None) -> tuple[ProbeResult, bool]:
+    """``(result, fresh)``: the run's saved probe (a resumed run) or a new one, saved at ``path`` (``say``: where a
+    long probe's progress lines go, ``label_probe.Pace``)."""
     if path.exists() or path.is_symlink():
         try:
             res = parse(read_regular(path))
@@ -64,7 +65,7 @@ def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,
         if res.candidate is not None:  # kept beside it; a probe from before has none
             res.candidate_params = probe_candidate.load(path.with_name(probe_candidate.FILE), spec.num_params)
         return res, False
-    res = probe(cfg, spec, pos_dim, mphi_cfg, executor)
+    res = probe(cfg, spec, pos_dim, mphi_cfg, executor, say)
     if res.candidate_params is not None:  # first: a probe file on disk always has its candidate beside it
         probe_candidate.save(path.with_name(probe_candidate.FILE), res.candidate_params)
     atomic_write_text(path, json.dumps({k: v for k, v in asdict(res).items() if k != "candidate_params"}, indent=1))

@@ -128,7 +128,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
         if mp.frame == "auto" and self.sh.labels == "mphi":  # guides/label_probe.py (a line: world frame only)
-            res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor)
+            res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor,
+                                       lambda line: print(f"shaped-es: {self.run_name}: {line}", file=sys.stderr,
+                                                          flush=True))
             self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame, **(
                 {} if res.chunk is None else {"targets": "chunk", "horizon": res.chunk}))  # the probe's M_phi
             self.query_clip = res.query_clip
