@@ -46,23 +46,38 @@ def _labelled(trs: list[Transitions], labels: LabelSource) -> tuple[np.ndarray, 
 
 
 def first_norm(cfg: RunConfig, spec: MLPSpec) -> ObsNorm | None:
-    """The input normalization generation 0's members see (``es.obs_norm``: the statistics of no observation yet,
-    so observations clipped to the normalizer's range; None: off): the probe's policies see it too, so its
-    simulated candidate is the policy generation 0 judges (a new user's observations of ~1e3: a probe candidate
-    fitted on raw inputs scored -14.5 in the probe and -64.3 at generation 0)."""
+    """The input normalization the probe's data rollouts see (``es.obs_norm``: the statistics of no observation
+    yet, so observations clipped to the normalizer's range; None: off). Its simulated candidates then see
+    :func:`probe_stats`' normalizer, which generation 0 starts from."""
     return ObsStats.empty(spec.obs_dim).norm() if cfg.es.obs_norm else None
 
 
+def probe_stats(cfg: RunConfig, data: list[Transitions]) -> ObsStats | None:
+    """With ``es.obs_norm``: the observation statistics of the probe's recorded steps (``data``: a member per
+    entry), which the run's running statistics start from (None: off). The probe's simulated candidates are
+    fitted and driven under their normalizer, so the candidate generation 0 judges and takes sees at generation 1
+    nearly the inputs it was fitted on: from an empty normalizer, generation 1's (the first generation's
+    statistics) rescaled every input and a new user's probe candidate that won at generation 0 (-9.26) tested at
+    -54.91 a generation later."""
+    if not cfg.es.obs_norm:
+        return None
+    rows = [np.asarray(t.state, np.float64) for t in data if len(t)]
+    if not rows:
+        return None
+    S = np.concatenate(rows)  # (N, obs) every recorded observation
+    return ObsStats.from_sums(float(len(S)), S.sum(axis=0), (S * S).sum(axis=0))
+
+
 def roll_out(cfg: RunConfig, spec: MLPSpec, params: np.ndarray, seeds: np.ndarray, generation: int,
-             executor=None) -> tuple[np.ndarray, np.ndarray, list[Transitions]]:
+             executor=None, norm: ObsNorm | None = None) -> tuple[np.ndarray, np.ndarray, list[Transitions]]:
     """``params`` ``(m, n)`` on episode seeds ``(m, E)``, recorded: ``(returns (m, E), lengths (m, E), one
     Transitions per member)``, in member order. With the run's ``executor``, as its training rollouts are (one
     task of consecutive members per worker); else in this process. A member's numbers do not depend on
-    which task it ran in. The policies see :func:`first_norm`'s inputs."""
+    which task it ran in. The policies see ``norm``'s inputs (None: :func:`first_norm`'s)."""
     workers = executor.workers if executor is not None else 1
     tasks = population_tasks(cfg.env, dict(cfg.env_kwargs), spec, np.asarray(params, np.float32),
                              np.asarray(seeds, np.int64), workers, generation, True, cfg.rollout.max_steps,
-                             obs_norm=first_norm(cfg, spec))
+                             obs_norm=norm if norm is not None else first_norm(cfg, spec))
     for t in tasks:  # its errors name the probe, not a generation number of its seed streams
         t.during = DURING
     results = executor.map(run_task, tasks) if executor is not None else [run_task(t) for t in tasks]
@@ -83,20 +98,23 @@ def clone_rounds(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Trans
 def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[Transitions],
                       labels: list[LabelSource], seeds: np.ndarray, keys: list[int],
                       executor=None, thetas: list | None = None, keep: int = 0,
-                      protect: tuple[int, ...] = (), on_round=None) -> list[tuple[np.ndarray, int]]:
+                      protect: tuple[int, ...] = (), on_round=None,
+                      norm: ObsNorm | None = None) -> list[tuple[np.ndarray, int]]:
     """:func:`clone_rounds` of several label sources in lock-step, each with its own ``keys[v]``: per round
     one compiled fit of every variant's clone and one batched rollout of them all (the probe's rollouts
     are 10 episodes a variant, where a batched env's per-step overhead dominates), on the run's
     ``executor``'s workers if given (:func:`roll_out`). Every variant's numbers are its own run's: the fit's
     rows and the env's episodes do not interact. ``thetas``: a list that gets each variant's simulated
     candidate ``(n,)`` float32, the policy whose returns are returned (the last round's clone). ``on_round``
-    (round index -> None): called after each round's rollouts (the probe's progress lines).
+    (round index -> None): called after each round's rollouts (the probe's progress lines). ``norm``: the
+    normalizer the clones are fitted and driven under (None: :func:`first_norm`'s; ``es.obs_norm``).
 
     ``keep`` > 0 (successive halving): after the first round only the ``keep`` variants with the best mean
     return, and those in ``protect``, go on; a variant cut there returns its first round's returns, steps and
     clone (the survivors' numbers are what they are without the cut: variants do not interact)."""
     mc, V = cfg.shaping.mean_clone, len(labels)
-    norm = first_norm(cfg, spec)  # the clone fits pi(norm(s)) ~ label(s), as the run's mean clone does
+    norm = norm if norm is not None else first_norm(cfg, spec)  # the clone fits pi(norm(s)) ~ label(s), as the
+    #                                                               run's mean clone does
     theta = np.repeat(np.asarray(x0, np.float32)[None], V, axis=0)  # (V, n)
     S_all, A_all = zip(*[_labelled(data, lab) for lab in labels])  # per variant (N_v, obs), (N_v, act)
     S_all, A_all = list(S_all), list(A_all)
@@ -118,7 +136,7 @@ def clone_rounds_many(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, data: list[
             theta[fit] = fit_rows(FitTask(spec, theta[fit], S, A, np.ones(len(fit), bool), mc.steps, "adam",
                                           mc.lr, 1))[0]
         r_live, lengths, trs = roll_out(cfg, spec, theta[live], np.repeat(seeds[None], len(live), axis=0),
-                                        10_000 + r, executor)  # seeds (E,) -> (V', E); (V', E), one per variant
+                                        10_000 + r, executor, norm)  # seeds (E,) -> (V', E); (V', E), one per variant
         rets[live] = r_live
         steps[live] += lengths.sum(axis=1)
         for i, v in enumerate(live):

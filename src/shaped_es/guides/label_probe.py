@@ -97,7 +97,7 @@ from shaped_es.rollout import make_env, to_space
 from shaped_es.rollout.periodic import Unwrapper, period_of
 from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
-from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, fit_on, roll_out, shoot_labels
+from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, fit_on, probe_stats, roll_out, shoot_labels
 from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets, clone_beats, keep_shoot,
                                           nearest_horizon, unjudged)
 from shaped_es.guides.probe_variants import long_variants, probe_frames, variant_name, variants
@@ -147,6 +147,10 @@ class ProbeResult:
     # the probe's extensions passed over (the chosen variant lacks them: "+chunk", "+clip4"): their simulated
     # candidates neither keep nor drop the shooting rival nor count in :meth:`unjudged` ([]: a probe from before)
     passed: list[str] = field(default_factory=list)
+    # es.obs_norm: the observation statistics of the probe's data, [count, mean (obs,), m2 (obs,)], which the run's
+    # running statistics start from and its simulated candidates were fitted under (clone_probe.probe_stats;
+    # None: off, or a probe from before)
+    obs_stats: list | None = None
 
     def standing(self) -> dict[str, list[float]]:
         """The simulated candidates of the variants not passed over (``clones`` without :attr:`passed`'s)."""
@@ -345,6 +349,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[tuple[str, int | None], tuple[InverseDynamics, float]] = {}
     flat = [t for g in data for t in g]  # the probe's recorded steps, a member per entry
+    stats = probe_stats(cfg, flat)  # es.obs_norm: generation 0's statistics, its candidates' normalizer (None: off)
     sources = []  # each variant's label source, in order (their simulated candidates run in lock-step below)
     for frame, clip, chunk in vs:
         if (frame, chunk) not in models:
@@ -374,7 +379,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     keys = ([i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(base)]
             + [LONG_KEY + j for j in range(len(vs) - len(base))] + list(range(one, one + len(horizons))))
     sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, keys, executor, thetas, mp.probe_keep,
-                             (0,), on_round=pace.after_round)  # the default variant runs every round: the
+                             (0,), on_round=pace.after_round, norm=None if stats is None else stats.norm())  # the default variant runs every round: the
     #                                                                    others are judged against it
     for (frame, clip, chunk), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip, chunk)] = [float(v) for v in r]
@@ -404,4 +409,5 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     top = probe_candidate.best(not_passed(simulated, passed), by_name)
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
-                       *(top if top is not None else (None, None)), chunk, passed)
+                       *(top if top is not None else (None, None)), chunk, passed,
+                       None if stats is None else [stats.count, stats.mean.tolist(), stats.m2.tolist()])

@@ -8,10 +8,12 @@ import json
 from dataclasses import asdict, fields
 from pathlib import Path
 
+import numpy as np
+
 from shaped_es.config import ConfigError, RunConfig
 from shaped_es.guides import probe_candidate
 from shaped_es.guides.label_probe import ProbeResult, probe
-from shaped_es.policies import MLPSpec
+from shaped_es.policies import MLPSpec, ObsStats
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, read_regular
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
@@ -45,11 +47,33 @@ def parse(raw: bytes) -> ProbeResult:
         (d.get("candidate") is None or isinstance(d.get("candidate"), str), "candidate"),
         (d.get("chunk") is None or (type(d.get("chunk")) is int and 1 <= d["chunk"] <= 64), "chunk"),
         (isinstance(d.get("passed", []), list) and all(isinstance(v, str) for v in d.get("passed", [])), "passed"),
+        (d.get("obs_stats") is None or _stats_ok(d["obs_stats"]), "obs_stats"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
         raise ValueError(f"bad {bad}")
     return ProbeResult(**d)
+
+
+def _stats_ok(v) -> bool:
+    """``[count, mean, m2]``: a positive count and two equal-length lists of finite numbers, m2 >= 0."""
+    if not (isinstance(v, list) and len(v) == 3 and isinstance(v[0], (int, float)) and not isinstance(v[0], bool)
+            and v[0] > 0 and all(isinstance(x, list) and x for x in v[1:]) and len(v[1]) == len(v[2])):
+        return False
+    try:
+        mean, m2 = np.asarray(v[1], np.float64), np.asarray(v[2], np.float64)
+    except (TypeError, ValueError):
+        return False
+    return bool(mean.ndim == 1 and np.isfinite(mean).all() and np.isfinite(m2).all() and (m2 >= 0).all())
+
+
+def start_stats(res: ProbeResult, obs_dim: int) -> ObsStats | None:
+    """The probe's observation statistics (``es.obs_norm``) as the run's starting ones (None: none kept, or of
+    another observation size: the run then starts from none, as before)."""
+    if res.obs_stats is None or len(res.obs_stats[1]) != obs_dim:
+        return None
+    count, mean, m2 = res.obs_stats
+    return ObsStats(float(count), np.asarray(mean, np.float64), np.asarray(m2, np.float64))
 
 
 def load_or_probe(path: Path, cfg: RunConfig, spec: MLPSpec, pos_dim: int,

@@ -82,7 +82,7 @@ from shaped_es.shaping.trajectories import delete_generations, run_root, write_s
 from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_check import candidate_line, probe_line, source_line
-from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe
+from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe, start_stats
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
@@ -127,6 +127,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
+        self.start_obs_stats = None  # es.obs_norm: the observation statistics the run starts from (None: none)
         if mp.frame == "auto" and self.sh.labels == "mphi":  # guides/label_probe.py (a line: world frame only)
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor,
                                        lambda line: print(f"shaped-es: {self.run_name}: {line}", file=sys.stderr,
@@ -139,6 +140,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             probe_res = res if fresh else None
             shooting = probe_shooting(res, mp)
             self._probe_res = res
+            self.start_obs_stats = start_stats(res, spec.obs_dim)  # es.obs_norm: the run's statistics start here
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
         # M_phi exists (and trains) only when it is the label source

@@ -113,7 +113,10 @@ class Trainer(CheckpointState, Rows, RunLoop):
         self.guide = build_guide(cfg, self.spec, store, probe, self.executor)
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
         # es.obs_norm: the running statistics (None: off) and the normalizer best_params was tested with
-        self.obs_stats = ObsStats.empty(self.spec.obs_dim) if cfg.es.obs_norm else None
+        # (a shaped run's start from its label probe's data, so the probe's candidate, judged at generation 0, keeps
+        # its inputs at generation 1: guides/clone_probe.probe_stats)
+        start = getattr(self.guide, "start_obs_stats", None)
+        self.obs_stats = None if not cfg.es.obs_norm else start if start is not None else ObsStats.empty(self.spec.obs_dim)
         self.best_norm = self.obs_norm()
 
     def obs_norm(self) -> ObsNorm | None:
