@@ -192,6 +192,8 @@ class EnvProbe:
     # A space of choices (Discrete, MultiDiscrete, MultiBinary): "zero action" (a zero policy output) is then
     # its action 0, not a middle action
     discrete: bool = field(default=False, compare=False)
+    # With ``reset``: whether a second ``reset(seed=0)`` gave another observation (the env ignores its seed)
+    unseeded: bool = field(default=False, compare=False)
 
 
 def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) -> EnvProbe:
@@ -205,18 +207,33 @@ def probe_env(env_id: str, env_kwargs: dict | None = None, reset: bool = False) 
         if isinstance(space, gym.spaces.Box) and not (np.isfinite(space.low).all() and
                                                       np.isfinite(space.high).all()):
             unbounded = str(space)
-        info, error = None, None
+        info, error, unseeded = None, None, False
         if reset:
             try:
-                _, info = env.reset(seed=0)
+                first, info = env.reset(seed=0)
+                # a second reset with the same seed: an env that ignores it starts elsewhere (a new user's trained
+                # and evaluated unreproducibly, and only check-env said so)
+                unseeded = not _same_obs(first, env.reset(seed=0)[0])
             except Exception as exc:  # noqa: BLE001 - raised by whoever checks the reset info, as one line
                 error = EnvError(f"env {env_id!r} raised {exception_line(exc)} in reset(seed=0)",
                                  traceback.format_exc())
         return EnvProbe(obs_dim, act_dim, env_time_limit(env), reset_info=info, reset_error=error,
                         unbounded_action=unbounded, controller=has_controller(env),
-                        discrete=is_choice(space))
+                        discrete=is_choice(space), unseeded=unseeded)
     finally:
         close_env(env, env_id)
+
+
+def _same_obs(a, b) -> bool:
+    """Two observations (arrays, or dicts / tuples of them) equal leaf by leaf; unreadable ones count as equal."""
+    try:
+        if isinstance(a, dict):
+            return isinstance(b, dict) and a.keys() == b.keys() and all(_same_obs(a[k], b[k]) for k in a)
+        if isinstance(a, (tuple, list)) and not np.isscalar(a):
+            return isinstance(b, (tuple, list)) and len(a) == len(b) and all(_same_obs(x, y) for x, y in zip(a, b))
+        return bool(np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True))
+    except (TypeError, ValueError):
+        return True
 
 
 def probe_dims(env_id: str, env_kwargs: dict | None = None) -> tuple[int, int]:

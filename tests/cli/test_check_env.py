@@ -24,7 +24,10 @@ class Point(gym.Env):
             self.action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
         if flaw == "thrust_steer":  # thrust in [0, 5], steering in [-0.3, 0.3]
             self.action_space = gym.spaces.Box(np.array([0, -0.3], np.float32), np.array([5, 0.3], np.float32))
+        if flaw == "offset":  # a third component at 1e4 (a user's raw sensor offset)
+            self.observation_space = gym.spaces.Box(-1e5, 1e5, (3,), np.float32)
         self.calls = 0
+        self.episodes = 0  # the "stateful" flaw: a count carried from one episode to the next
 
     def _info(self):
         if self.flaw == "no_waypoints" or (self.flaw == "some_waypoints" and self.t % 2):
@@ -35,24 +38,37 @@ class Point(gym.Env):
             return {"position": self.x.copy(), "waypoint": np.zeros(3, np.float32)}
         if self.flaw == "column_waypoints":  # (2, 1) columns, a NumPy habit: rollouts read them flattened
             return {"position": self.x.reshape(2, 1), "waypoint": np.zeros((2, 1), np.float32)}
+        if self.flaw == "static_position":  # the reset's position every step
+            return {"position": self.x0.copy(), "waypoint": np.zeros(2, np.float32)}
+        if self.flaw == "relative_waypoint":  # the waypoint (the origin) given relative to the body
+            return {"position": self.x.copy(), "waypoint": -self.x.copy()}
         return {"position": self.x.copy(), "waypoint": np.zeros(2, np.float32)}
+
+    def _obs(self):
+        if self.flaw == "offset":
+            return np.append(self.x, 1e4).astype(np.float32)
+        if self.flaw == "stateful":  # as a NormalizeObservation wrapper's running statistics would
+            return (self.x + 0.01 * self.episodes).astype(np.float32)
+        return self.x.copy()
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=None if self.flaw == "unseeded" else seed)
         self.x, self.t = self.np_random.uniform(-1, 1, 2).astype(np.float32), 0
-        return self.x.copy(), self._info()
+        self.x0, self.episodes = self.x.copy(), self.episodes + 1
+        return self._obs(), self._info()
 
     def step(self, action):
         self.x = np.clip(self.x + 0.1 * np.asarray(action, np.float32), -10, 10)
         self.t += 1
         reward = np.nan if self.flaw == "nan_reward" and self.t == 5 else -float(np.linalg.norm(self.x))
         # float64 observations from step (not reset): two distinct warnings of Gymnasium's checker
-        obs = self.x.astype(np.float64) if self.flaw == "float64_step" else self.x.copy()
+        obs = self.x.astype(np.float64) if self.flaw == "float64_step" else self._obs()
         return obs, reward, False, False, self._info()
 
 
 for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step",
-             "wide_actions", "column_waypoints", "thrust_steer", "waypoints_typo", "waypoint_3d"):
+             "wide_actions", "column_waypoints", "thrust_steer", "waypoints_typo", "waypoint_3d", "stateful", "offset",
+             "static_position", "relative_waypoint"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 
@@ -64,7 +80,7 @@ def _status(checks):
 def test_an_env_that_meets_everything_trains_with_every_method():
     checks = check_env("CheckPoint-none-v0")
     assert [c.name for c in checks] == ["gymnasium API", "spaces", "time limit", "threshold", "steps", "seeding",
-                                        "waypoints", "controller"]
+                                        "scale", "waypoints", "controller"]
     assert set(_status(checks).values()) == {OK, NO}  # the controller and the threshold are optional
     assert _status(checks)["controller"] == NO and _status(checks)["threshold"] == NO
     assert trains_with(checks) == ["vanilla", "guided", "cmaes", "shaped", "shaped_cmaes", "ppo"]
@@ -100,6 +116,12 @@ ES_AND_PPO = ["vanilla", "guided", "cmaes", "ppo"]
     ("no_waypoints", "waypoints", NO, ES_AND_PPO),  # optional: every method but shaped
     ("some_waypoints", "waypoints", NO, ES_AND_PPO),  # only shaped reads them: "no" for it, not FAIL for all
     ("unseeded", "seeding", WARN, ["vanilla", "guided", "cmaes", "shaped", "shaped_cmaes", "ppo"]),  # no repro
+    # a new user's edge envs: state carried across episodes (a NormalizeObservation wrapper), an observation offset
+    # of 1e4, a position that never moves, a waypoint given as w - p: each trained wrongly behind an "ok"
+    ("stateful", "seeding", WARN, ["vanilla", "guided", "cmaes", "shaped", "shaped_cmaes", "ppo"]),
+    ("offset", "scale", WARN, ["vanilla", "guided", "cmaes", "shaped", "shaped_cmaes", "ppo"]),
+    ("static_position", "waypoints", WARN, ES_AND_PPO),  # shaped runs, but its labels cannot move such a position
+    ("relative_waypoint", "waypoints", WARN, ES_AND_PPO),
     ("nan_reward", "steps", FAIL, []),
     ("unbounded", "spaces", FAIL, []),
 ])
@@ -245,3 +267,32 @@ def test_the_controller_line_on_a_discrete_body():
     """A new user's grid: the controller's returns and a threshold were given for Box actions only, silently."""
     detail = next(c for c in check_env("CheckPoint-discrete_steered-v0") if c.name == "controller").detail
     assert "returns over " in detail and ", zero action " in detail and "(a threshold: " in detail
+
+
+@pytest.mark.parametrize("flaw, needle", [
+    ("stateful", "carries state from one episode to the next"),
+    ("offset", "observation component 2 reaches 1e+04"),
+    ("static_position", "info['position'] never moved"),
+    ("relative_waypoint", "moved by minus the position's step on 100% of the moving steps"),
+])
+def test_the_new_warnings_say_what_they_saw(flaw, needle):
+    assert any(needle in c.detail for c in check_env(f"CheckPoint-{flaw}-v0")), flaw
+    assert all(c.status == OK for c in check_env("CheckPoint-none-v0") if c.name in ("seeding", "scale", "waypoints"))
+
+
+def test_a_run_warns_where_reset_ignores_its_seed():
+    """check-env named an env whose reset ignores its seed, and a run said nothing: a second reset(seed=0) where the
+    method reads the reset info (the shaped methods) tells, and the run says it once, before its first rollout."""
+    import warnings
+
+    from shaped_es.env_probe import probe_env
+    from shaped_es.rollout import warn_if_endless
+
+    assert probe_env("CheckPoint-unseeded-v0", reset=True).unseeded
+    assert not probe_env("CheckPoint-none-v0", reset=True).unseeded
+    assert not probe_env("CheckPoint-unseeded-v0").unseeded  # not probed without a reset
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        warn_if_endless("CheckPoint-unseeded-v0", probe_env("CheckPoint-unseeded-v0", reset=True), None)
+        warn_if_endless("CheckPoint-none-v0", probe_env("CheckPoint-none-v0", reset=True), None)
+    assert len(got) == 1 and "does not use the seed it is given" in str(got[0].message)

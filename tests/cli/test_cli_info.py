@@ -101,7 +101,7 @@ def test_envs_and_check_env_on_an_own_env(tmp_path):
     assert res.returncode == 0, res.stderr
     lines = res.stdout.strip().splitlines()
     # no threshold registered, no controller (both optional)
-    assert [line.split()[0] for line in lines[:-1]] == ["ok"] * 3 + ["no"] + ["ok"] * 3 + ["no"]
+    assert [line.split()[0] for line in lines[:-1]] == ["ok"] * 3 + ["no"] + ["ok"] * 4 + ["no"]
     assert lines[-1] == "infopoint:InfoPoint-v0 trains with: vanilla, guided, cmaes, shaped, shaped_cmaes, ppo"
     res = _cli(tmp_path, "check-env", "infopoint:InfoPointNaN-v0", "--json")
     assert res.returncode == 1  # a FAIL: exit code 1
