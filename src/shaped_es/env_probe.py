@@ -257,7 +257,7 @@ def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
 OLD_STEP = ("a 4-tuple from step (obs, reward, done, info: the old Gym API); Gymnasium's step returns "
             "(obs, reward, terminated, truncated, info)")
 CONTRACT = (f"info['{POSITION_KEY}'] and info['{WAYPOINT_KEY}'], finite (d,) arrays of one d at reset and every "
-            f"step (README: environment contract)")
+            f"step, the last waypoint (the goal) kept once it is reached (README: environment contract)")
 
 
 class BadOutput(ValueError):
