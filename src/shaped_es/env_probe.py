@@ -249,7 +249,9 @@ def policy_spec(cfg, probe: EnvProbe | None = None) -> MLPSpec:
     if probe.unbounded_action is not None:  # low + (a + 1) / 2 * (high - low) would be inf - inf = NaN
         raise EnvSpecError(f"env {cfg.env!r} has an unbounded action space {probe.unbounded_action}: the "
                            f"policy's tanh output in [-1, 1] is scaled to the box's bounds, so they must be "
-                           f"finite; give the env's action space the bounds its actions live in")
+                           f"finite; give the env's action space the bounds its actions live in (Gymnasium's "
+                           f"ClipAction wrapper makes them infinite: leave it out, the policy's actions are "
+                           f"already within the bounds)")
     return MLPSpec(probe.obs_dim, probe.act_dim, tuple(cfg.policy.hidden))
 
 

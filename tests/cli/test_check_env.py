@@ -296,3 +296,14 @@ def test_a_run_warns_where_reset_ignores_its_seed():
         warn_if_endless("CheckPoint-unseeded-v0", probe_env("CheckPoint-unseeded-v0", reset=True), None)
         warn_if_endless("CheckPoint-none-v0", probe_env("CheckPoint-none-v0", reset=True), None)
     assert len(got) == 1 and "does not use the seed it is given" in str(got[0].message)
+
+
+def test_envs_listing_agrees_with_check_env():
+    """``shaped-es envs`` listed a 3-d position beside a 2-d waypoint as "yes (3-d)" and an unbounded action space
+    (a ClipAction wrapper) as usable, where check-env and a run refuse both."""
+    from shaped_es.cli.describe_env import describe_env
+
+    assert describe_env("CheckPoint-none-v0")["waypoints"] == 2
+    assert describe_env("CheckPoint-waypoint_3d-v0")["waypoints"] is None
+    unbounded = describe_env("CheckPoint-unbounded-v0")
+    assert unbounded["error"] is not None and "unbounded action space" in unbounded["error"]

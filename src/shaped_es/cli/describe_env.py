@@ -9,9 +9,8 @@ import importlib
 import importlib.util
 import warnings
 
-import numpy as np
-
 from shaped_es.cli.check_env import _line
+from shaped_es.env_probe import BadOutput, waypoint_pair
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 
 
@@ -31,8 +30,14 @@ def describe_env(env_id: str) -> dict:
         return out
     info = probe.reset_info or {}
     out.update(obs=probe.obs_dim, act=probe.act_dim, time_limit=probe.time_limit)
+    if probe.unbounded_action is not None:  # every method refuses it (policy_spec): not an env to list as usable
+        out["error"] = f"an unbounded action space {probe.unbounded_action} (check-env says why)"
+        return out
     if POSITION_KEY in info and WAYPOINT_KEY in info:
-        out["waypoints"] = int(np.asarray(info[POSITION_KEY]).reshape(-1).shape[0])
+        try:  # the run's own reading of the pair: a 3-d position beside a 2-d waypoint is no contract (check-env's)
+            out["waypoints"] = int(waypoint_pair(info)[0].shape[0])
+        except BadOutput:
+            out["waypoints"] = None
     return out
 
 
