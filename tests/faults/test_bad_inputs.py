@@ -94,7 +94,8 @@ CASES = [
     ("env-raises-in-init", nothing, faulty("raise_init"), "RuntimeError: the simulator failed to start"),
     ("env-raises-in-step", nothing, faulty("raise_step"), "RuntimeError: the simulator lost its connection"),
     ("env-raises-in-reset", nothing, faulty("raise_reset"), "ValueError: reset failed"),
-    ("env-nan-reward", nothing, faulty("nan_reward"), "returned a non-finite reward"),
+    ("env-nan-reward", nothing, faulty("nan_reward"),  # a bad value mid-run is resumable, as a raise is
+     "check the env's step/reset; once the env is fixed, continue with"),
     ("env-nan-obs", nothing, faulty("nan_obs"), "returned a non-finite observation"),
     ("env-changes-shape", nothing, faulty("shape"), "an observation of shape (5,)"),
     # -- resume / evaluate of a damaged run directory

@@ -115,8 +115,12 @@ def error_line(exc: BaseException, a: argparse.Namespace, debug: bool) -> tuple[
         msg, code = str(exc), USAGE_ERROR
         where = _log_detail(a, detail) if own else ""
         hint = continue_hint(a) if getattr(exc, "worker_fault", False) else ""  # a lost simulator server
-        if own and not hint and isinstance(exc, EnvSpecError) and (hint := continue_hint(a)):
-            hint = f"once the env is fixed, {hint}"  # the env raised mid-run: what was saved is resumable
+        from shaped_es.env_probe import EnvError
+
+        if (own or isinstance(exc, EnvError)) and not hint and isinstance(exc, EnvSpecError) \
+                and (hint := continue_hint(a)):
+            # the env raised or returned a bad value (a NaN reward) mid-run: what was saved is resumable
+            hint = f"once the env is fixed, {hint}"
         msg += f"; {hint}" if hint else ""
     elif isinstance(exc, MemoryError):
         msg = (f"out of memory ({_first(exc) or 'MemoryError'}); a smaller policy.hidden, es.pairs or "
