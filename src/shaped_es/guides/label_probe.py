@@ -378,9 +378,9 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     one = sum(v[2] is None for v in base)  # the one-step variants: keys 0.., the shooters' next (as before chunks)
     keys = ([i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(base)]
             + [LONG_KEY + j for j in range(len(vs) - len(base))] + list(range(one, one + len(horizons))))
+    # the default variant (0) runs every round: the others are judged against it
     sims = clone_rounds_many(cfg, spec, x0, flat, sources + shooters, seeds, keys, executor, thetas, mp.probe_keep,
-                             (0,), on_round=pace.after_round, norm=None if stats is None else stats.norm())  # the default variant runs every round: the
-    #                                                                    others are judged against it
+                             (0,), on_round=pace.after_round, norm=None if stats is None else stats.norm())
     for (frame, clip, chunk), (r, n) in zip(vs, sims):
         clones[variant_name(frame, clip, chunk)] = [float(v) for v in r]
         steps += n
