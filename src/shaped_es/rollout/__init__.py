@@ -82,9 +82,10 @@ def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None
     :data:`DEFAULT_MAX_STEPS` (``max_steps``: the run's ``rollout.max_steps``), and that an env whose reset ignores
     its seed does not reproduce (``EnvProbe.unseeded``, probed where the method reads the reset info)."""
     if probe.unseeded:
-        warnings.warn(f"env {env_id!r}: reset(seed=0) twice gave different observations: it does not use the seed "
-                      f"it is given, so this run will not reproduce and a generation's members do not face the same "
-                      f"episodes (draw every random number from self.np_random after super().reset(seed=seed); "
+        warnings.warn(f"env {env_id!r}: reset(seed=0) twice gave different observations: it ignores the seed or "
+                      f"carries state from one episode to the next (a NormalizeObservation wrapper), so this run will "
+                      f"not reproduce and a generation's members do not face the same episodes (draw every random "
+                      f"number from self.np_random after super().reset(seed=seed), reset all state in reset; "
                       f"check-env's seeding line)", EnvWarning, stacklevel=2)
     if max_steps is None and probe.time_limit is None:
         warnings.warn(f"env {env_id!r} has no time limit and rollout.max_steps is unset: its episodes are "
