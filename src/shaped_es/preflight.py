@@ -29,6 +29,10 @@ def check_run(cfg: RunConfig, warn: bool = True) -> EnvProbe:
     from shaped_es.methods import METHODS, resolve
     from shaped_es.rollout import probe_env
 
+    if cfg.video_every is not None:  # before the env's module imports mujoco: its backend is read then
+        from shaped_es.trained.render import headless_gl
+
+        headless_gl()
     # one env made for the dims, the time limit and (shaped) the reset info
     method = METHODS[cfg.method]
     probe = probe_env(cfg.env, cfg.env_kwargs, reset=method.probe_reset)

@@ -85,8 +85,8 @@ def test_the_report_counts_what_each_runs_label_probe_chose(tmp_path):
     got = probe_choices(dirs[:5])
     s = shaping_summary([_run([nan, 1], [nan, 0], [nan, 1.0], [1, 1])]) | {"label_probe": got}
     text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
-    assert "shaped's label probe, runs per choice: frame world 2, both 2, both with chunk targets 1; the shooting " \
-           "rival 4 steps 2, 16 steps 1, config 1, dropped 1" in text
+    assert "shaped's label probe, runs per choice: frame world (2); both (2); both with chunk targets (1); the " \
+           "shooting rival 4 steps (2); 16 steps (1); config (1); dropped (1)" in text
 
 
 def test_jumps_undone_a_generation_later_are_counted_and_said():

@@ -24,6 +24,8 @@ class Point(gym.Env):
             self.action_space = gym.spaces.Box(-np.inf, np.inf, (2,), np.float32)
         if flaw == "thrust_steer":  # thrust in [0, 5], steering in [-0.3, 0.3]
             self.action_space = gym.spaces.Box(np.array([0, -0.3], np.float32), np.array([5, 0.3], np.float32))
+        if flaw == "obs_space_wrong":  # declares 3 floats, returns 2 (a new user's arm: 26 declared, 23 returned)
+            self.observation_space = gym.spaces.Box(-10, 10, (3,), np.float32)
         if flaw == "offset":  # a third component at 1e4 (a user's raw sensor offset)
             self.observation_space = gym.spaces.Box(-1e5, 1e5, (3,), np.float32)
         self.calls = 0
@@ -68,7 +70,7 @@ class Point(gym.Env):
 
 for flaw in ("none", "no_waypoints", "some_waypoints", "unseeded", "nan_reward", "unbounded", "float64_step",
              "wide_actions", "column_waypoints", "thrust_steer", "waypoints_typo", "waypoint_3d", "stateful", "offset",
-             "static_position", "relative_waypoint"):
+             "static_position", "relative_waypoint", "obs_space_wrong"):
     gym.register(f"CheckPoint-{flaw}-v0", entry_point=Point, kwargs={"flaw": flaw}, max_episode_steps=20)
 gym.register("CheckPoint-nolimit-v0", entry_point=Point)
 
@@ -123,6 +125,7 @@ ES_AND_PPO = ["vanilla", "guided", "cmaes", "ppo"]
     ("static_position", "waypoints", WARN, ES_AND_PPO),  # shaped runs, but its labels cannot move such a position
     ("relative_waypoint", "waypoints", WARN, ES_AND_PPO),
     ("nan_reward", "steps", FAIL, []),
+    ("obs_space_wrong", "steps", FAIL, []),  # every method's rollouts refuse it
     ("unbounded", "spaces", FAIL, []),
 ])
 def test_each_flaw_is_named_on_its_line(flaw, name, status, methods):

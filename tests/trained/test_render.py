@@ -122,3 +122,45 @@ def test_render_classic_control_without_pygame_names_the_render_extra(tmp_path, 
     err = capsys.readouterr().err.strip()
     assert err.startswith("shaped-es: error:") and "\n" not in err and ".[render]" in err, err
     assert not (tmp_path / "v.gif").exists()
+
+
+def test_mujoco_without_opengl_is_one_line_naming_mujoco_gl():
+    """A new user's headless render of a MuJoCo arm ended in an internal ``FatalError`` (MuJoCo's own exception, not
+    a RuntimeError): it is one line now, saying how to give MuJoCo an OpenGL."""
+    from shaped_es.rollout import EnvSpecError
+    from shaped_es.trained.render import _frame
+
+    FatalError = type("FatalError", (Exception,), {"__module__": "mujoco"})
+
+    class NoGL:
+        def render(self):
+            raise FatalError("an OpenGL platform library has not been loaded into this process")
+
+    with pytest.raises(EnvSpecError, match="set MUJOCO_GL=egl"):
+        _frame(NoGL(), "Arm-v0")
+
+    class Broken:  # any other exception is the env's own bug: not swallowed
+        def render(self):
+            raise KeyError("x")
+
+    with pytest.raises(KeyError):
+        _frame(Broken(), "Arm-v0")
+
+
+def test_headless_gl_picks_egl_only_where_nothing_chose_a_backend(monkeypatch):
+    import sys
+
+    from shaped_es.trained.render import headless_gl
+
+    monkeypatch.delitem(sys.modules, "mujoco", raising=False)
+    for var in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY"):
+        monkeypatch.delenv(var, raising=False)
+    headless_gl()
+    assert __import__("os").environ["MUJOCO_GL"] == "egl"
+    monkeypatch.setenv("MUJOCO_GL", "osmesa")  # the user's choice stays
+    headless_gl()
+    assert __import__("os").environ["MUJOCO_GL"] == "osmesa"
+    monkeypatch.delenv("MUJOCO_GL")
+    monkeypatch.setenv("DISPLAY", ":0")  # a display: GLFW works, nothing set
+    headless_gl()
+    assert "MUJOCO_GL" not in __import__("os").environ

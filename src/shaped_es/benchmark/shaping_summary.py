@@ -127,8 +127,10 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
     for k, s in rows.items():
         if s.get("label_probe"):
             p = s["label_probe"]
-            out += [f"{k}'s label probe, runs per choice: frame " + ", ".join(f"{f} {n}" for f, n in p["frame"].items())
-                    + "; the shooting rival " + ", ".join(f"{h} {n}" for h, n in sorted(p["shoot"].items(), key=_steps))
+            # "frame (runs)": a frame's name can hold a comma and a number ("world, query clip 2"), which a bare
+            # count after it garbled ("world, query clip 2 1", a new user read)
+            out += [f"{k}'s label probe, runs per choice: frame " + "; ".join(f"{f} ({n})" for f, n in p["frame"].items())
+                    + "; the shooting rival " + "; ".join(f"{h} ({n})" for h, n in sorted(p["shoot"].items(), key=_steps))
                     + " (each run's `label_probe.json` says why).", ""]
     for k, s in rows.items():
         if s["candidates_accepted"] == 0 and s["candidates_judged"]:

@@ -239,6 +239,12 @@ def _episode(env: gym.Env, seed: int, max_steps: int, act=None) -> dict:
         obs, info = env.reset(seed=seed)
         env.action_space.seed(seed)
         shape = np.shape(obs)
+        declared = getattr(env.observation_space, "shape", None)
+        if declared is not None and shape != tuple(declared):  # the rollouts refuse it at generation 0 (a new
+            #                        user's arm declared 26 floats and returned 23: check-env said ok, train failed)
+            rec["error"] = (f"reset (seed {seed}): an observation of shape {shape}, its observation space says "
+                            f"{tuple(declared)}")
+            return rec
         for t in range(max_steps + 1):
             o = np.asarray(obs, dtype=np.float64)
             if o.shape != shape:

@@ -58,17 +58,41 @@ def _missing_pygame(exc: BaseException) -> bool:
 def _frame(env, env_id: str) -> np.ndarray:
     try:
         frame = env.render()
-    except (gym.error.Error, ImportError, RuntimeError, OSError, ValueError) as exc:  # e.g. no pygame/OpenGL
+    except Exception as exc:  # noqa: BLE001 - e.g. no pygame / OpenGL (MuJoCo's own FatalError, not a RuntimeError)
+        renderer = (gym.error.Error, ImportError, RuntimeError, OSError, ValueError)
+        if not isinstance(exc, renderer) and type(exc).__module__.split(".")[0] != "mujoco":
+            raise
         if _missing_pygame(exc):
             raise EnvSpecError(f"env {env_id!r} renders with pygame, which is not installed: "
                                f"{RENDER_EXTRA_HINT}") from None
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames: {msg}") from None
+        raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames: {msg}{_gl_hint(msg)}") from None
     frame = None if frame is None else np.asarray(frame)
     if frame is None or frame.ndim != 3 or frame.shape[2] not in (3, 4):
         raise EnvSpecError(f"env {env_id!r} cannot render rgb_array frames (render() gave "
                            f"{None if frame is None else frame.shape})")
     return frame[..., :3].astype(np.uint8)
+
+
+def headless_gl() -> None:
+    """``MUJOCO_GL=egl`` where it is unset, there is no display and ``mujoco`` is not imported yet (as importing
+    ``shaped_es.envs.ur5`` does for UR5Reach-v0): MuJoCo's default GLFW backend needs a display, and the backend is
+    read once, at ``mujoco``'s import. Another backend the user set is kept."""
+    import os
+    import sys
+
+    if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL", "").strip():
+        return
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        os.environ["MUJOCO_GL"] = "egl"
+
+
+def _gl_hint(msg: str) -> str:
+    """Where MuJoCo found no OpenGL (a machine without a display: a new user's headless render of a MuJoCo arm ended
+    in an internal FatalError), how to give it one."""
+    if not any(k in msg for k in ("OpenGL", "GLFW", "EGL", "gladLoadGL", "mjr_makeContext")):
+        return ""
+    return "; on a machine without a display set MUJOCO_GL=egl (or osmesa) in the environment"
 
 
 def check_renders(env_id: str, env_kwargs: dict) -> None:
