@@ -42,6 +42,15 @@ def test_two_tasks_two_seeds_run_resume_and_report(tmp_path):
               generations=2, overrides=TINY, progress=False, log=logs.append)
     assert sum("skipped" in m for m in logs) == 8 and not any(": new" in m for m in logs)
     assert json.loads((tmp_path / "suite.json").read_text())["tasks"] == data["tasks"]
+    # another method on one task, into the same folder: the table keeps every run (it showed the last call's alone)
+    run_suite(tmp_path, tasks=["Unicycle-v0"], methods=("cmaes",), seeds=(0, 1), generations=2, overrides=TINY,
+              progress=False, log=logs.append)
+    both = json.loads((tmp_path / "suite.json").read_text())
+    assert both["methods"] == ["shaped", "vanilla", "cmaes"] and [r["task"] for r in both["tasks"]] == [
+        "PointVel-v0", "Unicycle-v0"]
+    assert set(both["tasks"][0]["methods"]) == {"shaped", "vanilla"}  # no CMA-ES runs there: "–" in the table
+    assert set(both["tasks"][1]["methods"]) == {"shaped", "vanilla", "cmaes"}
+    assert both["tasks"][0]["ratios"] == data["tasks"][0]["ratios"]
 
 
 def test_acceptance_rate_pools_generations_with_a_candidate():

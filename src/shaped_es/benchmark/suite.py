@@ -116,8 +116,9 @@ def run_suite(out: str | Path, suite: str = DEFAULT_SUITE, tasks: list[str] | No
         log(f"[suite] estimate: total ~{duration(sum(total.values()))} for {len(specs)} tasks")
         return {"estimate_s": total}
     out.mkdir(parents=True, exist_ok=True)
-    record = {"suite": suite, "tasks": {s.env: s.generations for s in specs}, "methods": list(methods),
-              "seeds": list(seeds), "overrides": overrides or {}}
+    record = _merged(out / "suite.yaml", {"suite": suite, "tasks": {s.env: s.generations for s in specs},
+                                          "methods": list(methods), "seeds": list(seeds),
+                                          "overrides": overrides or {}})
     atomic_write_text(out / "suite.yaml", yaml.safe_dump(record, sort_keys=False))
     n_runs = len(specs) * len(methods) * len(seeds)
     done, t0 = 0, time.perf_counter()
@@ -136,6 +137,23 @@ def run_suite(out: str | Path, suite: str = DEFAULT_SUITE, tasks: list[str] | No
 
         run_benchmark(spec, out / spec.env, progress=progress, estimate=False, log=task_log)
     return write_suite_report(out)
+
+
+def _merged(path: Path, new: dict) -> dict:
+    """The suite record ``new`` with what an earlier invocation into the same folder recorded: its tasks, methods
+    and seeds kept beside this one's (this one's budgets and overrides where both name a task), so the report
+    covers every run in the folder (a study that ran shaped and Vanilla-ES on every task, then CMA-ES on three,
+    got a table of CMA-ES alone)."""
+    try:
+        old = yaml.safe_load(path.read_text()) if path.is_file() else None
+    except (OSError, yaml.YAMLError):
+        old = None
+    if not isinstance(old, dict) or old.get("suite") != new["suite"] or not isinstance(old.get("tasks"), dict):
+        return new
+    tasks = {**old["tasks"], **new["tasks"]}
+    methods = list(dict.fromkeys([*old.get("methods", []), *new["methods"]]))
+    seeds = sorted(set(old.get("seeds", [])) | set(new["seeds"]))
+    return {**new, "tasks": tasks, "methods": methods, "seeds": seeds}
 
 
 # -- the report ----------------------------------------------------------------------------------------
