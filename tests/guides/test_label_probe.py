@@ -333,7 +333,7 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
             self.horizon = horizon
 
     def rounds(cfg, spec, x0, data, labels, seeds, keys, executor=None, thetas=None, keep=0, protect=(),
-               on_round=None):  # frames
+               on_round=None, norm=None):  # frames
         #                                                                                  real, shooters fake
         own = [(lab, k) for lab, k in zip(labels, keys) if not isinstance(lab, Shooter)]
         own_thetas: list = []
