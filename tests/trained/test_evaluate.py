@@ -27,3 +27,11 @@ def test_a_best_policy_far_below_the_test_that_chose_it_gets_a_note():
     assert selection_note(_Store(), _result([9.0, 9.3, 9.1, 8.9])) is None  # within 2 standard errors
     assert selection_note(_Store(), _result(fresh, policy="mean", chosen=None)) is None
     assert selection_note(_Store(), _result([1.0])) is None  # one episode: no standard error
+
+
+def test_a_best_policy_no_test_has_chosen_says_it_is_the_starting_one():
+    """A new user's run stopped after its first checkpoint, before its first test's row: evaluate's best was the
+    policy the run started from and said nothing."""
+    note = selection_note(_Store(), _result([1.0, 2.0, 3.0], chosen=None))
+    assert note.startswith("note: no test of this run has chosen a best policy yet")
+    assert selection_note(_Store(), _result([1.0, 2.0], policy="mean", chosen=None)) is None

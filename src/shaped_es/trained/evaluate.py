@@ -51,9 +51,14 @@ def selection_note(store: RunStore, result: dict) -> str | None:
     """For ``best``: one line where its fresh episodes ``result`` (``evaluate_run``'s) score below the test reward
     that made it the best by more than 2 standard errors of their mean. That test reward is the highest of the
     run's noisy test means, so it reads high where episodes differ (a new user's slipping drive: chosen at 9.16,
-    6.90 on 15 new episodes, with the final mean above the best on 50); None where it does not, or for ``mean``."""
+    6.90 on 15 new episodes, with the final mean above the best on 50); None where it does not, or for ``mean``. Where
+    no test has chosen one yet (a run stopped between its first checkpoint and its first test's row), that it is the
+    starting policy (a new user's evaluate said nothing)."""
     best, r = result.get("test_reward_when_chosen"), np.asarray(result["episode_returns"], np.float64)  # (E,)
-    if result["policy"] != "best" or best is None or r.size < 2:
+    if result["policy"] == "best" and best is None:  # a run stopped after a checkpoint, before its first test's row
+        return ("note: no test of this run has chosen a best policy yet (its checkpoint came before the first test "
+                "result): this is the policy the run started from")
+    if result["policy"] != "best" or r.size < 2:
         return None
     se = float(r.std(ddof=1) / np.sqrt(r.size))
     if not r.mean() < best - 2 * se:
