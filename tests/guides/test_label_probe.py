@@ -687,10 +687,16 @@ def test_generation_0s_line_says_which_test_the_probes_candidate_failed():
                       candidate="world")
     assert "lost to the initial mean (-1.00 against 0.50): not counted" in candidate_line(res, False, (-1.0, 0.5, 2.0))
     member = candidate_line(res, False, (3.05, -0.90, 5.35))
-    assert "beat the initial mean (3.05 against -0.90) but not generation 0's best member (5.35" in member
+    assert "beat the initial mean (3.05 against -0.90) but not generation 0's best member (3.05 against 5.35" in member
     assert "lost to" not in member
     assert "not by the acceptance rule" in candidate_line(res, False, (3.0, 2.9, 1.0))
     assert "lost to the initial mean: not counted" in candidate_line(res, False)  # nothing to say which
+    # a new user's: 0.12 against 0.15 on the 2 common episodes, +0.42 over the 6 paired ones; a member scored more
+    paired = candidate_line(res, False, (0.12, 0.15, 0.30, 0.42, 6))
+    assert "beat the initial mean (+0.42 over its 6 paired episodes) but not generation 0's best member (0.12 " \
+           "against 0.30 on the population's episodes" in paired
+    assert "lost to the initial mean (-0.30 over its 6 paired episodes)" in candidate_line(res, False,
+                                                                                          (0.5, 0.1, 0.2, -0.3, 6))
     # a variant's candidate is "the labels of frame=world, query_clip=none" (it read "query_clip=none's")
     assert candidate_line(res, True).startswith("the label probe's best simulated candidate (the labels of frame=world")
     assert "'s, " not in candidate_line(res, True)

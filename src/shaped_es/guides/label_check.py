@@ -125,25 +125,33 @@ def _best_text(res: ProbeResult, chosen: str) -> str:
     return f"{f'shooting {h} steps' if h else name} {np.mean(vals):.2f}"
 
 
-def candidate_line(res: ProbeResult, won: bool, returns: tuple[float, float, float] | None = None) -> str:
+def candidate_line(res: ProbeResult, won: bool, returns: tuple | None = None) -> str:
     """What became of the probe's best simulated candidate (guides/probe_candidate.py), judged beside generation
     0: its labels, its mean return on the probe's episodes, ``won``; ``returns``: (its return, the initial mean's,
-    generation 0's best member's) as judged, which say which test it failed (a new user's blimp read "lost to the
-    initial mean" where it had beaten the mean by 5 and lost to a member); ``""`` where the probe kept none."""
+    generation 0's best member's) on the population's episodes, and optionally (its mean paired gain over the mean
+    on every episode both ran, their count): they say which test it failed (a new user's blimp read "lost to the
+    initial mean" where it had beaten the mean by 5 and lost to a member; another's read "lost to the initial mean
+    (0.12 against 0.15)", two episodes' returns, where it had gained +0.42 over the 6 paired ones the rule tests);
+    ``""`` where the probe kept none."""
     if res.candidate is None:
         return ""
     rest = "not counted by the back-off (it shows in labels A/J), the run goes on as without it"
+    cand, mean, best = returns[:3] if returns is not None else (None, None, None)
+    gain, n = returns[3:5] if returns is not None and len(returns) >= 5 else (None, None)
+    vs_mean = (f"{gain:+.2f} over its {n} paired episodes" if gain is not None
+               else f"{cand:.2f} against {mean:.2f}" if returns is not None else "")
+    beat_mean = (gain > 0) if gain is not None else (returns is not None and cand > mean)
     if won:
         verdict = "won: it is the search's mean now (its test reward shows from the next generation's test)"
-    elif returns is None or not returns[0] > returns[1]:
-        verdict = "lost to the initial mean" + (f" ({returns[0]:.2f} against {returns[1]:.2f})" if returns else "")
-        verdict += f": {rest}"
-    elif not returns[0] > returns[2]:
-        verdict = (f"beat the initial mean ({returns[0]:.2f} against {returns[1]:.2f}) but not generation 0's best "
-                   f"member ({returns[2]:.2f}; a jump must beat what the search sampled around the mean): {rest}")
+    elif not beat_mean:
+        verdict = "lost to the initial mean" + (f" ({vs_mean})" if vs_mean else "") + f": {rest}"
+    elif not cand > best:
+        verdict = (f"beat the initial mean ({vs_mean}) but not generation 0's best member ({cand:.2f} against "
+                   f"{best:.2f} on the population's episodes; a jump must beat what the search sampled around the "
+                   f"mean): {rest}")
     else:
-        verdict = (f"beat the initial mean's return ({returns[0]:.2f} against {returns[1]:.2f}) but not by the "
-                   f"acceptance rule (shaping.mean_clone.accept): {rest}")
+        verdict = (f"beat the initial mean ({vs_mean}) but not by the acceptance rule (shaping.mean_clone.accept: "
+                   f"the paired gain must exceed its standard error): {rest}")
     return f"the label probe's best simulated candidate ({candidate_what(res)}) {verdict}"
 
 

@@ -344,8 +344,10 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
         if self.mechanism.free_judgement:
             won = bool(out.get("candidate_accepted"))
-            judged_at = ((float(out["candidate_return"]), float(out["mean_return"]), float(np.max(fitness)))
-                         if "candidate_return" in out and "mean_return" in out else None)  # what it was judged on
+            n = self.cfg.rollout.episodes + self.mean_clone_cfg.extra_episodes  # the paired episodes both ran
+            judged_at = ((float(out["candidate_return"]), float(out["mean_return"]), float(np.max(fitness)),
+                          float(out["candidate_gain"]), n)
+                         if {"candidate_return", "mean_return", "candidate_gain"} <= set(out) else None)  # judged on
             print(f"shaped-es: {self.run_name}: generation 0: {candidate_line(self._probe_res, won, judged_at)}",
                   file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now
