@@ -379,3 +379,16 @@ def test_a_shaped_run_starts_from_its_label_probes_statistics_and_restarts_to_th
     run_until_crash(monkeypatch, c, again, 1)  # the probe is on file, no checkpoint yet: generation 0 again
     Trainer(c, again, progress=False).run()
     assert strip_time(again.read_metrics()) == strip_time(store.read_metrics())
+
+
+def test_check_env_labels_probes_as_an_obs_norm_run_does_and_the_runs_line_says_how():
+    """A new user's badly scaled base: ``check-env --labels`` probed with raw inputs (its candidate below zero
+    action) where the obs_norm run's probe found one at 2.20, and the run's line pointed at the raw check."""
+    from shaped_es.guides.label_check import check_labels, probe_line
+    from shaped_es.guides.label_probe import ProbeResult
+
+    raw, normed = check_labels("PointVel-v0"), check_labels("PointVel-v0", obs_norm=True)
+    assert raw["clones"] != normed["clones"]  # its simulated candidates were fitted and driven under the normalizer
+    res = ProbeResult("both", None, {"both": [1.0]}, 10, 0.1, "r", [0.0], obs_stats=[3.0, [0.0], [1.0]])
+    assert probe_line(res, "X-v0").endswith("shaped-es check-env X-v0 --labels --obs-norm")
+    assert probe_line(ProbeResult("both", None, {"both": [1.0]}, 10, 0.1, "r", [0.0]), "X-v0").endswith("--labels")

@@ -124,6 +124,9 @@ def add_parsers(sub) -> None:
     k.add_argument("--labels", action="store_true", help="also drive the env with M_phi's labels, as a shaped run "
                    "with shaping.inverse_dynamics.frame=auto does before its first generation: the label-driven "
                    "return per frame and query clip against zero action, and the choice a run makes")
+    k.add_argument("--obs-norm", action="store_true", help="with --labels: probe as a run with --set "
+                   "es.obs_norm=true does (its simulated candidates see the normalizer of the probe's data; a badly "
+                   "scaled observation's labels can fail without it and pay with it)")
     k.set_defaults(fn=cmd_check_env)
 
 
@@ -285,7 +288,7 @@ def cmd_check_env(a: argparse.Namespace) -> int:
         from shaped_es.shaping.kernel_notice import say_if_compiling
 
         say_if_compiling("check-env")  # the probe compiles the shaping kernels on a cold cache
-        labels = check_labels(a.env_id, parse_set(a.set))
+        labels = check_labels(a.env_id, parse_set(a.set), obs_norm=a.obs_norm)
     elif a.labels and failed:  # the waypoint contract was not reached: nothing trains until the FAIL is fixed
         labels = {"env": a.env_id, "verdict": "not probed: the env cannot train here (the FAIL line above)"}
     elif a.labels:

@@ -51,7 +51,8 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
                  "variant's: its rival runs")
     return (f"labels: {variant_text(name)} ({why}){score}{shoot}"
             + (f"; rivals: {', '.join(_merged(list(rivals)))}" if rivals else "")
-            + f"; see {FILE}, shaped-es check-env {env} --labels")
+            + f"; see {FILE}, shaped-es check-env {env} --labels"
+            + (" --obs-norm" if res.obs_stats is not None else ""))  # as the run probed (es.obs_norm)
 
 
 def _merged(rivals: list[str]) -> list[str]:
@@ -183,14 +184,16 @@ def _candidate_returns(res: ProbeResult, name: str) -> list[float]:
     return res.clones.get(name, [])
 
 
-def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0) -> dict:
+def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs_norm: bool = False) -> dict:
     """``shaped-es check-env ID --labels``: the probe a shaped run with ``frame: auto`` would run, and the
-    zero-action policy on the same episodes. Returns ``{"chosen", "returns", "zero_action", "verdict"}``."""
+    zero-action policy on the same episodes (``obs_norm``: as with ``es.obs_norm``, ``--obs-norm``). Returns
+    ``{"chosen", "returns", "zero_action", "verdict"}``."""
     from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
     from shaped_es.config import build_config
     from shaped_es.rollout import policy_spec, probe_env
 
-    cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed})
+    cfg = build_config({"env": env_id, "env_kwargs": env_kwargs or {}, "method": "shaped", "seed": seed,
+                        "es": {"obs_norm": bool(obs_norm)}})
     env_probe = probe_env(cfg.env, cfg.env_kwargs, reset=True)
     spec, pos_dim = policy_spec(cfg, env_probe), waypoint_dim(cfg, env_probe)
     res = probe(cfg, spec, pos_dim, mphi_config(cfg, pos_dim),

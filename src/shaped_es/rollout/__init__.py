@@ -85,8 +85,9 @@ def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None
         warnings.warn(f"env {env_id!r}: reset(seed=0) twice gave different observations: it ignores the seed or "
                       f"carries state from one episode to the next (a NormalizeObservation wrapper), so this run will "
                       f"not reproduce and a generation's members do not face the same episodes (draw every random "
-                      f"number from self.np_random after super().reset(seed=seed), reset all state in reset; "
-                      f"check-env's seeding line)", EnvWarning, stacklevel=2)
+                      f"number from self.np_random after super().reset(seed=seed), reset all state in reset, and "
+                      f"normalize observations with --set es.obs_norm=true rather than a wrapper; check-env's seeding "
+                      f"line)", EnvWarning, stacklevel=2)
     if max_steps is None and probe.time_limit is None:
         warnings.warn(f"env {env_id!r} has no time limit and rollout.max_steps is unset: its episodes are "
                       f"cut at {DEFAULT_MAX_STEPS:,} steps (set rollout.max_steps, or register the env with "
