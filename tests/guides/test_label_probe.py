@@ -848,3 +848,8 @@ def test_a_long_probe_says_how_far_it_is_and_a_short_one_stays_quiet():
     fast.after_round(0)
     assert quiet == []
     label_probe.Pace(None, time.perf_counter() - 10.0).after_data(1000, 10, 13, 16)  # nowhere to say it: fine
+    early = []  # after the first of the data's generations already (the rest of the data counted), and once only
+    first = label_probe.Pace(early.append, time.perf_counter() - 5.0)
+    first.after_data(500, 5, 13, 16, data_left=5)
+    first.after_data(1000, 10, 13, 16)
+    assert len(early) == 1 and "about 615 s more" in early[0], early

@@ -207,9 +207,10 @@ def probe_seeds(cfg: RunConfig) -> np.ndarray:
     return np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
 
 
-def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None):
+def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None, on_generation=None):
     """The probe's recorded rollouts: per generation, members around ``x0`` and babblers (on the run's
-    ``executor``'s workers if given); returns ``(transitions per generation, env steps)``."""
+    ``executor``'s workers if given); returns ``(transitions per generation, env steps)``. ``on_generation``
+    ((generation, env steps so far) -> None): called after each (the probe's progress lines)."""
     sigma_b = cfg.shaping.inverse_dynamics.babble_sigma
     out, steps = [], 0
     for g in range(GENERATIONS):
@@ -221,6 +222,8 @@ def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None):
         _, lengths, trs = roll_out(cfg, spec, P, seeds, g, executor)
         out.append(trs)
         steps += int(lengths.sum())
+        if on_generation is not None:
+            on_generation(g, steps)
     return out, steps
 
 
@@ -311,11 +314,14 @@ class Pace:
     def __init__(self, say, t0: float):
         self.say, self.t0, self.on = say, t0, False
 
-    def after_data(self, steps: int, episodes: int, drives: int, sims: int) -> None:
+    def after_data(self, steps: int, episodes: int, drives: int, sims: int, data_left: int = 0) -> None:
+        """After ``episodes`` of the probe's data (``steps`` env steps; ``data_left`` more episodes of it to come):
+        one line with the estimate, the first time it is over :data:`SAY_AFTER_S` (after the first of its data's
+        generations already: a new user's slow base sat 26 s silent before the line after both)."""
         spent = time.perf_counter() - self.t0
-        if self.say is None or steps <= 0 or episodes <= 0 or spent <= 0:
+        if self.say is None or self.on or steps <= 0 or episodes <= 0 or spent <= 0:
             return
-        rest = (drives + sims * ROUNDS) * EPISODES * steps / episodes * spent / steps  # s, at the data's pace
+        rest = (data_left + (drives + sims * ROUNDS) * EPISODES) * spent / episodes  # s, at the data's pace
         self.on = spent + rest > SAY_AFTER_S
         if self.on:
             self.say(f"label probe: {steps:,} env steps of babbling and members around the initial mean in "
@@ -336,15 +342,16 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     t0 = time.perf_counter()
     pace = Pace(say, t0)
     x0 = seeding.initial_mean(spec, cfg.seed)
-    data, steps = collect(cfg, spec, x0, executor)
-    seeds = probe_seeds(cfg)
     mp = cfg.shaping.inverse_dynamics
     chunk_len = mp.probe_chunk if mphi_cfg.targets == "one_step" else 0
     frames = probe_frames(pos_dim)
     base = variants(mp.query_clip, chunk_len, frames)
     vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len, frames)
     n_shoot = len(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else 0
-    pace.after_data(steps, GENERATIONS * (MEMBERS + BABBLERS) * cfg.rollout.episodes, len(vs) + 1, len(vs) + n_shoot)
+    per = (MEMBERS + BABBLERS) * cfg.rollout.episodes  # episodes a probe data generation
+    data, steps = collect(cfg, spec, x0, executor, lambda g, n: pace.after_data(
+        n, (g + 1) * per, len(vs) + 1, len(vs) + n_shoot, (GENERATIONS - 1 - g) * per))
+    seeds = probe_seeds(cfg)
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[tuple[str, int | None], tuple[InverseDynamics, float]] = {}
