@@ -84,8 +84,12 @@ def test_render_gif_of_the_best_policy(tmp_path, capsys):
     assert len(res["returns"]) == 2 and all(r < 0 for r in res["returns"])
     with Image.open(out) as im:
         assert im.format == "GIF" and im.n_frames >= 2 and im.size == (32, 16)
+    assert res["fps"] == 30.0  # the env's render_fps: real time (a new user's 6 s episode played in 2 s at 30)
     assert _cli(run, "--out", tmp_path / "half.gif", "--every", "4") == 0
-    assert json.loads(capsys.readouterr().out)["frames"] == 1 + 3  # t = 4, 8, 12
+    half = json.loads(capsys.readouterr().out)
+    assert half["frames"] == 1 + 3 and half["fps"] == 7.5  # t = 4, 8, 12; every 4th frame of 30 a second
+    assert _cli(run, "--out", tmp_path / "fast.gif", "--fps", "50") == 0
+    assert json.loads(capsys.readouterr().out)["fps"] == 50.0
 
 
 @pytest.mark.parametrize("env", ["BlindRender-v0", "NoFrame-v0"])

@@ -130,7 +130,8 @@ def add_render_parser(sub) -> argparse.ArgumentParser:
                    help="seed of the rendered episodes (evaluate's: the same seed gives its first episodes)")
     r.add_argument("--max-steps", type=int,
                    help="cap on steps per episode (default: the run's rollout.max_steps, else the env's limit)")
-    r.add_argument("--fps", type=float, default=30.0, help="frames per second of the GIF")
+    r.add_argument("--fps", type=float, default=None, help="frames per second of the GIF (default: the env's "
+                   "metadata['render_fps'] over --every, real time; 30 where it has none)")
     r.add_argument("--every", type=int, default=1, help="keep every N-th frame")
     r.add_argument("--force", action="store_true", help="write over an existing --out file")
     r.set_defaults(fn=cmd_render)

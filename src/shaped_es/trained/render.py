@@ -106,9 +106,11 @@ def check_renders(env_id: str, env_kwargs: dict) -> None:
 
 
 def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: str = "best",
-               seed: int = 12345, max_steps: int | None = None, fps: float = 30.0, every: int = 1) -> dict:
-    """Roll out the run's policy for ``episodes`` episodes and write every ``every``-th frame to ``out``."""
-    if episodes <= 0 or every <= 0 or fps <= 0 or (max_steps is not None and max_steps <= 0):
+               seed: int = 12345, max_steps: int | None = None, fps: float | None = None, every: int = 1) -> dict:
+    """Roll out the run's policy for ``episodes`` episodes and write every ``every``-th frame to ``out``; ``fps``
+    None: the env's ``metadata['render_fps']`` over ``every`` (real time; a new user's 6 s episode played in 2 s at a
+    fixed 30), else 30."""
+    if episodes <= 0 or every <= 0 or (fps is not None and fps <= 0) or (max_steps is not None and max_steps <= 0):
         raise StoreError("--episodes, --every, --fps and --max-steps must be positive")
     out = Path(out)
     if out.suffix.lower() != ".gif":
@@ -133,9 +135,12 @@ def render_run(run_dir: str | Path, out: str | Path, episodes: int = 1, which: s
             returns.append(total)
     finally:
         close_env(env)
+    if fps is None:
+        native = (getattr(env, "metadata", None) or {}).get("render_fps")
+        fps = float(native) / every if isinstance(native, (int, float)) and native > 0 else 30.0
     _write_gif(frames, out, fps)
     return {"run_dir": str(run_dir), "out": str(out), "policy": which, "episodes": episodes,
-            "frames": len(frames), "returns": returns}
+            "frames": len(frames), "fps": fps, "returns": returns}
 
 
 def _write_gif(frames: list[np.ndarray], out: Path, fps: float) -> None:
