@@ -30,7 +30,7 @@ def check_run(cfg: RunConfig, warn: bool = True) -> EnvProbe:
     from shaped_es.rollout import probe_env
 
     if cfg.video_every is not None:  # before the env's module imports mujoco: its backend is read then
-        from shaped_es.trained.render import headless_gl
+        from shaped_es.envs.gl import headless_gl
 
         headless_gl()
     # one env made for the dims, the time limit and (shaped) the reset info

@@ -149,22 +149,3 @@ def test_mujoco_without_opengl_is_one_line_naming_mujoco_gl():
 
     with pytest.raises(KeyError):
         _frame(Broken(), "Arm-v0")
-
-
-def test_headless_gl_picks_egl_only_where_nothing_chose_a_backend(monkeypatch):
-    import sys
-
-    from shaped_es.trained.render import headless_gl
-
-    monkeypatch.delitem(sys.modules, "mujoco", raising=False)
-    for var in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY"):
-        monkeypatch.delenv(var, raising=False)
-    headless_gl()
-    assert __import__("os").environ["MUJOCO_GL"] == "egl"
-    monkeypatch.setenv("MUJOCO_GL", "osmesa")  # the user's choice stays
-    headless_gl()
-    assert __import__("os").environ["MUJOCO_GL"] == "osmesa"
-    monkeypatch.delenv("MUJOCO_GL")
-    monkeypatch.setenv("DISPLAY", ":0")  # a display: GLFW works, nothing set
-    headless_gl()
-    assert "MUJOCO_GL" not in __import__("os").environ

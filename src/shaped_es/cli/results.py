@@ -140,7 +140,8 @@ def add_render_parser(sub) -> argparse.ArgumentParser:
 
 def cmd_render(a: argparse.Namespace) -> int:
     from shaped_es.cli.overwrite import check_free
-    from shaped_es.trained.render import headless_gl, render_run
+    from shaped_es.envs.gl import headless_gl
+    from shaped_es.trained.render import render_run
 
     check_free([Path(a.out)], a.force)
     headless_gl()  # before an own env's module imports mujoco (a new user's MuJoCo arm: no display, no frames)

@@ -74,19 +74,6 @@ def _frame(env, env_id: str) -> np.ndarray:
     return frame[..., :3].astype(np.uint8)
 
 
-def headless_gl() -> None:
-    """``MUJOCO_GL=egl`` where it is unset, there is no display and ``mujoco`` is not imported yet (as importing
-    ``shaped_es.envs.ur5`` does for UR5Reach-v0): MuJoCo's default GLFW backend needs a display, and the backend is
-    read once, at ``mujoco``'s import. Another backend the user set is kept."""
-    import os
-    import sys
-
-    if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL", "").strip():
-        return
-    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        os.environ["MUJOCO_GL"] = "egl"
-
-
 def _gl_hint(msg: str) -> str:
     """Where MuJoCo found no OpenGL (a machine without a display: a new user's headless render of a MuJoCo arm ended
     in an internal FatalError), how to give it one."""

@@ -13,11 +13,11 @@ import ctypes.util
 import os
 import sys
 
+from shaped_es.envs.gl import headless_gl
+
 if "mujoco" not in sys.modules:
-    _gl = os.environ.get("MUJOCO_GL", "").lower().strip()
-    if not _gl and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        os.environ["MUJOCO_GL"] = "egl"
-    elif _gl == "osmesa" and ctypes.util.find_library("OSMesa") is None:
+    headless_gl()
+    if os.environ.get("MUJOCO_GL", "").lower().strip() == "osmesa" and ctypes.util.find_library("OSMesa") is None:
         # mujoco's own import would die in PyOpenGL with an AttributeError; say what is missing instead
         raise ImportError("MUJOCO_GL=osmesa but libOSMesa is not installed: apt-get install libosmesa6, "
                           "or use MUJOCO_GL=egl (apt-get install libegl1 libgl1-mesa-dri)")
