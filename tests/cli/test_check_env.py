@@ -289,15 +289,15 @@ def test_a_run_warns_where_reset_ignores_its_seed():
     import warnings
 
     from shaped_es.env_probe import probe_env
-    from shaped_es.rollout import warn_if_endless
+    from shaped_es.rollout import warn_if_unseeded
 
     assert probe_env("CheckPoint-unseeded-v0", reset=True).unseeded
     assert not probe_env("CheckPoint-none-v0", reset=True).unseeded
     assert not probe_env("CheckPoint-unseeded-v0").unseeded  # not probed without a reset
     with warnings.catch_warnings(record=True) as got:
         warnings.simplefilter("always")
-        warn_if_endless("CheckPoint-unseeded-v0", probe_env("CheckPoint-unseeded-v0", reset=True), None)
-        warn_if_endless("CheckPoint-none-v0", probe_env("CheckPoint-none-v0", reset=True), None)
+        warn_if_unseeded("CheckPoint-unseeded-v0", probe_env("CheckPoint-unseeded-v0", reset=True))
+        warn_if_unseeded("CheckPoint-none-v0", probe_env("CheckPoint-none-v0", reset=True))
     assert len(got) == 1 and "it ignores the seed or carries state" in str(got[0].message)
 
 

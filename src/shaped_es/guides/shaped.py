@@ -127,7 +127,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
-        self.start_obs_stats = None  # es.obs_norm: the observation statistics the run starts from (None: none)
         if mp.frame == "auto" and self.sh.labels == "mphi":  # guides/label_probe.py (a line: world frame only)
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor,
                                        lambda line: print(f"shaped-es: {self.run_name}: {line}", file=sys.stderr,
@@ -140,7 +139,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             probe_res = res if fresh else None
             shooting = probe_shooting(res, mp)
             self._probe_res = res
-            self.start_obs_stats = start_stats(res, spec.obs_dim)  # es.obs_norm: the run's statistics start here
         self.clone_cfg = from_section(CloningConfig, self.sh.cloning)
         self.mean_clone_cfg = from_section(MeanCloneConfig, self.sh.mean_clone)
         # M_phi exists (and trains) only when it is the label source
@@ -210,6 +208,12 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
     def probe_candidate(self) -> np.ndarray | None:
         """The label probe's best simulated candidate ``(n,)``, judged beside generation 0 (None: none kept)."""
         return None if self._probe_res is None else self._probe_res.candidate_params
+
+    @property
+    def start_obs_stats(self):
+        """es.obs_norm: the observation statistics the run starts from, the label probe's data's
+        (``probe_file.start_stats``; None: no probe, or off)."""
+        return None if self._probe_res is None else start_stats(self._probe_res, self.spec.obs_dim)
 
     def record_mask(self, population: int, extra: int) -> np.ndarray:
         """Which members' steps the rollouts keep (the mechanism's choice; every babbler),

@@ -77,10 +77,9 @@ class EnvWarning(UserWarning):
     """Something about the env a run should know before its first rollout (printed as one line)."""
 
 
-def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None:
-    """Say, before the first rollout, that an env without a time limit has its episodes cut at
-    :data:`DEFAULT_MAX_STEPS` (``max_steps``: the run's ``rollout.max_steps``), and that an env whose reset ignores
-    its seed does not reproduce (``EnvProbe.unseeded``, probed where the method reads the reset info)."""
+def warn_if_unseeded(env_id: str, probe: EnvProbe) -> None:
+    """Say, before the first rollout, that an env whose reset ignores its seed does not reproduce
+    (``EnvProbe.unseeded``, probed where the method reads the reset info)."""
     if probe.unseeded:
         warnings.warn(f"env {env_id!r}: reset(seed=0) twice gave different observations: it ignores the seed or "
                       f"carries state from one episode to the next (a NormalizeObservation wrapper), so this run will "
@@ -88,6 +87,11 @@ def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None
                       f"number from self.np_random after super().reset(seed=seed), reset all state in reset, and "
                       f"normalize observations with --set es.obs_norm=true rather than a wrapper; check-env's seeding "
                       f"line)", EnvWarning, stacklevel=2)
+
+
+def warn_if_endless(env_id: str, probe: EnvProbe, max_steps: int | None) -> None:
+    """Say, before the first rollout, that an env without a time limit has its episodes cut at
+    :data:`DEFAULT_MAX_STEPS` (``max_steps``: the run's ``rollout.max_steps``)."""
     if max_steps is None and probe.time_limit is None:
         warnings.warn(f"env {env_id!r} has no time limit and rollout.max_steps is unset: its episodes are "
                       f"cut at {DEFAULT_MAX_STEPS:,} steps (set rollout.max_steps, or register the env with "

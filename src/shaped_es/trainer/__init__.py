@@ -57,7 +57,7 @@ from shaped_es.executors import Executor, InlineExecutor, ProcessExecutor, make_
 from shaped_es.methods import METHODS
 from shaped_es.policies import ObsNorm, ObsStats
 from shaped_es.rollout import (EnvProbe, mean_returns, policy_spec, population_tasks, probe_env, run_task,
-                               run_tasks, warn_if_endless)
+                               run_tasks, warn_if_endless, warn_if_unseeded)
 from shaped_es.run_loop import RunLoop
 from shaped_es.rundir.store import RunStore
 from shaped_es.trainer.build import _executor_options, build_guide, build_strategy, check_obs_norm, startup_notice
@@ -108,6 +108,7 @@ class Trainer(CheckpointState, Rows, RunLoop):
         probe = probe or probe_env(cfg.env, cfg.env_kwargs, reset=METHODS[cfg.method].probe_reset)
         self.spec = policy_spec(cfg, probe)
         warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
+        warn_if_unseeded(cfg.env, probe)
         x0 = seeding.initial_mean(self.spec, cfg.seed)
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store, probe, self.executor)
@@ -115,8 +116,10 @@ class Trainer(CheckpointState, Rows, RunLoop):
         # es.obs_norm: the running statistics (None: off) and the normalizer best_params was tested with
         # (a shaped run's start from its label probe's data, so the probe's candidate, judged at generation 0, keeps
         # its inputs at generation 1: guides/clone_probe.probe_stats)
-        start = getattr(self.guide, "start_obs_stats", None)
-        self.obs_stats = None if not cfg.es.obs_norm else start if start is not None else ObsStats.empty(self.spec.obs_dim)
+        self.obs_stats = None
+        if cfg.es.obs_norm:
+            start = getattr(self.guide, "start_obs_stats", None)
+            self.obs_stats = start if start is not None else ObsStats.empty(self.spec.obs_dim)
         self.best_norm = self.obs_norm()
 
     def obs_norm(self) -> ObsNorm | None:
