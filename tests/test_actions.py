@@ -172,7 +172,7 @@ def test_a_controller_that_returns_no_action_stops_the_run_in_one_line_and_check
            "tensorboard": False, "shaping.labels": "controller"}
     with pytest.raises(EnvError, match=r"^env 'ActionsTest-GearOutOfRange-v0': its waypoint_controller returned "
                                        r"\[3 0\], not an action of MultiDiscrete\(\[3 3\]\) \(sub-action 0's 3 is "
-                                       r"outside 0\.\.2\) \(generation 0, episode seed \d+, step 0\)"):
+                                       r"outside 0\.\.2\) \(generation 1, episode seed \d+, step 0\)"):
         shaped_es.train(cfg, tmp_path / "r")
     ctl = next(c for c in check_env("ActionsTest-GearOutOfRange-v0") if c.name == "controller")
     assert ctl.status == "warn" and "it returned [3 0], not an action of MultiDiscrete([3 3]) (sub-action 0's 3 " \

@@ -188,7 +188,7 @@ def test_a_probe_that_fails_names_the_probe_after_the_check_lines(tmp_path, caps
     assert main(["check-env", "CheckPoint-latenan-v0", "--labels", "--max-steps", "20"]) != 0
     cap = capsys.readouterr()
     assert "ok    waypoints" in cap.out and "CheckPoint-latenan-v0 trains with:" in cap.out
-    assert re.search(r"non-finite info\['waypoint'\] \(\[nan, nan\]\) \(the label probe, before generation 0, "
+    assert re.search(r"non-finite info\['waypoint'\] \(\[nan, nan\]\) \(the label probe, before generation 1, "
                      r"episode seed \d+, step 25\)", cap.err), cap.err
 
 

@@ -135,7 +135,7 @@ def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     assert lines[-3].startswith("labels: the shooting labels' simulated candidate (actions held ")
     assert "a run keeps that rival" in lines[-3]
     # the best simulated candidate, judged beside generation 0 (guides/probe_candidate.py)
-    assert lines[-2].startswith("labels: a run judges the best simulated candidate beside generation 0, as its ")
+    assert lines[-2].startswith("labels: a run judges the best simulated candidate beside generation 1, as its ")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
     assert max(len(ln) for ln in lines[-4:]) < 300  # one fact a line
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)

@@ -263,7 +263,7 @@ def test_non_finite_mean_stops_with_one_line_and_keeps_the_last_good_checkpoint(
     run = tmp_path / "r"
     assert main(["train", "--env", "CartPole-v1", *TRAIN, "--generations", "5", "--out", str(run)]) == 2
     line = capsys.readouterr().err.strip().splitlines()
-    assert len(line) == 1 and "generation 2: the search mean became non-finite" in line[0]
+    assert len(line) == 1 and "generation 3: the search mean became non-finite" in line[0]
     assert "last good checkpoint (generation 2) is kept" in line[0]
     store = RunStore(run)
     arrays, meta = store.load_checkpoint()

@@ -62,7 +62,7 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     # labels') far above it and judged at generation 0: the line says so, not only the bad number
     best = replace(res, query_clip=None, reason="the default: ...", candidate="shoot:16")
     told = probe_line(best, "CarNav-v0", rivals)
-    assert "below zero action's -1.20; the probe's best: shooting 16 steps 6.37, judged at generation 0; rivals" in told
+    assert "below zero action's -1.20; the probe's best: shooting 16 steps 6.37, judged at generation 1; rivals" in told
     assert len(f"shaped-es: {told}") <= LINE_MAX
     assert "; the probe's best: " not in probe_line(replace(best, candidate="both"), "CarNav-v0", rivals)
     # with shaping.mean_clone.probe_candidate=false nothing is judged at generation 0, and the line says so
@@ -71,7 +71,7 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
     # a new user's hovercraft: the chosen candidate not below zero action, the best far above it (6.38 against
     # -0.89 on the next line read as a contradiction): named too
     above = probe_line(replace(res, candidate="shoot:16"), "CarNav-v0", rivals)
-    assert "its candidate -0.19 vs zero action -1.20; the probe's best: shooting 16 steps 6.37, judged at generation 0" in above
+    assert "its candidate -0.19 vs zero action -1.20; the probe's best: shooting 16 steps 6.37, judged at generation 1" in above
     lost = replace(res, frame="world", query_clip=None, reason="zero action beats ...", clones={})
     assert "(the default's labels, frame=both, lost to zero action): labels -0.39 vs zero action" in probe_line(
         lost, "ReacherWay-v0", rivals)
@@ -687,13 +687,13 @@ def test_generation_0s_line_says_which_test_the_probes_candidate_failed():
                       candidate="world")
     assert "lost to the initial mean (-1.00 against 0.50): not counted" in candidate_line(res, False, (-1.0, 0.5, 2.0))
     member = candidate_line(res, False, (3.05, -0.90, 5.35))
-    assert "beat the initial mean (3.05 against -0.90) but not generation 0's best member (3.05 against 5.35" in member
+    assert "beat the initial mean (3.05 against -0.90) but not generation 1's best member (3.05 against 5.35" in member
     assert "lost to" not in member
     assert "not by the acceptance rule" in candidate_line(res, False, (3.0, 2.9, 1.0))
     assert "lost to the initial mean: not counted" in candidate_line(res, False)  # nothing to say which
     # a new user's: 0.12 against 0.15 on the 2 common episodes, +0.42 over the 6 paired ones; a member scored more
     paired = candidate_line(res, False, (0.12, 0.15, 0.30, 0.42, 6))
-    assert "beat the initial mean (+0.42 over its 6 paired episodes) but not generation 0's best member (0.12 " \
+    assert "beat the initial mean (+0.42 over its 6 paired episodes) but not generation 1's best member (0.12 " \
            "against 0.30 on the population's episodes" in paired
     assert "lost to the initial mean (-0.30 over its 6 paired episodes)" in candidate_line(res, False,
                                                                                           (0.5, 0.1, 0.2, -0.3, 6))
@@ -825,7 +825,7 @@ def test_a_1d_waypoint_space_is_probed_in_the_world_frame_alone(tmp_path, capsys
     err = capsys.readouterr().err
     res = ProbeResult(**json.loads((tmp_path / "line" / FILE).read_text()))
     assert res.frame == "world" and set(res.returns) <= set(out["returns"])
-    assert "labels: frame=world" in err and "generation 0: the label probe's best simulated candidate" in err
+    assert "labels: frame=world" in err and "generation 1: the label probe's best simulated candidate" in err
     assert int(rows[0]["candidate_accepted"]) == 1 and float(rows[0]["candidate_rival"]) == 5  # the probe's, won
 
 
@@ -839,7 +839,7 @@ def test_a_long_probe_says_how_far_it_is_and_a_short_one_stays_quiet():
     slow = label_probe.Pace(lines.append, time.perf_counter() - 10.0)  # its data took 10 s
     slow.after_data(1000, 10, 13, 16)  # 100 steps an episode: (13 + 16 * 3) * 10 episodes at 100 steps/s
     slow.after_round(0)
-    assert len(lines) == 2 and "about 610 s more before generation 0" in lines[0], lines
+    assert len(lines) == 2 and "about 610 s more before generation 1" in lines[0], lines
     assert "the labels of 12 variants drive 10 episodes each, then 16 candidates" in lines[0]
     assert lines[1].startswith("label probe: DAgger round 1 of 3 done")
     quiet = []

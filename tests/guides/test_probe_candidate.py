@@ -30,7 +30,7 @@ def test_a_winning_probe_candidate_becomes_the_mean_at_generation_0(tmp_path, ca
     assert rows[0]["candidate_accepted"] == "1" and off[0]["candidate_accepted"] == ""
     assert rows[0]["candidate_rival"] == "5"  # mechanisms/candidate.PROBE: no label source's row (the report's count)
     assert all(r["candidate_rival"] in ("0", "1", "2", "3", "4", "") for r in rows[1:])
-    assert "generation 0: the label probe's best simulated candidate (" in err and "won: it is the search's mean" in err
+    assert "generation 1: the label probe's best simulated candidate (" in err and "won: it is the search's mean" in err
     assert float(rows[1]["test_reward_mean"]) > float(off[1]["test_reward_mean"]) + 3  # PointVel's labels drive
     from shaped_es.rollout import policy_spec
 

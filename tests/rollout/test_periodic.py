@@ -250,7 +250,7 @@ def test_a_wrap_the_start_missed_is_taken_from_the_next_rollouts_and_a_detected_
     err = capsys.readouterr().err
     assert err.count("'s recorded info['position'] wraps") == 1 and "recorded info['position'] wraps ([0] at 2 pi; " \
         "not seen by the start of the run): the next rollouts record it continuous" in err
-    first = int(err.split("generation ")[-1].split("'s recorded")[0])
+    first = int(err.split("generation ")[-1].split("'s recorded")[0]) - 1  # the line counts from 1, the file from 0
     assert read_wrap_file(tmp_path / "missed") == {"position_period": [TAU], "source": "detected",
                                                    "generation": first}
     from shaped_es.config import build_config

@@ -33,7 +33,7 @@ from shaped_es.shaping.population_fit import FitTask, fit_rows
 
 ROUNDS = 3  # DAgger rounds of the simulated candidate
 CLONE_KEY = 1_000_013  # seed key of the simulated clones' minibatch draws
-DURING = "the label probe, before generation 0"  # where its rollouts' error lines say they were
+DURING = "the label probe, before generation 1"  # where its rollouts' error lines say they were
 
 
 def _labelled(trs: list[Transitions], labels: LabelSource) -> tuple[np.ndarray, np.ndarray]:

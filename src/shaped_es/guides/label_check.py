@@ -40,7 +40,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
         # a new user read "below zero action" as broken labels, a line before the probe's best candidate won at
         # generation 0; another read the two candidates' numbers as contradictory: the best is named either way
         if best:
-            score += f"; the probe's best: {best}, " + ("judged at generation 0" if judged else
+            score += f"; the probe's best: {best}, " + ("judged at generation 1" if judged else
                                               "not judged (shaping.mean_clone.probe_candidate=false)")
     lost = "" if res.shoot_on else ", not above zero action" + ("; another is" if _drop_text(res) else "")
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
@@ -147,7 +147,7 @@ def candidate_line(res: ProbeResult, won: bool, returns: tuple | None = None) ->
     elif not beat_mean:
         verdict = "lost to the initial mean" + (f" ({vs_mean})" if vs_mean else "") + f": {rest}"
     elif not cand > best:
-        verdict = (f"beat the initial mean ({vs_mean}) but not generation 0's best member ({cand:.2f} against "
+        verdict = (f"beat the initial mean ({vs_mean}) but not generation 1's best member ({cand:.2f} against "
                    f"{best:.2f} on the population's episodes; a jump must beat what the search sampled around the "
                    f"mean): {rest}")
     else:
@@ -245,7 +245,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
                                         f" (no simulated candidate clearly beats zero action: it runs at {horizons})"
                                         if res.unjudged() else " (its candidate is above every variant's)"))
     if res.candidate is not None:  # guides/probe_candidate.py
-        details.append(f"a run judges the best simulated candidate beside generation 0, as its first candidate "
+        details.append(f"a run judges the best simulated candidate beside generation 1, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")
     out["zero_action_ended_early"] = early  # of the EPISODES (None: no step limit to end before)
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk, "reason": res.reason},

@@ -64,8 +64,8 @@ def load(path: Path, num_params: int) -> np.ndarray | None:
         theta = np.load(io.BytesIO(read_regular(path)), allow_pickle=False)
     except (ValueError, OSError, StoreError) as exc:
         raise ConfigError(f"{path} is not a probe candidate this version wrote ({exc}); move it away (the run "
-                          f"then judges no candidate at generation 0)") from None
+                          f"then judges no candidate at generation 1)") from None
     if theta.shape != (num_params,) or not np.isfinite(theta).all():
         raise ConfigError(f"{path} holds {theta.shape} parameters, expected ({num_params},) and finite: not this "
-                          f"run's policy; move it away (the run then judges no candidate at generation 0)")
+                          f"run's policy; move it away (the run then judges no candidate at generation 1)")
     return theta.astype(np.float32)

@@ -352,7 +352,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             judged_at = ((float(out["candidate_return"]), float(out["mean_return"]), float(np.max(fitness)),
                           float(out["candidate_gain"]), n)
                          if {"candidate_return", "mean_return", "candidate_gain"} <= set(out) else None)  # judged on
-            print(f"shaped-es: {self.run_name}: generation 0: {candidate_line(self._probe_res, won, judged_at)}",
+            print(f"shaped-es: {self.run_name}: generation 1: {candidate_line(self._probe_res, won, judged_at)}",
                   file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now
             verdict.append(self._verdict(out, fitness))

@@ -80,13 +80,13 @@ class GenerationData:
         self._wrap_warned = True
         if self._wrap_declared:
             how = describe(period, True, "the env's position_period leaves it out")
-            print(f"shaped-es: {self.run_name}: warning: generation {generation}'s recorded {how}; its steps and w - p are "
+            print(f"shaped-es: {self.run_name}: warning: generation {generation + 1}'s recorded {how}; its steps and w - p are "
                   f"trained on as they are (the long way round across the cut): check env.unwrapped.position_period "
                   f"(README: Angles that wrap)", file=sys.stderr)
             return
         self.position_period = np.asarray(period, np.float64)  # (d,)
         write_wrap_file(self.store_root, self.position_period, False, generation)
-        print(f"shaped-es: {self.run_name}: generation {generation}'s recorded "
+        print(f"shaped-es: {self.run_name}: generation {generation + 1}'s recorded "
               f"{describe(period, True, 'not seen by the start of the run')}: the next rollouts record it continuous "
               f"and take each step and w - p the short way; the {self.sh.history} generations' rows M_phi and the "
               f"clones read already hold the jumps until they age out (declare env.unwrapped.position_period to "
@@ -101,8 +101,9 @@ class GenerationData:
             trs = read_generation(self.traj_root, generation)
             if not trs:  # every generation's rollouts write a shard: this one was lost
                 raise TrajectoryStoreError(
-                    f"trajectory generation {generation} is missing from {self.traj_root} (deleted?); the "
-                    f"shaped method needs it to continue; restore it or start a new run")
+                    f"generation {generation + 1}'s trajectories (gen_{generation:06d}) are missing from "
+                    f"{self.traj_root} (deleted?); the shaped method needs them to continue; restore them or start "
+                    f"a new run")
             if self.placement == "workers":
                 return trs
             self._remember(generation, trs)

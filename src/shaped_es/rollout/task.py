@@ -34,11 +34,13 @@ class RolloutTask:
     # (d,) a period of info['position'] the run found in its own recorded rows after its start (the shaped guide's
     # late check, guides/shaped_data.py); None: the env's own (rollout/periodic.period_of: declared or detected)
     position_period: np.ndarray | None = None
-    during: str = ""  # what the rollout is part of, for its errors ("": generation ``generation``; :meth:`where`)
+    during: str = ""  # what the rollout is part of, for its errors ("": its generation; :meth:`where`)
 
     def where(self) -> str:
-        """Where in the run this rollout is, as its error lines name it."""
-        return self.during or f"generation {self.generation}"
+        """Where in the run this rollout is, as its error lines name it: generations counted from 1, as the
+        progress line's ``gen N/T`` and the checkpoints' ``gen_N`` count them (only metrics.csv's column
+        counts from 0: the row ``generation`` 1 is "generation 2" here)."""
+        return self.during or f"generation {self.generation + 1}"
 
     def recorded(self) -> np.ndarray:
         """Mask ``(m,)`` of the members whose transitions are kept."""

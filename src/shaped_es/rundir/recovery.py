@@ -113,7 +113,7 @@ class Recovery:
                 raise StoreError(f"{self.ckpt_dir} holds no checkpoint, but {self.metrics_path} holds the rows of "
                                  f"generations {_span(past)} (the run checkpoints every {uncheckpointed} "
                                  f"generation(s): were its checkpoints deleted?); restore them to resume, or move "
-                                 f"{self.metrics_path.name} away to run again from generation 0")
+                                 f"{self.metrics_path.name} away to run again from generation 1")
         cut = _rows_covered(loaded) - 1
         header, rows, repeats = metrics_csv.rows_up_to(self.metrics_path, cut)  # validates too
         missing = sorted(set(range(cut + 1)) - {int(r["generation"]) for r in rows})

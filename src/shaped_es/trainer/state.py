@@ -46,10 +46,12 @@ class CheckpointState:
         return arrays, meta
 
     def _diverged(self, g: int, what: str) -> str:
+        """The error line of generation ``g`` (0-based), named from 1 as the progress line and the checkpoint
+        names count (checkpoint N: after generation N)."""
         gens = self.store.checkpoints()
         kept = f"generation {gens[-1]}" if gens else "none yet"
         knobs = " / ".join(METHODS[self.cfg.method].knobs)
-        return (f"generation {g}: {what} became non-finite (inf/NaN); the run stopped, its last good "
+        return (f"generation {g + 1}: {what} became non-finite (inf/NaN); the run stopped, its last good "
                 f"checkpoint ({kept}) is kept; lower {knobs}")
 
     def load_state(self, arrays: dict, meta: dict) -> None:
