@@ -1,8 +1,13 @@
-"""``trained/evaluate.py``: what ``shaped-es evaluate`` adds beside the returns (the selection note)."""
+"""``trained/evaluate.py``: what ``shaped-es evaluate`` adds beside the returns (the selection note) and what its
+errors name."""
 
+import gymnasium as gym
 import numpy as np
+import pytest
+from helpers import CARTPOLE_TINY, train
 
-from shaped_es.trained.evaluate import selection_note
+from shaped_es.env_probe import EnvError
+from shaped_es.trained.evaluate import evaluate_run, selection_note
 
 
 class _Store:  # the metrics rows a note counts: 30 generations, each tested
@@ -35,3 +40,18 @@ def test_a_best_policy_no_test_has_chosen_says_it_is_the_starting_one():
     note = selection_note(_Store(), _result([1.0, 2.0, 3.0], chosen=None))
     assert note.startswith("note: no test of this run has chosen a best policy yet")
     assert selection_note(_Store(), _result([1.0, 2.0], policy="mean", chosen=None)) is None
+
+
+def test_an_env_error_in_evaluate_names_evaluate_not_a_generation(tmp_path, monkeypatch):
+    """A new user's env raised in ``shaped-es evaluate``: the error said "(generation 0, episode seeds ...)",
+    though evaluate runs no generation."""
+    train(tmp_path / "r", {**CARTPOLE_TINY, "generations": 1, "executor": "inline"})
+
+    def diverged(self, action):
+        raise RuntimeError("simulator diverged")
+
+    monkeypatch.setattr(gym.envs.classic_control.CartPoleEnv, "step", diverged)
+    with pytest.raises(EnvError, match=r"raised RuntimeError: simulator diverged \(evaluate, the best policy, "
+                                       r"episode seeds \d+") as err:
+        evaluate_run(tmp_path / "r", episodes=2, executor="inline")
+    assert "generation" not in str(err.value)

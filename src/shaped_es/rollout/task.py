@@ -102,15 +102,16 @@ def population_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, params: np.nd
 def policy_episode_tasks(env_id: str, env_kwargs: dict, spec: MLPSpec, theta: np.ndarray,
                          seeds: np.ndarray, workers: int, generation: int = 0,
                          max_steps: int | None = None, rowwise: bool = False,
-                         obs_norm: ObsNorm | None = None) -> list[RolloutTask]:
+                         obs_norm: ObsNorm | None = None, during: str = "") -> list[RolloutTask]:
     """One policy ``theta`` ``(n,)`` on episode seeds ``(E,)``, split into at most ``workers`` tasks
     (test and evaluation episodes; each task is "member 0" of its own chunk of seeds); ``rowwise``:
     ``evaluate``'s episodes, whose actions equal ``load_policy(...).predict``'s bit for bit; ``obs_norm``:
-    the policy's input normalization."""
+    the policy's input normalization; ``during``: ``RolloutTask.during`` (episodes outside a generation)."""
     seeds = np.asarray(seeds).reshape(1, -1)  # (1, E)
     E = seeds.shape[1]
     return [RolloutTask(env_id, env_kwargs, spec, theta[None], np.zeros(1, int), seeds[:, c],
-                        generation=generation, max_steps=max_steps, rowwise=rowwise, obs_norm=obs_norm)
+                        generation=generation, max_steps=max_steps, rowwise=rowwise, obs_norm=obs_norm,
+                        during=during)
             for c in np.array_split(np.arange(E), max(1, min(E, workers)))]
 
 

@@ -41,8 +41,10 @@ def es_returns(cfg, arrays: dict, which: str, seeds: np.ndarray, run_dir, execut
     norm = es_obs_norm(arrays, which, spec.obs_dim, run_dir)  # es.obs_norm: what the policy saw (or None)
     warn_if_endless(cfg.env, probe, cfg.rollout.max_steps)
     with make_executor(executor, workers=workers) as ex:
+        # during: an env's error names evaluate, not a generation (evaluate runs none)
         tasks = policy_episode_tasks(cfg.env, cfg.env_kwargs, spec, theta, seeds[None], ex.workers,
-                                     max_steps=cfg.rollout.max_steps, rowwise=True, obs_norm=norm)  # seeds (1, E)
+                                     max_steps=cfg.rollout.max_steps, rowwise=True, obs_norm=norm,
+                                     during=f"evaluate, the {which} policy")  # seeds (1, E)
         res = ex.map(run_task, tasks)
     return np.concatenate([r.returns[0] for r in res])  # (E,)
 
