@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import shaped_es
-from shaped_es.actions import (_to_env_action, action_map, action_problem, from_space, is_choice, output_width,
-                               random_action, to_space, zero_action)
+from shaped_es.actions import (_to_env_action, action_map, action_problem, flat_hint, from_space, is_choice,
+                               output_width, random_action, to_space, zero_action)
 
 MD = gym.spaces.MultiDiscrete([3, 2, 4], start=[-1, 0, 2])
 MB = gym.spaces.MultiBinary(5)
@@ -20,6 +20,16 @@ def test_the_policy_output_width_of_each_space():
     for unusable in (gym.spaces.Box(-1, 1, (2, 2)), gym.spaces.MultiDiscrete([[2, 3], [2, 2]]),
                      gym.spaces.MultiBinary([2, 2]), gym.spaces.Tuple((gym.spaces.Discrete(2),))):
         assert output_width(unusable) is None
+
+
+def test_a_space_of_several_axes_is_told_the_flat_shape_to_declare():
+    """A new user's Box (2, 1) was refused without the way round: declare it flat, reshape inside step."""
+    assert flat_hint(gym.spaces.Box(-1, 1, (2, 1))) == ("; declare it of shape (2,) and reshape inside step: "
+                                                        "action = np.reshape(action, (2, 1))")
+    assert "shape (4,)" in flat_hint(gym.spaces.MultiBinary([2, 2]))
+    assert "shape (4,)" in flat_hint(gym.spaces.MultiDiscrete([[2, 3], [2, 2]]))
+    assert "shape (1,)" in flat_hint(gym.spaces.Box(-1, 1, ()))  # a scalar Box: np.reshape(action, ())
+    assert [flat_hint(s) for s in (*SPACES, gym.spaces.Tuple((gym.spaces.Discrete(2),)))] == [""] * 5
 
 
 def test_a_multidiscrete_output_is_an_argmax_per_sub_action():

@@ -47,7 +47,12 @@ class MissingKey(GoalPoint):
         return {"observation": self.x.copy(), "desired_goal": self.g.copy()}  # achieved_goal left out
 
 
+class ColumnActions(GoalPoint):  # a new user's (2, 1) action column
+    action_space = gym.spaces.Box(-1, 1, (2, 1), np.float32)
+
+
 gym.register("GoalPointDict-v0", entry_point=GoalPoint, max_episode_steps=20)
+gym.register("ColumnActionsPoint-v0", entry_point=ColumnActions, max_episode_steps=20)
 gym.register("MissingKeyPoint-v0", entry_point=MissingKey, max_episode_steps=20)
 gym.register("SequencedPoint-v0", entry_point=Sequenced, max_episode_steps=20)
 
@@ -67,6 +72,16 @@ def test_a_space_gymnasium_cannot_flatten_is_one_line():
     with pytest.raises(EnvSpecError) as err:
         probe_env("SequencedPoint-v0")
     assert "\n" not in str(err.value) and "Gymnasium can flatten" in str(err.value) and "Sequence" in str(err.value)
+
+
+def test_a_box_of_two_axes_is_refused_with_the_way_round():
+    """A new user's Box (2, 1) was refused with no word on what to declare instead; train and check-env say it."""
+    hint = "; declare it of shape (2,) and reshape inside step: action = np.reshape(action, (2, 1))"
+    with pytest.raises(EnvSpecError) as err:
+        probe_env("ColumnActionsPoint-v0")
+    assert str(err.value).endswith("got Box(-1.0, 1.0, (2, 1), float32)" + hint)
+    spaces = next(c for c in check_env("ColumnActionsPoint-v0") if c.name == "spaces")
+    assert spaces.detail.endswith("got Box(-1.0, 1.0, (2, 1), float32)" + hint)
 
 
 def test_a_reset_that_breaks_its_own_space_is_the_envs_error_in_one_line():

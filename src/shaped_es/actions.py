@@ -32,6 +32,16 @@ def output_width(space: gym.Space) -> int | None:
     return None
 
 
+def flat_hint(space: gym.Space) -> str:
+    """For a Box, MultiBinary or MultiDiscrete of other than one axis (a new user's ``Box(-1, 1, (2, 1))``), the
+    way round the refusal: ``; declare it of shape (2,) and reshape inside step: ...``; ``""`` for other spaces."""
+    shape = space.nvec.shape if isinstance(space, gym.spaces.MultiDiscrete) else getattr(space, "shape", None)
+    if not isinstance(space, (gym.spaces.Box, gym.spaces.MultiBinary, gym.spaces.MultiDiscrete)) or len(shape) == 1:
+        return ""
+    return (f"; declare it of shape ({int(np.prod(shape))},) and reshape inside step: "
+            f"action = np.reshape(action, {tuple(int(n) for n in shape)})")
+
+
 def is_choice(space: gym.Space) -> bool:
     """Whether ``space``'s actions are choices (Discrete, MultiDiscrete, MultiBinary): a zero output is action 0."""
     return isinstance(space, CHOICES)

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import gymnasium as gym
 import numpy as np
 
-from shaped_es.actions import is_choice, output_width
+from shaped_es.actions import flat_hint, is_choice, output_width
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core, has_controller
 from shaped_es.policies import MLPSpec
 
@@ -154,7 +154,8 @@ def env_dims(env: gym.Env) -> tuple[int, int]:
                            f"Tuple, Discrete, MultiBinary, MultiDiscrete), got {obs_space}")
     width = output_width(act_space)
     if width is None:
-        raise EnvSpecError(f"action space must be a flat Box, Discrete, MultiDiscrete or MultiBinary, got {act_space}")
+        raise EnvSpecError(f"action space must be a flat Box, Discrete, MultiDiscrete or MultiBinary, got {act_space}"
+                           f"{flat_hint(act_space)}")
     return int(obs_space.shape[0]), width
 
 

@@ -28,7 +28,7 @@ import gymnasium as gym
 import numpy as np
 
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, contract_key_guess, get_batch_core, has_controller
-from shaped_es.actions import action_problem, action_text, is_choice, output_width, zero_action
+from shaped_es.actions import action_problem, action_text, flat_hint, is_choice, output_width, zero_action
 from shaped_es.env_probe import BadOutput
 from shaped_es.env_probe import reward as one_reward
 from shaped_es.rollout import EnvSpecError, close_env, flattened_from, make_env, periodic
@@ -123,7 +123,7 @@ def _spaces(env: gym.Env) -> Check:
                                                                    f"flattened{_order(own)})")
     if output_width(act) is None:
         return Check("spaces", FAIL, f"the action space must be a flat Box, Discrete, MultiDiscrete or MultiBinary, "
-                                     f"got {act}")
+                                     f"got {act}{flat_hint(act)}")
     if is_choice(act):  # the policy's outputs: an argmax per choice, or a sign per bit (actions.py)
         how = {"Discrete": "argmax", "MultiDiscrete": "an argmax per sub-action"}.get(type(act).__name__, "a bit set "
                                                                                         "per positive output")
