@@ -109,6 +109,27 @@ def test_population_fit_equals_the_numpy_steps(optimizer, monkeypatch):
     np.testing.assert_array_equal(ref[0], net.flat)
 
 
+@pytest.mark.parametrize("optimizer", ["adam", "sgd"])
+def test_a_noisy_fit_equals_the_numpy_steps_and_differs_from_a_plain_one(optimizer, monkeypatch):
+    """``noise`` > 0: the compiled fit draws each step's z element by element, as ``param_noise.normals``."""
+    rng = np.random.default_rng(3)
+    spec = MLPSpec(9, 2, (16, 8))
+    P, steps, B = 2, 40, 32
+    theta = np.stack([spec.init(i) for i in range(P)])  # (P, n)
+    S = rng.standard_normal((steps, P, B, 9)).astype(np.float32)
+    A = np.tanh(rng.standard_normal((steps, P, B, 2))).astype(np.float32)
+    noisy = FitTask(spec, theta, S, A, np.ones(P, bool), steps, optimizer, 3e-3, k_eval=2, noise=0.05,
+                    noise_seeds=np.array([7, 2**63 + 5], np.uint64))
+    got = fit_rows(noisy)[0]
+    plain = fit_rows(FitTask(spec, theta, S, A, np.ones(P, bool), steps, optimizer, 3e-3, k_eval=2))[0]
+    monkeypatch.setattr(kernels, "ENABLED", False)
+    ref = fit_rows(noisy)[0]
+    assert _rel(got, ref) < RTOL
+    assert _rel(got, plain) > 10 * max(_rel(got, ref), RTOL)  # the noise moved the fit
+    with pytest.raises(ValueError, match="noise seed per member"):
+        fit_rows(FitTask(spec, theta, S, A, np.ones(P, bool), steps, optimizer, 3e-3, k_eval=2, noise=0.05))
+
+
 def test_mean_clone_size_fit_matches_over_200_steps():
     """The candidate mechanism's clone: one member, 256 rows a step, 200 steps (CarNav-v0's policy)."""
     rng = np.random.default_rng(1)
@@ -118,7 +139,7 @@ def test_mean_clone_size_fit_matches_over_200_steps():
     A = np.tanh(rng.standard_normal((200, 1, 256, 2))).astype(np.float32)
     th = theta.copy()
     kernels.fit_population(th, S, A, np.ones(1, np.float32), True, 3e-3, 0.9, 0.999, 1e-8,
-                           np.array(spec.sizes, np.int64))
+                           np.array(spec.sizes, np.int64), 0.0, np.zeros(1, np.uint64))
     net = PopulationMLP(spec, theta)
     opt = make_optimizer("adam", net.flat.shape, 3e-3)
     for k in range(200):

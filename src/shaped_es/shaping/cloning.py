@@ -296,9 +296,11 @@ def clone_sampled(
         if not has.all():
             S[:, ~has] = 0.0
     fit_cpu = 0.0  # CPU seconds of gradient steps run elsewhere (here: counted by the caller's process)
+    noise_seeds = seeds.astype(np.uint64)  # (P,) each member's parameter-noise stream (with cfg.noise > 0)
     if not fit_elsewhere:
         theta_star, before, after, own_before, own_after, _ = fit_rows(
-            FitTask(spec, th, S, A, has, cfg.steps, cfg.optimizer, cfg.lr, k_eval))
+            FitTask(spec, th, S, A, has, cfg.steps, cfg.optimizer, cfg.lr, k_eval, noise=cfg.noise,
+                    noise_seeds=noise_seeds))
     else:  # chunks of members elsewhere (each member's steps are independent: the same theta*)
         chunks = [c for c in np.array_split(np.arange(P), map_chunks) if c.size]
         def rows(c: np.ndarray) -> dict:  # a chunk's rows: a handle to shared memory, or a copy
@@ -307,7 +309,8 @@ def clone_sampled(
             return dict(S=S[:, c], A=A[:, c])
 
         outs = map_fit(fit_rows, [FitTask(spec, th[c], has=has[c], steps=cfg.steps, optimizer=cfg.optimizer,
-                                          lr=cfg.lr, k_eval=k_eval, **rows(c)) for c in chunks])
+                                          lr=cfg.lr, k_eval=k_eval, noise=cfg.noise, noise_seeds=noise_seeds[c],
+                                          **rows(c)) for c in chunks])
         theta_star = np.concatenate([o[0] for o in outs])
         before, after, own_before, own_after = (np.concatenate([o[j] for o in outs]) for j in range(1, 5))
         fit_cpu = float(sum(o[5] for o in outs))

@@ -197,12 +197,32 @@ def fit_mphi(theta, m, v, t0, sizes, X, Y, idx, shift, scale, clip, lr, b1, b2, 
         _adam(theta, grad, m, v, t0 + k + 1, lr, b1, b2, eps)
 
 
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+
+
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def _normal(seed, counter):
+    """``param_noise.normals``' element ``counter`` for ``seed`` (uint64s): splitmix64, then Box-Muller."""
+    x = seed + (counter + np.uint64(1)) * _GOLDEN
+    x = (x ^ (x >> np.uint64(30))) * _MIX1
+    x = (x ^ (x >> np.uint64(27))) * _MIX2
+    x = x ^ (x >> np.uint64(31))
+    u1 = (np.float64(x >> np.uint64(32)) + 1.0) * 2.3283064365386963e-10  # (0, 1]
+    u2 = np.float64(x & np.uint64(0xFFFFFFFF)) * 2.3283064365386963e-10  # [0, 1)
+    return _F32(np.sqrt(-2.0 * np.log(u1)) * np.cos(6.283185307179586 * u2))
+
+
 @nb.njit(cache=True, error_model="numpy", nogil=True)
-def fit_population(theta, S, A, weight, adam, lr, b1, b2, eps, sizes):
+def fit_population(theta, S, A, weight, adam, lr, b1, b2, eps, sizes, noise, noise_seeds):
     """Behaviour cloning's steps (``population_fit.fit_rows``): member ``p`` (row ``p`` of ``theta``
     ``(P, n)``, in place) takes ``S.shape[0]`` steps, step ``k`` on rows ``S[k, p]`` ``(B, obs)`` with
     labels ``A[k, p]`` ``(B, act)``, gradient ``weight[p]`` times that of their mean squared error; Adam
-    (fresh state, as ``make_optimizer``) or plain SGD. Tanh on every layer (``policies.forward``)."""
+    (fresh state, as ``make_optimizer``) or plain SGD. Tanh on every layer (``policies.forward``).
+    ``noise`` > 0: each step's gradient is taken at ``theta_p + noise * z_k`` (``z_k`` =
+    ``param_noise.normals(noise_seeds[p], k, n)``, drawn here element by element; ``noise_seeds`` ``(P,)``
+    uint64) and applied to ``theta_p``."""
     steps, P, B = S.shape[0], S.shape[1], S.shape[2]
     n_obs, n_act = S.shape[3], A.shape[3]
     n = theta.shape[1]
@@ -213,6 +233,9 @@ def fit_population(theta, S, A, weight, adam, lr, b1, b2, eps, sizes):
     grad = np.zeros(n, np.float32)
     m = np.zeros(n, np.float32)
     v = np.zeros(n, np.float32)
+    noisy = noise > 0.0
+    at = np.empty(n if noisy else 0, np.float32)  # theta_p + noise z_k, where the gradient is taken
+    s = _F32(noise)
     for p in range(P):
         sc = _F32(2.0 / (B * n_act)) * _F32(weight[p])
         th = theta[p]
@@ -223,8 +246,15 @@ def fit_population(theta, S, A, weight, adam, lr, b1, b2, eps, sizes):
             for r in range(B):
                 for i in range(n_obs):
                     x0[r, i] = x[r, i]
-            _forward(th, sizes, False, H, stride, B)
-            _backward(th, sizes, False, H, stride, B, A[k, p], sc, grad, G, Gp)
+            if noisy:
+                seed, base = np.uint64(noise_seeds[p]), np.uint64(k) * np.uint64(n)
+                for i in range(n):
+                    at[i] = th[i] + s * _normal(seed, base + np.uint64(i))
+                _forward(at, sizes, False, H, stride, B)
+                _backward(at, sizes, False, H, stride, B, A[k, p], sc, grad, G, Gp)
+            else:
+                _forward(th, sizes, False, H, stride, B)
+                _backward(th, sizes, False, H, stride, B, A[k, p], sc, grad, G, Gp)
             if adam:
                 _adam(th, grad, m, v, k + 1, lr, b1, b2, eps)
             else:
@@ -323,7 +353,8 @@ def warm_up() -> float:
     fit_mphi(th, th.copy(), th.copy(), 0, sizes, X, Y, idx, f3, f3, 10.0, 1e-3, 0.9, 0.999, 1e-8,
              np.zeros(2))
     S, A = np.zeros((2, 1, 4, 3), np.float32), np.zeros((2, 1, 4, 2), np.float32)
-    fit_population(th[None].copy(), S, A, np.ones(1, np.float32), True, 1e-3, 0.9, 0.999, 1e-8, sizes)
+    fit_population(th[None].copy(), S, A, np.ones(1, np.float32), True, 1e-3, 0.9, 0.999, 1e-8, sizes, 0.0,
+                   np.zeros(1, np.uint64))
     label_mphi(th, sizes, X[:, :2].copy(), X[:, :1].copy(), f3, f3, 10.0, np.zeros((5, 2), np.float32))
     column_stats(X)
     take_block_rows(X, np.zeros(5, np.int64), np.zeros(5, np.int64), 0, np.zeros((5, 3), np.float32))

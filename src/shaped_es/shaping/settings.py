@@ -65,11 +65,14 @@ class CloningConfig:
     optimizer: Literal["adam", "sgd"] = "adam"  # Adam (fresh state per call) or plain SGD
     max_samples: int = 4000  # only the most recent samples of each D_i are used; <= 0: all
     seed: int = 0  # per-member seeds default to SeedSequence([seed, row]) when none are given
+    noise: float = 0.0  # > 0: each step's gradient at theta + noise * z (shaping/param_noise.py; the mean's
+    #                     clone: mean_clone.noise * es.sigma); minibatch fits only (batch_size > 0)
 
     def __post_init__(self):
-        if self.steps < 0 or self.lr <= 0 or self.optimizer not in ("adam", "sgd"):
+        if self.steps < 0 or self.lr <= 0 or self.optimizer not in ("adam", "sgd") or not self.noise >= 0 \
+                or (self.noise > 0 and self.batch_size <= 0):
             raise ValueError(f"bad cloning config: steps={self.steps} lr={self.lr} "
-                             f"optimizer={self.optimizer!r}")
+                             f"optimizer={self.optimizer!r} noise={self.noise} (noise needs batch_size > 0)")
 
 
 @dataclass(frozen=True)
@@ -81,6 +84,9 @@ class MeanCloneConfig:
     batch_size: int = 256  # rows per step, drawn with replacement from the recent recorded steps
     max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
     record_every: int = 1  # the rollouts keep the steps of every k-th member (and of every candidate)
+    noise: float = 1.0  # each Adam step's gradient is taken at theta + noise * es.sigma * z (the search's own
+    #                     parameter noise; shaping/param_noise.py): a clone the population sampled around it
+    #                     does not fall from (0: a plain fit; docs/benchmarks/clone_noise_v28)
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "paired"  # candidate: the best one becomes the mean if it beats every member ("best"),
     #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
@@ -120,11 +126,11 @@ class MeanCloneConfig:
     #                               (guides/probe_candidate.py); a loss there does not count against the labels
 
     def __post_init__(self):
-        if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 \
+        if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 or not self.noise >= 0 \
                 or self.extra_episodes < 0 or self.check_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0 \
                 or not self.revert_paired >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
-                             f"batch_size={self.batch_size} record_every={self.record_every} "
+                             f"batch_size={self.batch_size} record_every={self.record_every} noise={self.noise} "
                              f"accept_margin={self.accept_margin} revert_margin={self.revert_margin} "
                              f"revert_paired={self.revert_paired}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:

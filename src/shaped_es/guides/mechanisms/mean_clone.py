@@ -3,9 +3,10 @@
 DAgger (Ross et al. 2011) on the search's own state distribution: the states the recent rollouts
 visited (every ``record_every``-th member and every candidate, the last ``shaping.history``
 generations) are labelled by the label source (``shaping/labels.py``), and the mean ``mu`` is cloned
-toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` itself:
+toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` itself, each step's gradient
+taken under the search's own parameter noise (``noise`` * ``es.sigma``; ``shaping/param_noise.py``):
 
-    theta* = argmin_theta 1/M sum_t (pi_theta(s_t) - a_hat_t)^2,  started at mu     (Eq. L(theta), on mu)
+    theta* = argmin_theta E_z 1/M sum_t (pi_{theta + s z}(s_t) - a_hat_t)^2,  started at mu   (Eq. L(theta), on mu)
 
 With ``es.obs_norm`` the policy sees ``norm(s_t)``, the normalizer the next generation's rollouts use
 (``host.obs_norm``, set by the trainer before ``after_tell``): ``pi_theta(norm(s_t)) ~ a_hat(s_t)``; the
@@ -38,7 +39,7 @@ def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
         return np.asarray(theta, np.float64), {}
     seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, key)
     clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
-                              max_samples=cfg.max_samples)
+                              max_samples=cfg.max_samples, noise=cfg.noise * host.cfg.es.sigma)
     res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, labels, clone_cfg,
                         np.array([seed]), reference_fn=host.reference,
                         obs_norm=getattr(host, "obs_norm", None))  # (1, n)

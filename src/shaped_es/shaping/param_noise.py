@@ -1,0 +1,44 @@
+"""Counter-based standard normals for cloning under the search's parameter noise (``mean_clone.noise``).
+
+The mean's clone is fitted where the search will sample it: each Adam step's gradient is taken at
+``theta + s z_k`` (``z_k ~ N(0, I_n)``, ``s`` = ``mean_clone.noise * es.sigma``) and applied to ``theta``, so
+the fit minimizes the behaviour-cloning loss smoothed by the ES's own perturbation, ``E_z L(theta + s z)``
+(the Gaussian smoothing ES itself climbs; Salimans et al. 2017, Eq. 1). A clone fitted without it can sit
+where the loss is sharp: on UR5Reach-v0 such clones, accepted as the mean, left the population sampled around
+them far below the mean's own return (late population mean 0.4 against the mean's 45), and the ES steps from
+there lowered the mean (``docs/benchmarks/clone_noise_v28``).
+
+Written by hand (not ``numpy.random``): the compiled fit (``kernels.fit_population``) draws ``z_k`` inside
+its one call, step by step, with no ``(steps, n)`` buffer (a 1M-parameter policy's 200 steps would be 800
+MB), and the NumPy reference must draw the same numbers. Element ``j`` of step ``k`` for seed ``s`` is a
+pure function of ``(s, k n + j)``: splitmix64 (Steele et al. 2014) of the counter, then Box-Muller of its two
+32-bit halves, in float64, rounded to float32. :func:`normals` here; ``kernels._normal`` the same per
+element.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # splitmix64's increment
+MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+MIX2 = np.uint64(0x94D049BB133111EB)
+TWO_PI = 6.283185307179586
+INV_2_32 = 2.0 ** -32
+
+
+def mix(x: np.ndarray) -> np.ndarray:
+    """splitmix64's output function on uint64 ``x`` (wrapping arithmetic)."""
+    x = (x ^ (x >> np.uint64(30))) * MIX1
+    x = (x ^ (x >> np.uint64(27))) * MIX2
+    return x ^ (x >> np.uint64(31))
+
+
+def normals(seed: int, step: int, n: int) -> np.ndarray:
+    """``z_step`` ``(n,)`` float32 for ``seed``: standard normals, element ``j`` from counter ``step * n + j``."""
+    with np.errstate(over="ignore"):
+        counter = np.uint64(step) * np.uint64(n) + np.arange(n, dtype=np.uint64)  # (n,)
+        h = mix(np.uint64(seed & 0xFFFFFFFFFFFFFFFF) + (counter + np.uint64(1)) * GOLDEN)  # (n,) uint64
+    u1 = ((h >> np.uint64(32)).astype(np.float64) + 1.0) * INV_2_32  # (0, 1]
+    u2 = (h & np.uint64(0xFFFFFFFF)).astype(np.float64) * INV_2_32  # [0, 1)
+    return (np.sqrt(-2.0 * np.log(u1)) * np.cos(TWO_PI * u2)).astype(np.float32)
