@@ -204,14 +204,15 @@ _MIX2 = np.uint64(0x94D049BB133111EB)
 
 @nb.njit(cache=True, error_model="numpy", inline="always")
 def _normal(seed, counter):
-    """``param_noise.normals``' element ``counter`` for ``seed`` (uint64s): splitmix64, then Box-Muller."""
+    """``param_noise.normals``' element ``counter`` for ``seed`` (uint64s): splitmix64, then the scaled sum of
+    its four 16-bit parts."""
     x = seed + (counter + np.uint64(1)) * _GOLDEN
     x = (x ^ (x >> np.uint64(30))) * _MIX1
     x = (x ^ (x >> np.uint64(27))) * _MIX2
     x = x ^ (x >> np.uint64(31))
-    u1 = (np.float64(x >> np.uint64(32)) + 1.0) * 2.3283064365386963e-10  # (0, 1]
-    u2 = np.float64(x & np.uint64(0xFFFFFFFF)) * 2.3283064365386963e-10  # [0, 1)
-    return _F32(np.sqrt(-2.0 * np.log(u1)) * np.cos(6.283185307179586 * u2))
+    m = np.uint64(0xFFFF)
+    total = _F32((x & m) + ((x >> np.uint64(16)) & m) + ((x >> np.uint64(32)) & m) + (x >> np.uint64(48)))
+    return (total * _F32(1.0 / 65536.0) - _F32(2.0)) * _F32(1.7320508)
 
 
 @nb.njit(cache=True, error_model="numpy", nogil=True)

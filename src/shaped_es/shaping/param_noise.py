@@ -11,9 +11,11 @@ there lowered the mean (``docs/benchmarks/clone_noise_v28``).
 Written by hand (not ``numpy.random``): the compiled fit (``kernels.fit_population``) draws ``z_k`` inside
 its one call, step by step, with no ``(steps, n)`` buffer (a 1M-parameter policy's 200 steps would be 800
 MB), and the NumPy reference must draw the same numbers. Element ``j`` of step ``k`` for seed ``s`` is a
-pure function of ``(s, k n + j)``: splitmix64 (Steele et al. 2014) of the counter, then Box-Muller of its two
-32-bit halves, in float64, rounded to float32. :func:`normals` here; ``kernels._normal`` the same per
-element.
+pure function of ``(s, k n + j)``: splitmix64 (Steele et al. 2014) of the counter, whose four 16-bit parts
+are summed (Irwin-Hall: a Gaussian's mean and variance after scaling, kurtosis 2.7 against 3, bounded at
++-3.46) -- about 0.5 ns an element in the kernel, where Box-Muller's logarithm and cosine cost 30-110 ns and
+made a 118k-parameter clone's 200 steps 2.7x slower. The smoothing needs the search's scale, not its
+exact tails. :func:`normals` here; ``kernels._normal`` the same per element.
 """
 
 from __future__ import annotations
@@ -23,8 +25,8 @@ import numpy as np
 GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # splitmix64's increment
 MIX1 = np.uint64(0xBF58476D1CE4E5B9)
 MIX2 = np.uint64(0x94D049BB133111EB)
-TWO_PI = 6.283185307179586
-INV_2_32 = 2.0 ** -32
+SCALE = np.float32(1.7320508)  # sqrt(12 / 4): the sum of four U(0, 1) has variance 4 / 12
+INV_2_16 = np.float32(1.0 / 65536.0)
 
 
 def mix(x: np.ndarray) -> np.ndarray:
@@ -35,10 +37,11 @@ def mix(x: np.ndarray) -> np.ndarray:
 
 
 def normals(seed: int, step: int, n: int) -> np.ndarray:
-    """``z_step`` ``(n,)`` float32 for ``seed``: standard normals, element ``j`` from counter ``step * n + j``."""
+    """``z_step`` ``(n,)`` float32 for ``seed``: mean 0, variance 1 (Irwin-Hall of four uniforms, near a standard
+    normal), element ``j`` from counter ``step * n + j``."""
     with np.errstate(over="ignore"):
         counter = np.uint64(step) * np.uint64(n) + np.arange(n, dtype=np.uint64)  # (n,)
         h = mix(np.uint64(seed & 0xFFFFFFFFFFFFFFFF) + (counter + np.uint64(1)) * GOLDEN)  # (n,) uint64
-    u1 = ((h >> np.uint64(32)).astype(np.float64) + 1.0) * INV_2_32  # (0, 1]
-    u2 = (h & np.uint64(0xFFFFFFFF)).astype(np.float64) * INV_2_32  # [0, 1)
-    return (np.sqrt(-2.0 * np.log(u1)) * np.cos(TWO_PI * u2)).astype(np.float32)
+    parts = [(h >> np.uint64(16 * i)) & np.uint64(0xFFFF) for i in range(4)]  # four (n,) 16-bit integers
+    total = (parts[0] + parts[1] + parts[2] + parts[3]).astype(np.float32)  # (n,) exact below 2^18
+    return (total * INV_2_16 - np.float32(2.0)) * SCALE
