@@ -79,6 +79,35 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
         assert len(text) <= LINE_MAX and "\n" not in text
 
 
+def test_the_simulated_candidates_are_fitted_under_the_runs_parameter_noise(monkeypatch):
+    """The probe's clones are the run's clone: mean_clone.noise * es.sigma, each variant's own noise stream."""
+    from shaped_es.config import build_config
+    from shaped_es.guides import clone_probe
+    from shaped_es.rollout import RolloutTask, policy_spec, probe_env, run_task
+    from shaped_es.shaping.labels import LabelSource
+
+    cfg = build_config({**POINT, "seed": 3, "es": {"sigma": 0.1}, "shaping": {"mean_clone": {"noise": 2.0, "steps": 5}}})
+    spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+    seeds = np.arange(2) + 100
+    P = np.zeros((2, spec.num_params), np.float32)
+    data = run_task(RolloutTask(cfg.env, {}, spec, P, np.arange(2), np.tile(seeds, (2, 1)), record=True)).transitions
+
+    class Zero(LabelSource):
+        def inputs(self, tr):
+            return tr.waypoint - tr.position  # (T, 2)
+
+        def __call__(self, states, inputs):
+            return np.zeros((len(states), 2), np.float32)
+
+    tasks = []
+    real = clone_probe.fit_rows
+    monkeypatch.setattr(clone_probe, "fit_rows", lambda task: tasks.append(task) or real(task))
+    clone_probe.clone_rounds_many(cfg, spec, spec.init(0), data, [Zero(), Zero()], seeds, [0, 1])
+    assert tasks and all(t.noise == pytest.approx(0.2) for t in tasks)
+    assert all(len(set(t.noise_seeds.tolist())) == 2 for t in tasks)  # the two variants' own streams
+    assert len({tuple(t.noise_seeds.tolist()) for t in tasks}) == len(tasks)  # a new stream each round
+
+
 def test_the_simulated_candidate_learns_from_good_labels(monkeypatch):
     """clone_rounds: the initial mean cloned toward labels that head for the waypoint (PointVel-v0's action
     is the velocity) drives better than cloned toward zero labels."""

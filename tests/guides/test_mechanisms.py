@@ -137,6 +137,30 @@ class _Host:
         return type("Rows", (), {"lengths": lambda self: np.ones(1, np.int64)})()
 
 
+def test_the_means_clone_is_fitted_under_noise_scaled_by_the_searchs_sigma(monkeypatch):
+    """mean_clone.noise is a share of es.sigma: the clone's steps take their gradient at theta + noise * sigma * z."""
+    from shaped_es.guides.mechanisms import mean_clone as mc_mod
+    from shaped_es.shaping.cloning import CloneResult
+
+    seen = []
+
+    def fake(spec, theta, rows, labels, cfg, seeds, **kw):
+        seen.append(cfg)
+        return CloneResult(theta_star=np.asarray(theta), loss_before=np.zeros(1), loss_after=np.zeros(1),
+                           samples=np.ones(1, np.int64), label_std=0.0, reference=None)
+
+    monkeypatch.setattr(mc_mod, "clone_sampled", fake)
+    host = _Host(3, "paired", noise=0.5)
+    host.cfg = type("C", (), {"seed": 0, "es": type("E", (), {"sigma": 0.04})()})()
+    host.reference = None
+    for noise, want in ((0.5, 0.02), (0.0, 0.0)):
+        cfg = MeanCloneConfig(noise=noise)
+        mc_mod.clone_mean(host, 1, np.zeros(3), cfg, rows=host.dagger_rows(1), labels=object())
+        assert seen[-1].noise == pytest.approx(want)
+    with pytest.raises(ValueError, match="noise"):
+        MeanCloneConfig(noise=-1.0)
+
+
 @pytest.mark.parametrize("accept", ["best", "mean", "mean+keep_step"])
 def test_candidate_becomes_the_mean_only_when_selection_prefers_it(monkeypatch, accept):
     """keep_step: the accepted candidate c_g keeps the ES update: mu_{g+1} = c_g + (mu_{g+1} - mu_g)."""

@@ -49,8 +49,8 @@ def boot(fn, n: int, reps=4000, rng=None):
 
 def main(new: Path, before: Path, base: Path) -> dict:
     out = {}
-    for task, budget in SUITES["waypoints"].items():
-        thr = threshold_of(task)
+    for task, budget in ((t.env, t.generations) for t in SUITES["waypoints"]):
+        thr = threshold_of(task)[0]
         a, b = seeds_of(new, task, "shaped", budget, thr), seeds_of(before, task, "shaped", budget, thr)
         common = sorted(set(a) & set(b))
         if not common:
