@@ -79,8 +79,9 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
         assert len(text) <= LINE_MAX and "\n" not in text
 
 
-def test_the_simulated_candidates_are_fitted_under_the_runs_parameter_noise(monkeypatch):
-    """The probe's clones are the run's clone: mean_clone.noise * es.sigma, each variant's own noise stream."""
+def test_the_simulated_candidates_are_plain_fits_whatever_the_runs_clone_noise(monkeypatch):
+    """The probe's three rounds from the initial mean are too few steps for a fit under parameter noise: its clones
+    are fitted plainly, also where the run's clone takes mean_clone.noise."""
     from shaped_es.config import build_config
     from shaped_es.guides import clone_probe
     from shaped_es.rollout import RolloutTask, policy_spec, probe_env, run_task
@@ -103,9 +104,7 @@ def test_the_simulated_candidates_are_fitted_under_the_runs_parameter_noise(monk
     real = clone_probe.fit_rows
     monkeypatch.setattr(clone_probe, "fit_rows", lambda task: tasks.append(task) or real(task))
     clone_probe.clone_rounds_many(cfg, spec, spec.init(0), data, [Zero(), Zero()], seeds, [0, 1])
-    assert tasks and all(t.noise == pytest.approx(0.2) for t in tasks)
-    assert all(len(set(t.noise_seeds.tolist())) == 2 for t in tasks)  # the two variants' own streams
-    assert len({tuple(t.noise_seeds.tolist()) for t in tasks}) == len(tasks)  # a new stream each round
+    assert len(tasks) == 3 and all(t.noise == 0 for t in tasks)  # 3 rounds, each one plain fit of both variants
 
 
 def test_the_simulated_candidate_learns_from_good_labels(monkeypatch):

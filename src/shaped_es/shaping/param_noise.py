@@ -1,12 +1,13 @@
 """Counter-based standard normals for cloning under the search's parameter noise (``mean_clone.noise``).
 
-The mean's clone is fitted where the search will sample it: each Adam step's gradient is taken at
-``theta + s z_k`` (``z_k ~ N(0, I_n)``, ``s`` = ``mean_clone.noise * es.sigma``) and applied to ``theta``, so
-the fit minimizes the behaviour-cloning loss smoothed by the ES's own perturbation, ``E_z L(theta + s z)``
-(the Gaussian smoothing ES itself climbs; Salimans et al. 2017, Eq. 1). A clone fitted without it can sit
-where the loss is sharp: on UR5Reach-v0 such clones, accepted as the mean, left the population sampled around
-them far below the mean's own return (late population mean 0.4 against the mean's 45), and the ES steps from
-there lowered the mean (``docs/benchmarks/clone_noise_v28``).
+With ``mean_clone.noise`` > 0 (off by default) the mean's clone is fitted where the search will sample it:
+each Adam step's gradient is taken at ``theta + s z_k`` (``z_k`` near ``N(0, I_n)``, ``s`` = ``mean_clone.noise *
+es.sigma``) and applied to ``theta``, so the fit aims at the behaviour-cloning loss smoothed by the ES's own
+perturbation, ``E_z L(theta + s z)`` (the Gaussian smoothing ES itself climbs; Salimans et al. 2017, Eq. 1).
+A plain clone can sit where the loss is sharp: on UR5Reach-v0 such clones, accepted as the mean, left the
+population sampled around them far below the mean's own return (late population mean 0.4 against the mean's
+45), and the ES steps from there lowered the mean. The noise lifts the late reward there and costs generations
+to the threshold on other bodies (``docs/benchmarks/clone_noise_v28``).
 
 Written by hand (not ``numpy.random``): the compiled fit (``kernels.fit_population``) draws ``z_k`` inside
 its one call, step by step, with no ``(steps, n)`` buffer (a 1M-parameter policy's 200 steps would be 800

@@ -3,10 +3,13 @@
 DAgger (Ross et al. 2011) on the search's own state distribution: the states the recent rollouts
 visited (every ``record_every``-th member and every candidate, the last ``shaping.history``
 generations) are labelled by the label source (``shaping/labels.py``), and the mean ``mu`` is cloned
-toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` itself, each step's gradient
-taken under the search's own parameter noise (``noise`` * ``es.sigma``; ``shaping/param_noise.py``):
+toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` itself:
 
-    theta* = argmin_theta E_z 1/M sum_t (pi_{theta + s z}(s_t) - a_hat_t)^2,  started at mu   (Eq. L(theta), on mu)
+    theta* = argmin_theta 1/M sum_t (pi_theta(s_t) - a_hat_t)^2,  started at mu     (Eq. L(theta), on mu)
+
+With ``noise`` > 0 each step's gradient is taken under the search's own parameter noise (``s = noise * es.sigma``;
+``shaping/param_noise.py``), the loss ``E_z 1/M sum_t (pi_{theta + s z}(s_t) - a_hat_t)^2`` (off by default:
+``docs/benchmarks/clone_noise_v28``).
 
 With ``es.obs_norm`` the policy sees ``norm(s_t)``, the normalizer the next generation's rollouts use
 (``host.obs_norm``, set by the trainer before ``after_tell``): ``pi_theta(norm(s_t)) ~ a_hat(s_t)``; the
