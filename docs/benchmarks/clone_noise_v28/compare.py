@@ -5,7 +5,7 @@ resampled in pairs), the late test reward (each seed's mean over its last 10 tes
 with an interval, the late population mean (the training returns around the mean, last 10 generations),
 candidates accepted a run, and the baselines' generations and late reward beside them. Prints Markdown, then JSON.
 
-    PYTHONPATH=src python docs/benchmarks/clone_noise_v28/compare.py NEW_SUITE BEFORE_SUITE BASELINE_SUITE
+    PYTHONPATH=src python docs/benchmarks/clone_noise_v28/compare.py NEW_SUITE[,NEW_SUITE2] BEFORE_SUITE BASELINE_SUITE
 """
 import csv
 import json
@@ -34,7 +34,8 @@ def run(d: Path, budget: int, thr: float):
 
 def seeds_of(root: Path, task: str, method: str, budget: int, thr: float) -> dict:
     out = {}
-    for d in sorted((root / task / "runs").glob(f"{method}_s*")):
+    roots = [Path(p) for p in str(root).split(",")]  # several suite folders of one study (run side by side)
+    for d in sorted(d for r in roots for d in (r / task / "runs").glob(f"{method}_s*")):
         s = run(d, budget, thr)
         if s is not None:
             out[int(d.name.split("_s")[-1])] = s
@@ -47,7 +48,7 @@ def boot(fn, n: int, reps=4000, rng=None):
     return [round(float(np.percentile(v, 2.5)), 2), round(float(np.percentile(v, 97.5)), 2)]
 
 
-def main(new: Path, before: Path, base: Path) -> dict:
+def main(new: str, before: str, base: str) -> dict:
     out = {}
     for task, budget in ((t.env, t.generations) for t in SUITES["waypoints"]):
         thr = threshold_of(task)[0]
@@ -91,6 +92,6 @@ def markdown(res: dict) -> str:
 
 
 if __name__ == "__main__":
-    res = main(*(Path(p) for p in sys.argv[1:4]))
+    res = main(*sys.argv[1:4])
     print(markdown(res))
     print(json.dumps(res, indent=1))
