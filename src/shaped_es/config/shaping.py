@@ -174,11 +174,12 @@ class MeanCloneSettings(_Strict):
     record_every: Int = Field(_MEAN.record_every, ge=1, description="the rollouts keep the steps of every k-th "
                               "member (and of every candidate): the clone's states and M_phi's data")
     noise: Float = Field(_MEAN.noise, ge=0, le=100, description="> 0: the clone is fitted under the search's own "
-                         "parameter noise: each Adam step's gradient is taken at theta + noise * es.sigma * z, z ~ "
-                         "N(0, I), so it fits where the population will be sampled, not only at its centre. 1 raised "
-                         "UR5Reach-v0's late reward (57.8 against 43.3; CMA-ES 49.9) and took 1.3-1.9x the generations "
-                         "to the threshold on UR5Reach-v0, CarNav-v0 and a gravity arm, so 0 (a plain fit) is the "
-                         "default; the label probe's clones are always plain (docs/benchmarks/clone_noise_v28)")
+                         "parameter noise: each Adam step's gradient is taken at theta + noise * es.sigma * z, z near "
+                         "N(0, I), so it fits where the population will be sampled, not only at its centre. 1 (the "
+                         "label probe's clones stay plain) raised UR5Reach-v0's late population far more than its late "
+                         "reward (+7.8 and +2.7 on two seed sets, neither clear of zero) and took 1.16-1.65x the "
+                         "generations to the threshold there, 1.30x on CarNav-v0, 1.11x on a gravity arm, so 0 (a plain "
+                         "fit) is the default (docs/benchmarks/clone_noise_v28)")
     scales: tuple[Float, ...] = Field(_MEAN.scales, min_length=1, description="candidate: mu + s (theta* - mu) "
                                       "is evaluated for each scale s, a positive number (e.g. [0.5, 1.0])")
     accept: Literal[tuple(ACCEPT_RULES)] = Field(

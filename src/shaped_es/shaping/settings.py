@@ -85,8 +85,8 @@ class MeanCloneConfig:
     max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
     record_every: int = 1  # the rollouts keep the steps of every k-th member (and of every candidate)
     noise: float = 0.0  # > 0: each Adam step's gradient is taken at theta + noise * es.sigma * z (the search's own
-    #                     parameter noise; shaping/param_noise.py): UR5Reach-v0's late reward up, generations to
-    #                     the threshold up on the arms and CarNav-v0, so off (docs/benchmarks/clone_noise_v28)
+    #                     parameter noise; shaping/param_noise.py): UR5Reach-v0's late population up, its late reward
+    #                     not clearly, generations to the threshold up, so off (docs/benchmarks/clone_noise_v28)
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "paired"  # candidate: the best one becomes the mean if it beats every member ("best"),
     #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
