@@ -84,6 +84,17 @@ def test_a_box_of_two_axes_is_refused_with_the_way_round():
     assert spaces.detail.endswith("got Box(-1.0, 1.0, (2, 1), float32)" + hint)
 
 
+def test_check_env_says_which_checks_wait_for_the_spaces(capsys):
+    """check-env stops at a spaces FAIL; its last line says the other checks run once the spaces pass (a new user
+    read the short list as every check passing)."""
+    from shaped_es.cli import main
+
+    assert main(["check-env", "ColumnActionsPoint-v0"]) == 1
+    out = capsys.readouterr().out.strip().splitlines()
+    assert out[-1] == ("ColumnActionsPoint-v0 cannot train here: fix the FAIL line(s) above (the time limit, episode, "
+                       "waypoint and reward checks run once the spaces pass)")
+
+
 def test_a_reset_that_breaks_its_own_space_is_the_envs_error_in_one_line():
     """A new user's Dict env without one of its keys: Gymnasium's checker asserts in reset, which a shaped run's
     pre-run check reported as an internal error."""

@@ -280,8 +280,10 @@ def cmd_check_env(a: argparse.Namespace) -> int:
         width = max(len(c.name) for c in checks)
         for c in checks:
             print(f"{c.status:<4}  {c.name:<{width}}  {c.detail}")
+        stopped = checks[-1].name == "spaces" and checks[-1].status == FAIL  # check_env stops at bad spaces
         print(f"{a.env_id} trains with: {', '.join(methods)}" if methods else
-              f"{a.env_id} cannot train here: fix the FAIL line(s) above")
+              f"{a.env_id} cannot train here: fix the FAIL line(s) above"
+              + (" (the time limit, episode, waypoint and reward checks run once the spaces pass)" if stopped else ""))
         sys.stdout.flush()
     labels = None
     if a.labels and "shaped" in methods:
