@@ -22,3 +22,15 @@ def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_names_it_
     fresh = argparse.Namespace(command="train", out=str(tmp_path / "never"))  # no run was left: no hint
     line, _ = error_line(EnvError("env 'X' raised ValueError: bad", "Traceback ..."), fresh, debug=False)
     assert "resume" not in line
+
+
+def test_the_run_of_a_command_is_its_run_dir_before_its_out():
+    """render's --out is its GIF: a traceback of render goes to the run's error.log, not beside a file name."""
+    import argparse
+
+    from shaped_es.cli.errors import _run_dir
+
+    assert _run_dir(argparse.Namespace(run_dir="runs/a", out="video.gif")) == "runs/a"
+    assert _run_dir(argparse.Namespace(out="runs/new")) == "runs/new"
+    assert _run_dir(argparse.Namespace(run_dir="runs/a")) == "runs/a"
+    assert _run_dir(argparse.Namespace()) is None

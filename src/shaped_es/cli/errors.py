@@ -41,7 +41,9 @@ def _user_errors() -> tuple[type[BaseException], ...]:
 
 
 def _run_dir(a: argparse.Namespace) -> str | None:
-    return getattr(a, "out", None) or getattr(a, "run_dir", None)
+    """The run a command works on: ``run_dir`` (evaluate, render, resume; render's ``--out`` is its GIF), else
+    ``--out`` (train, benchmark)."""
+    return getattr(a, "run_dir", None) or getattr(a, "out", None)
 
 
 class Terminated(KeyboardInterrupt):
