@@ -29,6 +29,8 @@ import time
 import numba as nb
 import numpy as np
 
+from shaped_es.shaping.param_noise import GOLDEN, INV_2_16, MIX1, MIX2, SCALE
+
 ENABLED = os.environ.get("SHAPED_ES_KERNELS", "1") != "0"
 
 _FM = {"contract", "reassoc", "nsz"}  # FMA and reordered sums in the products; no assumptions on NaN/inf
@@ -197,22 +199,17 @@ def fit_mphi(theta, m, v, t0, sizes, X, Y, idx, shift, scale, clip, lr, b1, b2, 
         _adam(theta, grad, m, v, t0 + k + 1, lr, b1, b2, eps)
 
 
-_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
-_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
-_MIX2 = np.uint64(0x94D049BB133111EB)
-
-
 @nb.njit(cache=True, error_model="numpy", inline="always")
 def _normal(seed, counter):
-    """``param_noise.normals``' element ``counter`` for ``seed`` (uint64s): splitmix64, then the scaled sum of
-    its four 16-bit parts."""
-    x = seed + (counter + np.uint64(1)) * _GOLDEN
-    x = (x ^ (x >> np.uint64(30))) * _MIX1
-    x = (x ^ (x >> np.uint64(27))) * _MIX2
+    """``param_noise.normals``' element ``counter`` for ``seed`` (uint64s), with its constants: splitmix64, then the
+    scaled sum of its four 16-bit parts."""
+    x = seed + (counter + np.uint64(1)) * GOLDEN
+    x = (x ^ (x >> np.uint64(30))) * MIX1
+    x = (x ^ (x >> np.uint64(27))) * MIX2
     x = x ^ (x >> np.uint64(31))
     m = np.uint64(0xFFFF)
     total = _F32((x & m) + ((x >> np.uint64(16)) & m) + ((x >> np.uint64(32)) & m) + (x >> np.uint64(48)))
-    return (total * _F32(1.0 / 65536.0) - _F32(2.0)) * _F32(1.7320508)
+    return (total * INV_2_16 - _F32(2.0)) * SCALE
 
 
 @nb.njit(cache=True, error_model="numpy", nogil=True)
@@ -247,15 +244,14 @@ def fit_population(theta, S, A, weight, adam, lr, b1, b2, eps, sizes, noise, noi
             for r in range(B):
                 for i in range(n_obs):
                     x0[r, i] = x[r, i]
+            w = th  # where the gradient is taken
             if noisy:
                 seed, base = np.uint64(noise_seeds[p]), np.uint64(k) * np.uint64(n)
                 for i in range(n):
                     at[i] = th[i] + s * _normal(seed, base + np.uint64(i))
-                _forward(at, sizes, False, H, stride, B)
-                _backward(at, sizes, False, H, stride, B, A[k, p], sc, grad, G, Gp)
-            else:
-                _forward(th, sizes, False, H, stride, B)
-                _backward(th, sizes, False, H, stride, B, A[k, p], sc, grad, G, Gp)
+                w = at
+            _forward(w, sizes, False, H, stride, B)
+            _backward(w, sizes, False, H, stride, B, A[k, p], sc, grad, G, Gp)
             if adam:
                 _adam(th, grad, m, v, k + 1, lr, b1, b2, eps)
             else:

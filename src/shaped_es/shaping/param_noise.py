@@ -6,8 +6,8 @@ es.sigma``) and applied to ``theta``, so the fit aims at the behaviour-cloning l
 perturbation, ``E_z L(theta + s z)`` (the Gaussian smoothing ES itself climbs; Salimans et al. 2017, Eq. 1).
 A plain clone can sit where the loss is sharp: on UR5Reach-v0 such clones, accepted as the mean, left the
 population sampled around them far below the mean's own return (late population mean 0.4 against the mean's
-test reward of 43, means over 10 seeds), and the ES steps from there lowered the mean. The noise lifts the late reward there and costs generations
-to the threshold on other bodies (``docs/benchmarks/clone_noise_v28``).
+test reward of 43, means over 10 seeds), and the ES steps from there lowered the mean. The noise brings that
+population back and costs generations to the threshold (``docs/benchmarks/clone_noise_v28``).
 
 Written by hand (not ``numpy.random``): the compiled fit (``kernels.fit_population``) draws ``z_k`` inside
 its one call, step by step, with no ``(steps, n)`` buffer (a 1M-parameter policy's 200 steps would be 800
@@ -16,7 +16,7 @@ pure function of ``(s, k n + j)``: splitmix64 (Steele et al. 2014) of the counte
 are summed (Irwin-Hall: a Gaussian's mean and variance after scaling, kurtosis 2.7 against 3, bounded at
 +-3.46) -- about 0.5 ns an element in the kernel, where Box-Muller's logarithm and cosine cost 30-110 ns and
 made a 118k-parameter clone's 200 steps 2.7x slower. The smoothing needs the search's scale, not its
-exact tails. :func:`normals` here; ``kernels._normal`` the same per element.
+exact tails. :func:`normals` here; ``kernels._normal`` the same per element, with these constants.
 """
 
 from __future__ import annotations
