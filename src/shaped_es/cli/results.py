@@ -21,15 +21,27 @@ def add_evaluate_parser(sub) -> argparse.ArgumentParser:
     e.add_argument("--episodes", type=int, default=15, help="test episodes")
     e.add_argument("--policy", choices=("best", "mean"), default="best", help=POLICY_HELP)
     e.add_argument("--seed", type=int, default=12345, help="seed of the evaluation episodes")
+    add_executor_options(e)
     e.set_defaults(fn=cmd_evaluate)
     return e
+
+
+def add_executor_options(p: argparse.ArgumentParser) -> None:
+    """``--executor`` and ``--workers`` as ``train`` takes them (its default: the config's, ``process``)."""
+    from shaped_es.config import RunConfig
+    from shaped_es.executors import EXECUTORS
+
+    p.add_argument("--executor", choices=tuple(EXECUTORS), default=RunConfig.model_fields["executor"].default,
+                   help="where the episodes run: inline (this process), process (local workers), ray, mpi")
+    p.add_argument("--workers", type=int, help="worker count (default: all cores)")
 
 
 def cmd_evaluate(a: argparse.Namespace) -> int:
     from shaped_es.rundir.store import RunStore
     from shaped_es.trained.evaluate import evaluate_run, selection_note
 
-    result = evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed)
+    result = evaluate_run(a.run_dir, episodes=a.episodes, which=a.policy, seed=a.seed, executor=a.executor,
+                          workers=a.workers)
     print(json.dumps(result))
     note = selection_note(RunStore(a.run_dir), result)
     if note:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from shaped_es import seeding
-from shaped_es.config import check_seed
+from shaped_es.config import ConfigError, check_seed
 from shaped_es.executors import make_executor
 from shaped_es.methods import METHODS, resolve
 from shaped_es.trained.load import es_obs_norm, es_params, policy_generation
@@ -22,6 +22,8 @@ def evaluate_run(run_dir, episodes: int = 15, which: str = "best", seed: int = 1
                  executor: str = "process", workers: int | None = None) -> dict:
     if episodes <= 0:
         raise StoreError("--episodes must be positive")
+    if workers is not None and workers <= 0:
+        raise ConfigError(f"--workers must be positive, got {workers}")
     check_seed(seed)
     store = RunStore(run_dir)
     cfg = store.read_config()
