@@ -52,6 +52,6 @@ def test_an_env_error_in_evaluate_names_evaluate_not_a_generation(tmp_path, monk
 
     monkeypatch.setattr(gym.envs.classic_control.CartPoleEnv, "step", diverged)
     with pytest.raises(EnvError, match=r"raised RuntimeError: simulator diverged \(evaluate, the best policy, "
-                                       r"episode seeds \d+") as err:
+                                       r"episode seed \d+\)") as err:
         evaluate_run(tmp_path / "r", episodes=2, executor="inline")
     assert "generation" not in str(err.value)

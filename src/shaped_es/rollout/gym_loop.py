@@ -21,7 +21,7 @@ from shaped_es.rollout.obs_sums import _ObsSums, _sum_in_order
 from shaped_es.rollout.periodic import Unwrapper, period_of
 from shaped_es.rollout.record import _controller, _join_episodes, _Recorder
 from shaped_es.rollout.task import RolloutResult, RolloutTask, _finish, _policy_input
-from shaped_es.rollout.worker_envs import _envs
+from shaped_es.rollout.worker_envs import _envs, tag_seed
 
 
 # Positions whose magnitude passes this (UTM coordinates, a large map) are recorded from the episode's first
@@ -37,6 +37,9 @@ def _reset(task: RolloutTask, env: gym.Env, seed: int) -> tuple:
         return reset_output(env.reset(seed=seed))
     except BadOutput as exc:
         raise _bad_output(task, str(exc), seed, 0) from None
+    except (Exception, SystemExit) as exc:  # the env's own: its line names this episode's seed
+        tag_seed(exc, seed)
+        raise
 
 
 def _step(env: gym.Env, action) -> tuple:
@@ -155,6 +158,9 @@ def _run_gym(task: RolloutTask, default_cap: int) -> RolloutResult:
                 o, r = observation(o, shape), reward(r)
             except BadOutput as exc:
                 raise _bad_output(task, str(exc), seeds[b], t + 1) from None
+            except (Exception, SystemExit) as exc:  # the env's own: its line names this episode's seed
+                tag_seed(exc, seeds[b])
+                raise
             if o.shape != shape:
                 _check_obs(task, o, shape, seeds[b], t + 1)
             nobs[b], rew[b], infos[b] = o, r, info
