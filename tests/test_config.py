@@ -74,6 +74,19 @@ def test_set_values_that_yaml_cannot_read_are_one_line(item, needle):
     assert needle in str(e.value) and "\n" not in str(e.value)
 
 
+@pytest.mark.parametrize("key", ["es.sigma", "rollout.max_steps", "policy.hidden"])
+def test_an_empty_set_value_is_refused_naming_the_key_and_got_empty(key):
+    """``--set es.sigma=`` said "Input should be a valid number" without the value, and ``--set
+    rollout.max_steps=`` (an empty shell variable) left the field null without a word: YAML reads '' as null."""
+    for value in ("", " "):
+        with pytest.raises(ConfigError) as e:
+            parse_set([f"{key}={value}"])
+        assert str(e.value) == (f"invalid config: {key}: an empty value; give one (null leaves an optional field "
+                                f"unset) (got {value!r})")
+    assert parse_set(["rollout.max_steps=null"]) == {"rollout.max_steps": None}  # null, said, still unsets
+    assert build_config(merge({}, parse_set(["rollout.max_steps=null"]))).rollout.max_steps is None
+
+
 def test_settings_dataclasses_share_their_config_sections_defaults():
     """One truth: the shaping dataclasses and PPOSettings have their config section's defaults (a section's
     ``frame: auto`` resolves to the dataclass's world/motion in guides/shaped.py), PPOSettings its fields."""

@@ -62,6 +62,9 @@ CASES = [
     ("eta-1e-300", nothing, train("--method", "shaped", "--set", "shaping.eta=1e-300",
                                   env="fault_envs:Reach-v0"), "shaping.eta"),
     ("pairs-true", nothing, s("es.pairs=true"), "es.pairs: Input should be a valid integer (got true)"),
+    ("sigma-empty", nothing, s("es.sigma="), "es.sigma: an empty value; give one (null leaves an optional "
+                                             "field unset) (got '')"),
+    ("max-steps-empty", nothing, s("rollout.max_steps="), "rollout.max_steps: an empty value"),  # null, silently
     ("seed-2**32", nothing, train("--seed", str(2**32)), "seed: Input should be less than 4294967296"),
     ("hidden-bool", nothing, s("policy.hidden=[8, true]"), "policy.hidden.1"),
     ("hidden-word", nothing, s("policy.hidden=abc"), "policy.hidden: Input should be a list, e.g. its default [32, 32]"),

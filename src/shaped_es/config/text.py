@@ -65,11 +65,16 @@ def set_item(text: str) -> str:
 
 
 def parse_set(items: list[str] | None) -> dict[str, Any]:
-    """``--set KEY=VALUE`` flags as overrides for :func:`merge` (each value read as YAML)."""
+    """``--set KEY=VALUE`` flags as overrides for :func:`merge` (each value read as YAML). An empty value is
+    refused like any bad value, ``(got '')``: YAML reads it as null, which left an optional field unset without
+    a word (an empty shell variable: ``--set rollout.max_steps=$STEPS``) and named no value where it failed."""
     out = {}
     for item in items or []:
         if "=" not in item:
             raise ConfigError(f"--set expects KEY=VALUE, got {item!r}")
         k, v = item.split("=", 1)
+        if not v.strip():
+            raise ConfigError(f"invalid config: {k.strip()}: an empty value; give one (null leaves an optional "
+                              f"field unset) (got {v!r})")
         out[k.strip()] = parse_yaml(v, f"--set {item}")
     return out
