@@ -225,6 +225,21 @@ def test_other_libraries_warnings_go_to_error_log_with_one_line(executor, tmp_pa
     assert "float64" in log and log.count(": warning from gymnasium") == int(err[0].split()[2])
 
 
+def test_a_second_command_in_one_process_logs_the_warnings_the_first_showed(tmp_path, capfd, faults_path):
+    """A second command in one process (a script calling main() again; this suite, where the test above failed
+    after the env-checker case had shown Gymnasium's warnings) had no entry in its error.log and no line saying
+    so: Python shows a warning once per place for the whole process, and the env checker, which checks an env
+    once, met the first command's cached envs. After a failed command too (its envs dropped)."""
+    noisy = ["train", "--env", "fault_envs:Noisy-v0", *TRAIN]
+    for name, fault in (("first", None), ("broken", "raise_step"), ("second", None), ("third", None)):
+        run = tmp_path / name
+        code = main([*noisy, *(["--set", f"env_kwargs.fault={fault}"] if fault else []), "--out", str(run)])
+        err = [line for line in capfd.readouterr().err.splitlines() if line.strip()]
+        assert code == (2 if fault else 0) and len(err) == 1 + bool(fault), (name, err)
+        assert "from gymnasium" in err[0] and str(run / "error.log") in err[0], (name, err)
+        assert "float64" in (run / "error.log").read_text()
+
+
 def test_an_env_that_never_terminates_is_cut_with_a_warning_first(tmp_path, capsys, monkeypatch, faults_path):
     from shaped_es import rollout
     from shaped_es.config import RolloutConfig

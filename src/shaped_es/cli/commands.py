@@ -351,6 +351,9 @@ def main(argv: list[str] | None = None) -> int:
         print(line, file=sys.stderr)
         return code
     finally:
+        envs = sys.modules.get("shaped_es.rollout.worker_envs")  # loaded: the command ran episodes in this process
+        if envs is not None:
+            envs.drop_envs()  # before the route closes: a warning of an env's close goes to error.log too
         route.close()
         warnings.showwarning = old_show
         restore_signals(old_signals)

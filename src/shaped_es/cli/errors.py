@@ -169,6 +169,12 @@ class WarningRoute:
         self._env = os.environ.get(warning_log.ENV)
         if self.log and not debug:  # with --debug the workers print theirs as they come
             os.environ[warning_log.ENV] = str(self.log)
+        # Python shows a warning once per place ("default"), remembered per module for the whole process: a
+        # warning an earlier command in this process showed (a script or notebook calling main() again) would
+        # reach neither this command's error.log nor its count. Entering catch_warnings starts every module's
+        # record over (the filters change, so the records are dropped); the filters themselves stay as they are.
+        with warnings.catch_warnings():
+            pass
 
     def show(self, message, category, filename, lineno, file=None, line=None) -> None:
         if category.__module__.split(".")[0] == "shaped_es":  # ExecutorWarning, EnvWarning, StoreWarning

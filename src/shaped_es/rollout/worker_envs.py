@@ -40,6 +40,17 @@ def tag_seed(exc: BaseException, seed) -> None:
             setattr(exc, _SEED, int(seed))
 
 
+def drop_envs() -> None:
+    """Close and forget this process's envs: the end of a command (``cli.commands.main``), whose episodes ran in its
+    own process with ``inline``, so that a next command in that process (a script calling main() again) makes its
+    own, as its workers' would be new: Gymnasium's env checker, which checks an env once, warns again into that
+    run's error.log, and nothing an env holds (a simulator's connection) outlives the command."""
+    while _ENV_CACHE:
+        for env in _ENV_CACHE.popitem()[1]:
+            with contextlib.suppress(Exception):  # the env's own close: the command's result stands
+                env.close()
+
+
 @contextlib.contextmanager
 def _env_faults(task: RolloutTask, seeds: np.ndarray):
     """An env's exception or ``sys.exit`` inside the block -> one :class:`EnvError` naming the env, the
