@@ -154,11 +154,18 @@ def test_the_means_clone_is_fitted_under_noise_scaled_by_the_searchs_sigma(monke
     host.cfg = type("C", (), {"seed": 0, "es": type("E", (), {"sigma": 0.04})()})()
     host.reference = None
     for noise, want in ((0.5, 0.02), (0.0, 0.0)):
-        cfg = MeanCloneConfig(noise=noise)
+        cfg = MeanCloneConfig(noise=noise, noise_from=0)
         mc_mod.clone_mean(host, 1, np.zeros(3), cfg, rows=host.dagger_rows(1), labels=object())
         assert seen[-1].noise == pytest.approx(want)
     with pytest.raises(ValueError, match="noise"):
         MeanCloneConfig(noise=-1.0)
+    # noise_from: the clones made before that generation are plain, from it on noisy
+    cfg = MeanCloneConfig(noise=0.5, noise_from=3)
+    for generation, want in ((0, 0.0), (2, 0.0), (3, 0.02), (7, 0.02)):
+        mc_mod.clone_mean(host, generation, np.zeros(3), cfg, rows=host.dagger_rows(1), labels=object())
+        assert seen[-1].noise == pytest.approx(want), generation
+    with pytest.raises(ValueError, match="noise_from"):
+        MeanCloneConfig(noise_from=-1)
 
 
 @pytest.mark.parametrize("accept", ["best", "mean", "mean+keep_step"])

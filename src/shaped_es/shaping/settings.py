@@ -84,9 +84,12 @@ class MeanCloneConfig:
     batch_size: int = 256  # rows per step, drawn with replacement from the recent recorded steps
     max_samples: int = 0  # only the newest rows of the last ``history`` generations (<= 0: all of them)
     record_every: int = 1  # the rollouts keep the steps of every k-th member (and of every candidate)
-    noise: float = 0.0  # > 0: each Adam step's gradient is taken at theta + noise * es.sigma * z (the search's own
-    #                     parameter noise; shaping/param_noise.py): UR5Reach-v0's late population up, its late reward
-    #                     not clearly, generations to the threshold up, so off (docs/benchmarks/clone_noise_v28)
+    noise: float = 1.0  # > 0: each Adam step's gradient is taken at theta + noise * es.sigma * z (the search's own
+    #                     parameter noise; shaping/param_noise.py), from generation noise_from on: a plain clone can sit
+    #                     where the return is sharp, and the ES steps around it lose ground (docs/benchmarks/noise_from_v29)
+    noise_from: int = 15  # the noise applies to the clones made from this generation on (0-based, as metrics.csv
+    #                       counts); before it a plain fit: the early jumps, whose size gives the speed (noise from
+    #                       generation 0 took 1.3-1.9x the generations on CarNav-v0 and UR5Reach-v0: clone_noise_v28)
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "paired"  # candidate: the best one becomes the mean if it beats every member ("best"),
     #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
@@ -127,10 +130,12 @@ class MeanCloneConfig:
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 or not self.noise >= 0 \
+                or self.noise_from < 0 \
                 or self.extra_episodes < 0 or self.check_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0 \
                 or not self.revert_paired >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every} noise={self.noise} "
+                             f"noise_from={self.noise_from} "
                              f"accept_margin={self.accept_margin} revert_margin={self.revert_margin} "
                              f"revert_paired={self.revert_paired}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:

@@ -8,8 +8,8 @@ toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` it
     theta* = argmin_theta 1/M sum_t (pi_theta(s_t) - a_hat_t)^2,  started at mu     (Eq. L(theta), on mu)
 
 With ``noise`` > 0 each step's gradient is taken under the search's own parameter noise (``s = noise * es.sigma``;
-``shaping/param_noise.py``), the loss ``E_z 1/M sum_t (pi_{theta + s z}(s_t) - a_hat_t)^2`` (off by default:
-``docs/benchmarks/clone_noise_v28``).
+``shaping/param_noise.py``), the loss ``E_z 1/M sum_t (pi_{theta + s z}(s_t) - a_hat_t)^2``, from generation
+``noise_from`` on (before it a plain fit; ``docs/benchmarks/clone_noise_v28``, ``docs/benchmarks/noise_from_v29``).
 
 With ``es.obs_norm`` the policy sees ``norm(s_t)``, the normalizer the next generation's rollouts use
 (``host.obs_norm``, set by the trainer before ``after_tell``): ``pi_theta(norm(s_t)) ~ a_hat(s_t)``; the
@@ -41,8 +41,9 @@ def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
     if int(rows.lengths().sum()) == 0 or cfg.steps == 0:
         return np.asarray(theta, np.float64), {}
     seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, key)
+    noise = cfg.noise * host.cfg.es.sigma if generation >= cfg.noise_from else 0.0  # the search's own noise
     clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
-                              max_samples=cfg.max_samples, noise=cfg.noise * host.cfg.es.sigma)
+                              max_samples=cfg.max_samples, noise=noise)
     res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, labels, clone_cfg,
                         np.array([seed]), reference_fn=host.reference,
                         obs_norm=getattr(host, "obs_norm", None))  # (1, n)
