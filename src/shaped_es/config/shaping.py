@@ -178,8 +178,10 @@ class MeanCloneSettings(_Strict):
                          "noise * es.sigma * z, z near N(0, I), so it fits where the population will be sampled, not only "
                          "at its centre (a plain clone can sit where the return is sharp: UR5Reach-v0's late population "
                          "scored 0.4 against its mean's 43). 1 from generation 15: UR5Reach-v0's late reward +6.5 over "
-                         "20 seeds, the same generations to the threshold on 8 of 9 suite tasks (the Reacher 1.06x); "
-                         "0: a plain fit (docs/benchmarks/noise_from_v29)")
+                         "20 seeds (seeds 0-9 and 200-209), the same generations to the threshold on 7 of 9 suite tasks "
+                         "on seeds 0-9 (the Reacher and the kart 1.05x) and 8 of 9 on 200-209 (the Reacher 1.06x); 0: a "
+                         "plain fit. With shaped_cmaes es.sigma is CMA-ES's initial step size, not its adapted one "
+                         "(docs/benchmarks/noise_from_v29)")
     noise_from: Int = Field(_MEAN.noise_from, ge=0, description="the noise applies to the clones made from this "
                             "generation on (0-based, as metrics.csv counts); before it the fit is plain: the early "
                             "jumps, whose size gives the speed (noise from generation 0 took 1.3-1.9x the generations "

@@ -127,6 +127,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
+        self._noise_said = False  # the line at the first clone fitted under parameter noise (mean_clone.noise_from)
         if mp.frame == "auto" and self.sh.labels == "mphi":  # guides/label_probe.py (a line: world frame only)
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor,
                                        lambda line: print(f"shaped-es: {self.run_name}: {line}", file=sys.stderr,
@@ -353,6 +354,14 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                           float(out["candidate_gain"]), n)
                          if {"candidate_return", "mean_return", "candidate_gain"} <= set(out) else None)  # judged on
             print(f"shaped-es: {self.run_name}: generation 1: {candidate_line(self._probe_res, won, judged_at)}",
+                  file=sys.stderr)
+        if (out.get("clone_noise") or 0) > 0 and not self._noise_said:  # None: no clone this generation
+            self._noise_said = True
+            mc = self.mean_clone_cfg
+            print(f"shaped-es: {self.run_name}: generation {generation + 1}: the mean's clone is fitted under the search's "
+                  f"parameter noise from here on (shaping.mean_clone.noise {mc.noise:g} x es.sigma, from generation "
+                  f"noise_from {mc.noise_from}; metrics.csv clone_noise): the mean moves to where its population does well "
+                  f"too; its test reward can dip for 10-25 generations first (docs/benchmarks/noise_from_v29)",
                   file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now
             verdict.append(self._verdict(out, fitness))

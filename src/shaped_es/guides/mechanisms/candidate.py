@@ -42,7 +42,8 @@ from shaped_es.guides.mechanisms.mean_clone import CLONE_KEY, clone_mean
 from shaped_es.rollout import population_tasks, run_task
 from shaped_es.shaping.surrogate import cosine
 
-CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples")
+CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples",
+                 "clone_noise")  # the parameter noise the clone was fitted under (mean_clone.noise * es.sigma; 0 before noise_from)
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
 GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain", 6: "shoot_third_gain"}  # per variant: its
 #                                                              candidate's gain over the mean

@@ -48,7 +48,7 @@ def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
                         np.array([seed]), reference_fn=host.reference,
                         obs_norm=getattr(host, "obs_norm", None))  # (1, n)
     out = {"clone_loss_before": float(res.loss_before[0]), "clone_loss_after": float(res.loss_after[0]),
-           "label_std": res.label_std, "clone_samples": int(res.samples[0])}
+           "label_std": res.label_std, "clone_samples": int(res.samples[0]), "clone_noise": noise}
     if res.reference:
         out.update(mphi_fig5_test_loss=res.reference["label_ref_error"],
                    **{k: v for k, v in res.reference.items() if k != "label_ref_error"})
