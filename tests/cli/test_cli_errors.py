@@ -24,6 +24,16 @@ def test_a_worker_fault_names_the_resume_command_and_a_plain_env_error_names_it_
     assert "resume" not in line
 
 
+def test_an_env_error_in_evaluate_or_render_says_to_run_it_again_once_fixed(tmp_path):
+    """A new user's env raised in ``evaluate``: the line named the seed but, unlike train's, not what to do."""
+    (tmp_path / "run").mkdir()
+    for command in ("evaluate", "render"):
+        a = argparse.Namespace(command=command, run_dir=str(tmp_path / "run"))
+        line, code = error_line(EnvError("env 'X' raised ValueError: bad", "Traceback ..."), a, debug=False)
+        assert code == USAGE_ERROR and "\n" not in line
+        assert f"bad; once the env is fixed, run shaped-es {command} again (the run is unchanged) (traceback in" in line
+
+
 def test_the_run_of_a_command_is_its_run_dir_before_its_out():
     """render's --out is its GIF: a traceback of render goes to the run's error.log, not beside a file name."""
     import argparse

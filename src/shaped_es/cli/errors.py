@@ -76,10 +76,13 @@ def restore_signals(old: dict | None) -> None:
 
 
 def continue_hint(a: argparse.Namespace) -> str:
-    """How to continue the command's run, if it left one (a train that never started leaves none)."""
+    """How to continue the command's run, if it left one (a train that never started leaves none), or to redo an
+    ``evaluate`` / ``render`` of a run."""
     run = _run_dir(a)
     if a.command == "benchmark":
         return "rerun the same command to continue (finished runs are skipped)"
+    if a.command in ("evaluate", "render"):  # they change nothing in the run: the same command again
+        return f"run shaped-es {a.command} again (the run is unchanged)"
     started = run and a.command in ("train", "resume") and os.path.isfile(os.path.join(run, "config.yaml"))
     return f"continue with: shaped-es resume {run}" if started else ""
 
