@@ -162,3 +162,11 @@ def test_a_config_files_dotted_keys_are_paths_and_its_sections_hold_beside_them(
         build_config({"shaping": {"mean_clone.accept": "mean"}})
     assert str(e.value).endswith("shaping.mean_clone.accept: unknown field (a dotted key is not a path here: "
                                  "nest it, one key per level)")
+
+
+def test_a_null_value_in_a_config_file_says_it_was_null():
+    """A new user's YAML ``noise:`` with nothing after it said "Input should be a valid number" with no value named."""
+    with pytest.raises(ConfigError) as e:
+        build_config(merge({"shaping": {"mean_clone": {"noise": None}}}, {}))
+    assert str(e.value) == ("invalid config: shaping.mean_clone.noise: Input should be a valid number "
+                            "(got null: `key: null`, or `key:` with nothing after it)")

@@ -56,6 +56,8 @@ def first_error(exc: ValidationError, model: type[BaseModel] | None = None) -> s
     if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:
         shown = str(value).lower() if isinstance(value, bool) else repr(value)
         got = f" (got {shown[:40]})"
+    elif value is None and "input" in err and err.get("type") != "extra_forbidden":  # `key:` with nothing after it
+        got = " (got null: `key: null`, or `key:` with nothing after it)"
     return f"{where}: {msg}{got}{more}"
 
 
