@@ -53,11 +53,12 @@ def first_error(exc: ValidationError, model: type[BaseModel] | None = None) -> s
         msg = "Input should be a list" + (f", e.g. its default {_default_at(model, err['loc'])}" if model else "")
     value = err.get("input")
     got = ""
-    if isinstance(value, (bool, int, float, str)) and err.get("type") != "extra_forbidden" and "(" not in msg:
-        shown = str(value).lower() if isinstance(value, bool) else repr(value)
-        got = f" (got {shown[:40]})"
-    elif value is None and "input" in err and err.get("type") != "extra_forbidden":  # `key:` with nothing after it
-        got = " (got null: `key: null`, or `key:` with nothing after it)"
+    if err.get("type") != "extra_forbidden" and "(" not in msg:
+        if isinstance(value, (bool, int, float, str)):
+            shown = str(value).lower() if isinstance(value, bool) else repr(value)
+            got = f" (got {shown[:40]})"
+        elif value is None and "input" in err:  # `key:` with nothing after it reads as null
+            got = " (got null: `key: null`, or `key:` with nothing after it)"
     return f"{where}: {msg}{got}{more}"
 
 
