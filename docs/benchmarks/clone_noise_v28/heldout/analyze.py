@@ -109,4 +109,5 @@ def main():
     print('\n'.join(out))
     json.dump(res, open(os.path.join(d, 'analysis.json'), 'w'), indent=1, default=float)
 
-main()
+if __name__ == "__main__":
+    main()

@@ -1,7 +1,8 @@
 """noise1 vs noise0 over the seeds of several benchmark dirs' analysis.json (python pooled.py DIR1 DIR2 ...)."""
 import json, sys
-dirs = sys.argv[1:]; sys.argv = ['x']
-exec(open('analyze.py').read().split('def main')[0])
+import numpy as np
+from analyze import boot_diff, boot_ratio
+dirs = sys.argv[1:]
 n1, n0 = [], []
 for d in dirs:
     a = json.load(open(f'{d}/analysis.json'))
