@@ -98,6 +98,26 @@ def test_the_back_off_note_is_one_short_line():
     assert "(won 0 of 9 so far)" in free.note("CarNav-v0", True) and free.sleeps == 1
 
 
+def test_the_back_off_note_says_how_many_wins_the_next_generation_undid():
+    """A jump the next generation undid (revert_paired) is a win the run did not keep: the note's "won N of J"
+    says how many of the N were undone, and the count survives a checkpoint (an older one reads as none)."""
+    b = LabelBudget(patience=8, max_sleep=32)
+    b.judge(True, 3.0)  # a jump ...
+    b.judge(False, -1.0, reverted=True)  # ... that the next generation undid
+    b.judge(True, 2.0)  # a kept one
+    for _ in range(8):
+        b.judge(False, -1.0)
+    assert b.sleeps == 1 and b.undone == 1
+    assert "(won 2 of 11, 1 undone): shaping sleeps" in b.note("CarNav-v0", True)
+    assert len(b.note("CarNav-v0", True)) <= NOTE_MAX
+    c = LabelBudget(patience=8, max_sleep=32)
+    c.load_state_dict(npz_round_trip(b.state_dict()))
+    assert c.note("CarNav-v0", True) == b.note("CarNav-v0", True)
+    old = {k: v for k, v in b.state_dict().items() if k != "undone"}  # a checkpoint from before the count
+    c.load_state_dict(npz_round_trip(old))
+    assert c.undone == 0 and "(won 2 of 11 so far): " in c.note("CarNav-v0", True)
+
+
 def test_the_back_off_note_on_a_run_past_the_threshold_says_so_without_advice():
     """A new user read the note on a run already at the env's threshold as a warning: with the run's best test
     reward at or above the env's reward threshold, the note says so (nothing to fix) in place of the advice;

@@ -1,6 +1,7 @@
 """The mean's clone fitted under parameter noise from ``shaping.mean_clone.noise_from``: metrics.csv's
 ``clone_noise`` is 0 before it and ``noise * es.sigma`` from it, and the run says so in one line, once."""
 
+import pytest
 from helpers import train
 
 CFG = {"env": "PointVel-v0", "executor": "inline", "method": "shaped", "generations": 6, "seed": 0,
@@ -25,3 +26,29 @@ def test_clone_noise_switches_on_at_noise_from_and_the_run_says_so_once(tmp_path
     first = min(g for g in made if g >= 3)
     assert lines[0].startswith(f"shaped-es: r: generation {first + 1}: the mean's clone is fitted")
     assert "noise_from 3" in lines[0] and "shaping.mean_clone.noise 0.5" in lines[0]
+
+
+def test_a_noise_ramp_grows_the_clones_noise_linearly_and_the_line_says_so(tmp_path, capsys):
+    """``noise_ramp`` R: the k-th generation from noise_from (k = 1, 2, ...) clones under min(1, k / R) of the
+    noise; the run's one line names the ramp."""
+    cfg = {**CFG, "shaping": {**CFG["shaping"], "mean_clone": {**CFG["shaping"]["mean_clone"], "noise_ramp": 2}}}
+    rows = train(tmp_path / "r", cfg).read_metrics()
+    err = capsys.readouterr().err
+    noise = {g: float(r["clone_noise"]) for g, r in enumerate(rows) if r["clone_noise"]}
+    want = {3: 0.01, 4: 0.02, 5: 0.02}  # 0.5 * sigma 0.04 = 0.02, half of it at generation 3
+    assert {g: noise[g] for g in noise if g >= 3} == pytest.approx({g: want[g] for g in noise if g >= 3})
+    assert 3 in noise or 4 in noise
+    line = next(ln for ln in err.splitlines() if "fitted under the search's parameter noise" in ln)
+    assert "noise_from 3, growing to it over noise_ramp 2 generations" in line
+
+
+def test_noise_scale_is_zero_before_noise_from_then_ramps():
+    from shaped_es.guides.mechanisms.mean_clone import noise_scale
+    from shaped_es.shaping.settings import MeanCloneConfig
+
+    step = MeanCloneConfig(noise=1.0, noise_from=15)
+    assert [noise_scale(step, g) for g in (0, 14, 15, 40)] == [0.0, 0.0, 1.0, 1.0]
+    ramp = MeanCloneConfig(noise=0.5, noise_from=15, noise_ramp=4)
+    assert [noise_scale(ramp, g) for g in (14, 15, 16, 17, 18, 30)] == [0.0, 0.125, 0.25, 0.375, 0.5, 0.5]
+    with pytest.raises(ValueError, match="noise_ramp=-1"):
+        MeanCloneConfig(noise_ramp=-1)

@@ -186,6 +186,9 @@ class MeanCloneSettings(_Strict):
                             "generation on (0-based, as metrics.csv counts); before it the fit is plain: the early "
                             "jumps, whose size gives the speed (noise from generation 0 took 1.3-1.9x the generations "
                             "on CarNav-v0 and UR5Reach-v0)")
+    noise_ramp: Int = Field(_MEAN.noise_ramp, ge=0, description="> 0: the noise grows linearly from noise_from "
+                            "over this many generations (the k-th noisy clone gets min(1, k / noise_ramp) of it); 0: "
+                            "all of it from noise_from on")
     scales: tuple[Float, ...] = Field(_MEAN.scales, min_length=1, description="candidate: mu + s (theta* - mu) "
                                       "is evaluated for each scale s, a positive number (e.g. [0.5, 1.0])")
     accept: Literal[tuple(ACCEPT_RULES)] = Field(

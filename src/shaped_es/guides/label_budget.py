@@ -70,6 +70,7 @@ class LabelBudget:
         # note's "won N of J", as the run line and the final JSON count every judged generation
         self.free = 0
         self.accepted = 0
+        self.undone = 0  # accepted jumps the next generation undid (counted in accepted too; the note says so)
         self.gain_sum = 0.0
         self.streak_before = 0  # the losses in a row the last acceptance reset (judge_jumps restores them)
         self.prev_accepted = 0  # the last judgement was an acceptance
@@ -102,6 +103,7 @@ class LabelBudget:
         ``spread``: the population's best return minus its worst (``heavy``)."""
         self.judged += 1
         self.accepted += int(accepted)
+        self.undone += int(reverted)
         if gain is not None and np.isfinite(gain):
             self.gain_sum += float(gain)
         if reverted or (self.judge_jumps and population is not None and self.prev_accepted
@@ -155,7 +157,10 @@ class LabelBudget:
         n = min(self.losses, self.patience) or self.patience
         far = (f" by a median of {np.median(self.spreads):.1f} population spreads" if n < self.patience
                and self.spreads else "")
-        head = (f"labels lost {n} judged generations in a row{far} (won {self.accepted} of {self.judged + self.free} so far): "
+        # a jump the next generation undid (revert_paired) is a win the run did not keep
+        won = (f"won {self.accepted} of {self.judged + self.free}, {self.undone} undone" if self.undone else
+               f"won {self.accepted} of {self.judged + self.free} so far")
+        head = (f"labels lost {n} judged generations in a row{far} ({won}): "
                 f"shaping sleeps {self.asleep_left} generations at the ES strategy's price and retries (metrics.csv "
                 f"shaping_awake)")
         # after a win ("won N of J" says how many): the advice is for a run that stalls. Two new users' runs (a
@@ -187,7 +192,7 @@ class LabelBudget:
                 "spreads": np.array(self.spreads, np.float64),
                 "gain_sum": np.array([self.gain_sum], np.float64),
                 "prev_population": np.array([self.prev_population], np.float64),
-                "free": np.array([self.free], np.int64)}
+                "free": np.array([self.free], np.int64), "undone": np.array([self.undone], np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         if "ints" not in state:  # a checkpoint from before the budget: start counting now
@@ -203,6 +208,7 @@ class LabelBudget:
         self.spreads = [float(v) for v in np.asarray(state.get("spreads", np.zeros(0)), np.float64).reshape(-1)]
         self.prev_population = float(np.asarray(state.get("prev_population", [0.0]), np.float64).reshape(-1)[0])
         self.free = int(np.asarray(state.get("free", [0]), np.int64).reshape(-1)[0])
+        self.undone = int(np.asarray(state.get("undone", [0]), np.int64).reshape(-1)[0])  # 0: an older checkpoint
 
 
 def never_accepted(summary: dict | None, base: str | None, short: bool = False) -> str | None:

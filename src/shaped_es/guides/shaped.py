@@ -358,9 +358,10 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         if (out.get("clone_noise") or 0) > 0 and not self._noise_said:  # None: no clone this generation
             self._noise_said = True
             mc = self.mean_clone_cfg
+            ramp = f", growing to it over noise_ramp {mc.noise_ramp} generations" if mc.noise_ramp > 0 else ""
             print(f"shaped-es: {self.run_name}: generation {generation + 1}: the mean's clone is fitted under the search's "
                   f"parameter noise from here on (shaping.mean_clone.noise {mc.noise:g} x es.sigma, from generation "
-                  f"noise_from {mc.noise_from}; metrics.csv clone_noise): the mean moves to where its population does well "
+                  f"noise_from {mc.noise_from}{ramp}; metrics.csv clone_noise): the mean moves to where its population does well "
                   f"too; its test reward can dip for 10-25 generations first (docs/benchmarks/noise_from_v29)",
                   file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now

@@ -90,6 +90,8 @@ class MeanCloneConfig:
     noise_from: int = 15  # the noise applies to the clones made from this generation on (0-based, as metrics.csv
     #                       counts); before it a plain fit: the early jumps, whose size gives the speed (noise from
     #                       generation 0 took 1.3-1.9x the generations on CarNav-v0 and UR5Reach-v0: clone_noise_v28)
+    noise_ramp: int = 0  # > 0: the noise grows linearly over this many generations from noise_from (the g-th
+    #                     noisy clone, 1-based, gets min(1, g / noise_ramp) of it); 0: all of it at once
     scales: tuple[float, ...] = (1.0,)  # candidate: mu + s (theta* - mu) for each s, evaluated
     accept: str = "paired"  # candidate: the best one becomes the mean if it beats every member ("best"),
     #   the mean's own return on the same episodes ("mean"), the mean by more than a standard error of
@@ -130,12 +132,12 @@ class MeanCloneConfig:
 
     def __post_init__(self):
         if self.steps < 0 or self.lr <= 0 or self.batch_size <= 0 or self.record_every < 1 or not self.noise >= 0 \
-                or self.noise_from < 0 \
+                or self.noise_from < 0 or self.noise_ramp < 0 \
                 or self.extra_episodes < 0 or self.check_episodes < 0 or not self.accept_margin >= 0 or not self.revert_margin >= 0 \
                 or not self.revert_paired >= 0:
             raise ValueError(f"bad mean-clone config: steps={self.steps} lr={self.lr} "
                              f"batch_size={self.batch_size} record_every={self.record_every} noise={self.noise} "
-                             f"noise_from={self.noise_from} "
+                             f"noise_from={self.noise_from} noise_ramp={self.noise_ramp} "
                              f"accept_margin={self.accept_margin} revert_margin={self.revert_margin} "
                              f"revert_paired={self.revert_paired}")
         if not self.scales or any(not s > 0 for s in self.scales) or self.accept not in ACCEPT_RULES:

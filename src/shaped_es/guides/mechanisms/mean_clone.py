@@ -30,6 +30,15 @@ from shaped_es.shaping.settings import MeanCloneConfig
 CLONE_KEY = 1_000_003  # the seed key of the mean's clone (members use 0..P-1)
 
 
+def noise_scale(cfg: MeanCloneConfig, generation: int) -> float:
+    """The clone's noise at ``generation`` in units of ``es.sigma``: 0 before ``noise_from``, then ``noise``
+    (with ``noise_ramp`` = R > 0, ``noise * min(1, k / R)`` for the k-th noisy generation, k = 1, 2, ...)."""
+    k = generation - cfg.noise_from + 1  # 1 at noise_from
+    if k <= 0:
+        return 0.0
+    return cfg.noise * (min(1.0, k / cfg.noise_ramp) if cfg.noise_ramp > 0 else 1.0)
+
+
 def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
                rows=None, labels=None, key: int = CLONE_KEY) -> tuple[np.ndarray, dict]:
     """``(theta*, metrics)``: ``theta`` ``(n,)`` (the mean; with ``warm_start`` the previous clone)
@@ -41,7 +50,7 @@ def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
     if int(rows.lengths().sum()) == 0 or cfg.steps == 0:
         return np.asarray(theta, np.float64), {}
     seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, key)
-    noise = cfg.noise * host.cfg.es.sigma if generation >= cfg.noise_from else 0.0  # the search's own noise
+    noise = noise_scale(cfg, generation) * host.cfg.es.sigma  # the search's own noise
     clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
                               max_samples=cfg.max_samples, noise=noise)
     res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, labels, clone_cfg,
