@@ -12,7 +12,7 @@ from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es import seeding
 from shaped_es.config import ConfigError
 from shaped_es.data import Transitions
-from shaped_es.guides import label_probe, probe_file
+from shaped_es.guides import label_probe, probe_file, probe_rollouts
 from shaped_es.guides.label_check import horizon_text, probe_line
 from shaped_es.guides.label_probe import ProbeResult, query
 from shaped_es.guides.probe_choice import choose
@@ -637,7 +637,7 @@ def test_the_probe_drives_a_user_env_without_a_batched_core(monkeypatch):
     from shaped_es.config import build_config
 
     cfg = build_config({**POINT, "env": "PointVel-v0"})
-    monkeypatch.setattr(label_probe, "get_batch_core", lambda env: None)
+    monkeypatch.setattr(probe_rollouts, "get_batch_core", lambda env: None)
     seeds = np.array([5, 6])
     r, steps = label_probe.drive(cfg, lambda s, q: np.zeros((s.shape[0], 2), np.float32), "both", seeds)
     assert r.shape == (2,) and steps > 0

@@ -7,7 +7,7 @@ from shaped_es import seeding
 from shaped_es.config import build_config
 from shaped_es.rollout import policy_spec, probe_env
 from shaped_es.guides.shaped_setup import mphi_config, waypoint_dim
-from shaped_es.guides import label_probe as lp
+from shaped_es.guides import label_probe as lp, probe_rollouts
 from shaped_es.guides.clone_probe import clone_rounds
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels, LabelSource
@@ -38,7 +38,7 @@ def target_pairs(tr, frame, targets="one_step", horizon=8, rng=None):
 MI.target_pairs = ID.target_pairs = target_pairs
 ST.TARGETS = ST.TARGETS + ("chunk",)
 F.FRAMES = ST.FRAMES = F.FRAMES + ("last", "bothlast")
-MI.to_frame = to_frame; ID.frame_dim = frame_dim; lp.query = query
+MI.to_frame = to_frame; ID.frame_dim = frame_dim; probe_rollouts.query = query  # drive (probe_rollouts.py) reads it
 
 class GainL(MphiLabels):
     k = 1.0
@@ -65,7 +65,7 @@ class Gain(MphiLabels):
         return super().__call__(states, self.k * inputs)
 
 import os
-lp.GENERATIONS = int(os.environ.get("GENS", "2"))
+probe_rollouts.GENERATIONS = int(os.environ.get("GENS", "2"))
 out = {}
 for seed in seeds_run:
     cfg = build_config({"env": env_id, "method": "shaped", "seed": seed})

@@ -9,7 +9,7 @@ import importlib
 import importlib.util
 import warnings
 
-from shaped_es.cli.check_env import _line
+from shaped_es.cli.check_text import _line
 from shaped_es.env_probe import BadOutput, waypoint_pair
 from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY
 

@@ -76,7 +76,9 @@ is kept in ``RUN/label_probe.json`` (``probe_file.py``) so a resumed run reuses 
 --labels`` runs it for any env.
 
 What it tries and the names it gives each try: ``guides/probe_variants.py``; the rules that choose among
-them: ``guides/probe_choice.py``.
+them: ``guides/probe_choice.py``. Its result: ``guides/probe_result.py``;
+its episodes (the data, the label-driven episodes, their seeds): ``guides/probe_rollouts.py``; its progress
+lines: ``guides/probe_pace.py``. This module runs them in order and chooses.
 
 Written by hand: no library drives an env with an inverse-dynamics model's labels.
 """
@@ -84,254 +86,28 @@ Written by hand: no library drives an env with an inverse-dynamics model's label
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 from shaped_es import seeding
 from shaped_es.config import RunConfig
-from shaped_es.env_probe import reward as one_reward
-from shaped_es.envs.core import POSITION_KEY, WAYPOINT_KEY, get_batch_core
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import make_env, to_space
-from shaped_es.rollout.periodic import Unwrapper, period_of
-from shaped_es.shaping.frames import rotate
 from shaped_es.guides import probe_candidate
-from shaped_es.guides.clone_probe import ROUNDS, clone_rounds_many, fit_on, probe_stats, roll_out, shoot_labels
-from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets, clone_beats, keep_shoot,
-                                          nearest_horizon, unjudged)
+from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, probe_stats, shoot_labels
+from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets,  # noqa: F401 - beats: re-exported
+                                          clone_beats, keep_shoot)
+from shaped_es.guides.probe_pace import SAY_AFTER_S, Pace  # noqa: F401 - SAY_AFTER_S: re-exported
+from shaped_es.guides.probe_result import ProbeResult, not_passed
+from shaped_es.guides.probe_rollouts import (  # noqa: F401 - EPISODES, PROBE_KEY, query: re-exported
+    BABBLERS, EPISODES, GENERATIONS, MEMBERS, PROBE_KEY, collect, drive, probe_seeds, query, zero_labels)
 from shaped_es.guides.probe_variants import long_variants, probe_frames, variant_name, variants
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
-from shaped_es.shaping.mphi_inputs import mixed_query
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
-GENERATIONS = 2  # generations of probe data (babblers + members around the initial mean)
-MEMBERS = 8  # members around the initial mean per probe generation (at es.sigma)
-BABBLERS = 8  # babbling policies per probe generation (weights ~ N(0, babble_sigma^2))
-EPISODES = 10  # closed-loop episodes per variant (the same seeds for every variant)
-PROBE_KEY = 1_000_011  # seed key of the probe's streams
 LONG_KEY = 200  # the probe_clip_long variants' simulated candidates' seed keys (the others' are as without them)
 CHUNK_KEY = 100  # the chunk variants' simulated candidates' seed keys start here (the others' are as before them)
-
-
-@dataclass
-class ProbeResult:
-    """What the probe measured and chose; ``returns``: variant name -> per-episode returns."""
-
-    frame: str
-    query_clip: float | None
-    returns: dict[str, list[float]]
-    env_steps: int
-    seconds: float
-    reason: str
-    zero_action: list[float] = field(default_factory=list)  # the middle action's returns, same episodes
-    # variant name -> the simulated candidate's per-episode returns (guides/clone_probe.py), same episodes
-    clones: dict[str, list[float]] = field(default_factory=dict)
-    # the shooting labels' simulated candidate (shaping/forward_shoot.py), same episodes ([]: not probed),
-    # and whether the run keeps the shooting rival (None: not probed, the config decides)
-    shoot: list[float] = field(default_factory=list)
-    shoot_on: bool | None = None
-    # the horizon the shooting rival holds its actions for (None: not probed, the config's shoot_horizon), and
-    # each horizon's simulated candidate where the probe tried several (shoot_probe_horizons)
-    shoot_horizon: int | None = None
-    shoot_tried: dict[str, list[float]] = field(default_factory=dict)
-    # the simulated candidate with the best mean return, judged at generation 0 (guides/probe_candidate.py): a
-    # variant's name, or "shoot:H" for the shooting labels holding actions H steps (None: a probe from before)
-    candidate: str | None = None
-    # its parameters (n,), kept in RUN/probe_candidate.FILE, not in the JSON (None: not at hand)
-    candidate_params: np.ndarray | None = field(default=None, compare=False, repr=False)
-    # M_phi's chunk length where the chosen variant trains on chunk targets (targets=chunk, horizon=chunk);
-    # None: the configured targets (one-step; a probe from before probe_chunk)
-    chunk: int | None = None
-    # the probe's extensions passed over (the chosen variant lacks them: "+chunk", "+clip4"): their simulated
-    # candidates neither keep nor drop the shooting rival nor count in :meth:`unjudged` ([]: a probe from before)
-    passed: list[str] = field(default_factory=list)
-    # es.obs_norm: the observation statistics of the probe's data, [count, mean (obs,), m2 (obs,)], which the run's
-    # running statistics start from and its simulated candidates were fitted under (clone_probe.probe_stats;
-    # None: off, or a probe from before)
-    obs_stats: list | None = None
-
-    def standing(self) -> dict[str, list[float]]:
-        """The simulated candidates of the variants not passed over (``clones`` without :attr:`passed`'s)."""
-        return not_passed(self.clones, self.passed)
-
-    def keeps_base(self) -> bool:
-        """Whether the shooting labels at the first probed horizon (``shoot_horizon``) also run, beside the
-        longer one chosen: its simulated candidate beat zero action too (``guides/rival.py``, variant 4)."""
-        base = next(iter(self.shoot_tried), None)
-        return bool(self.shoot_on and base is not None and str(self.shoot_horizon) != base
-                    and beats(np.array(self.shoot_tried[base]), np.array(self.zero_action))[0])
-
-    def long_nearest(self) -> int | None:
-        """Where the probe could judge and the shooting rival holds the longest probed horizon: the probed horizon
-        nearest it (``shoot_long_nearest`` runs it beside); None otherwise."""
-        tried = [int(h) for h in self.shoot_tried]
-        if not (self.shoot_on and len(tried) > 1 and self.shoot_horizon == max(tried)) or self.unjudged():
-            return None
-        return nearest_horizon(self.shoot_horizon, tried)
-
-    def unjudged(self) -> bool:
-        """Whether no simulated candidate of a variant not passed over, nor of any shooting horizon, beat zero action
-        (``probe_choice.unjudged``): the probe could not judge."""
-        sims = {**self.standing(), **self.shoot_tried, **({"shoot": self.shoot} if self.shoot else {})}
-        return bool(self.zero_action) and unjudged(np.array(self.zero_action), {k: np.array(v) for k, v in sims.items()})
-
-    def unjudged_shooting(self) -> tuple[int | None, str] | None:
-        """Where the shooting rival runs and the probe could not judge (:meth:`unjudged`): ``(second horizon, path
-        score)``, the probed horizon nearest the chosen one (None: one probed) and the mean distance; else None."""
-        if not (self.shoot_on and self.unjudged()):
-            return None
-        return nearest_horizon(self.shoot_horizon, [int(h) for h in self.shoot_tried]), "mean"
-
-    def third_horizon(self) -> int | None:
-        """Where the probe could not judge: the shortest probed horizon neither the chosen one nor the second holds
-        (None: fewer than three probed, or the probe could judge). The shortest: a probe that cannot judge has no
-        evidence for a long hold, and a 32-step rival's early jumps took a quadrotor and UR5Reach-v0 into poor
-        neighbourhoods (``docs/benchmarks/probe_horizon32_v20``)."""
-        two = self.unjudged_shooting()
-        if two is None:
-            return None
-        return min((int(h) for h in self.shoot_tried if int(h) not in (self.shoot_horizon, two[0])), default=None)
-
-
-def not_passed(named: dict, passed: list[str]) -> dict:
-    """``named`` (variant or candidate name -> anything) without the names carrying a passed-over extension
-    (``passed``: ``+chunk``, ``+clip4``)."""
-    return {k: v for k, v in named.items() if not any(t in k for t in passed)}
-
-
-def probe_seeds(cfg: RunConfig) -> np.ndarray:
-    """The seeds ``(EPISODES,)`` of the probe's episodes: every variant, zero action and each simulated candidate
-    is driven on these (``check-env --labels`` drives zero action on them again)."""
-    return np.array([seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, 1000 + e) for e in range(EPISODES)])
-
-
-def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None, on_generation=None):
-    """The probe's recorded rollouts: per generation, members around ``x0`` and babblers (on the run's
-    ``executor``'s workers if given); returns ``(transitions per generation, env steps)``. ``on_generation``
-    ((generation, env steps so far) -> None): called after each (the probe's progress lines)."""
-    sigma_b = cfg.shaping.inverse_dynamics.babble_sigma
-    out, steps = [], 0
-    for g in range(GENERATIONS):
-        rng = np.random.default_rng(seeding.derive_seed(cfg.seed, seeding.SHAPING, PROBE_KEY, g))
-        near = x0 + cfg.es.sigma * rng.standard_normal((MEMBERS, spec.num_params))  # (MEMBERS, n)
-        bab = sigma_b * rng.standard_normal((BABBLERS, spec.num_params))  # (BABBLERS, n)
-        P = np.concatenate([near, bab]).astype(np.float32)  # (m, n)
-        seeds = rng.integers(0, 2**31 - 1, size=(P.shape[0], cfg.rollout.episodes))  # (m, E)
-        _, lengths, trs = roll_out(cfg, spec, P, seeds, g, executor)
-        out.append(trs)
-        steps += int(lengths.sum())
-        if on_generation is not None:
-            on_generation(g, steps)
-    return out, steps
-
-
-def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: float = 1.0) -> np.ndarray:
-    """M_phi's query ``(B, d)`` or ``(B, 2d)`` online, as ``query_displacement`` offline: ``w_t - p_t``
-    mixed with the last step (``mixed_query``) in ``frame`` (the motion frame: the angle of
-    ``p_t - p_{t-1}``, 0 at an episode's first step; the waypoint frame: the angle of ``w_t - p_t``; as
-    ``shaping/frames.py``)."""
-    last = (pos - prev).astype(np.float64)  # (B, d) the last step
-    toward = (wp - pos).astype(np.float64)  # (B, d)
-    d = mixed_query(toward, last, mix)  # (B, d)
-    if frame == "world":
-        return d.astype(np.float32)
-    if frame == "waypoint":  # x toward the waypoint (frames.waypoint_angle)
-        return rotate(d, np.arctan2(toward[:, 1], toward[:, 0])).astype(np.float32)
-    m = rotate(d, np.arctan2(last[:, 1], last[:, 0]))  # motion frame; angle 0 where the agent did not move
-    if frame == "motion":
-        return m.astype(np.float32)
-    return np.concatenate([d, m], axis=1).astype(np.float32)  # (B, 2d)
-
-
-def zero_labels(act_dim: int):
-    """Zero action (the middle of the action space) as a label source for :func:`drive`: the probe's baseline."""
-    return lambda s, q: np.zeros((s.shape[0], act_dim), np.float32)  # (B, act)
-
-
-def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0) -> tuple[np.ndarray, int]:
-    """Returns ``(E,)`` of episodes driven by ``label(obs (B, obs), query) -> (B, act)`` and their steps;
-    batched through the env's core when it has one, else one Gymnasium env episode by episode."""
-    env = make_env(cfg.env, cfg.env_kwargs)  # observations as the run's rollouts see them (flattened)
-    try:
-        core = get_batch_core(env)
-        if core is not None:
-            return _drive_core(core, cfg, label, frame, seeds, mix)
-        rets, steps = [], 0
-        pair = lambda info: tuple(np.asarray(info[k], np.float64).reshape(1, -1) for k in (POSITION_KEY, WAYPOINT_KEY))
-        for s in seeds:
-            obs, info = env.reset(seed=int(s))
-            period = period_of(env, cfg.env, cfg.env_kwargs, pair(info)[0].shape[1])
-            unwrap = None if period is None else Unwrapper(period)  # as the recorded rollouts (gym_loop)
-            pos, wp = pair(info) if unwrap is None else unwrap.start(*pair(info))
-            prev = pos
-            ret, t = 0.0, 0
-            while True:
-                a = label(np.asarray(obs, np.float32).reshape(1, -1), query(pos, wp, prev, frame, mix))[0]
-                obs, r, term, trunc, info = env.step(to_space(env.action_space, np.clip(a, -1, 1)))
-                ret, t = ret + one_reward(r), t + 1
-                if term or trunc or (cfg.rollout.max_steps is not None and t >= cfg.rollout.max_steps):
-                    break
-                p, w = pair(info)
-                prev, (pos, wp) = pos, ((p, w) if unwrap is None else
-                                        tuple(x[None] for x in unwrap.step(0, p[0], w[0])))
-            rets.append(ret)
-            steps += t
-        return np.array(rets), steps
-    finally:
-        env.close()
-
-
-def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float) -> tuple[np.ndarray, int]:
-    state, obs, info = core.reset(np.asarray(seeds, np.int64))
-    B = len(seeds)
-    limit = core.max_steps if cfg.rollout.max_steps is None else min(core.max_steps, cfg.rollout.max_steps)
-    rets, alive, steps = np.zeros(B), np.ones(B, bool), 0
-    pos = prev = np.asarray(info[POSITION_KEY], np.float64).reshape(B, -1)  # (B, d)
-    for _ in range(limit):
-        wp = np.asarray(info[WAYPOINT_KEY], np.float64).reshape(B, -1)
-        a = np.clip(label(np.asarray(obs, np.float32).reshape(B, -1), query(pos, wp, prev, frame, mix)), -1, 1)
-        state, obs, r, term, trunc, info = core.step(state, a.astype(np.float32))
-        rets += np.where(alive, r, 0.0)
-        steps += int(alive.sum())
-        alive &= ~(np.asarray(term) | np.asarray(trunc))
-        if not alive.any():
-            break
-        prev, pos = pos, np.asarray(info[POSITION_KEY], np.float64).reshape(B, -1)
-    return rets, steps
-
-
-SAY_AFTER_S = 20.0  # a probe estimated to take longer than this says how far it is (a slow simulator's run
-#                     printed nothing for 6 minutes before generation 0: it looked hung)
-
-
-class Pace:
-    """Progress lines of a long probe: after its data, an estimate of the rest (from the data's own pace and
-    episode length); after each DAgger round of the simulated candidates, how far it is. Silent where the
-    estimate is below :data:`SAY_AFTER_S` (the built-in envs' 1-10 s probes print nothing more)."""
-
-    def __init__(self, say, t0: float):
-        self.say, self.t0, self.on = say, t0, False
-
-    def after_data(self, steps: int, episodes: int, drives: int, sims: int, data_left: int = 0) -> None:
-        """After ``episodes`` of the probe's data (``steps`` env steps; ``data_left`` more episodes of it to come):
-        one line with the estimate, the first time it is over :data:`SAY_AFTER_S` (after the first of its data's
-        generations already: a new user's slow base sat 26 s silent before the line after both)."""
-        spent = time.perf_counter() - self.t0
-        if self.say is None or self.on or steps <= 0 or episodes <= 0 or spent <= 0:
-            return
-        rest = (data_left + (drives + sims * ROUNDS) * EPISODES) * spent / episodes  # s, at the data's pace
-        self.on = spent + rest > SAY_AFTER_S
-        if self.on:
-            self.say(f"label probe: {steps:,} env steps of babbling and members around the initial mean in "
-                     f"{spent:.0f} s; about {rest:.0f} s more before generation 1 (the labels of {drives - 1} "
-                     f"variants drive {EPISODES} episodes each, then {sims} candidates are cloned and driven over "
-                     f"{ROUNDS} DAgger rounds; once per run, kept in label_probe.json)")
-
-    def after_round(self, r: int) -> None:
-        if self.on:
-            self.say(f"label probe: DAgger round {r + 1} of {ROUNDS} done ({time.perf_counter() - self.t0:.0f} s)")
 
 
 def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamicsConfig,
