@@ -138,7 +138,8 @@ class _Host:
 
 
 def test_the_means_clone_is_fitted_under_noise_scaled_by_the_searchs_sigma(monkeypatch):
-    """mean_clone.noise is a share of es.sigma: the clone's steps take their gradient at theta + noise * sigma * z."""
+    """mean_clone.noise is a share of the search's step (the guide's search_sigma, its strategy's search_scale()
+    after the tell): the clone's steps take their gradient at theta + noise * sigma * z."""
     from shaped_es.guides.mechanisms import mean_clone as mc_mod
     from shaped_es.shaping.cloning import CloneResult
 
@@ -151,7 +152,8 @@ def test_the_means_clone_is_fitted_under_noise_scaled_by_the_searchs_sigma(monke
 
     monkeypatch.setattr(mc_mod, "clone_sampled", fake)
     host = _Host(3, "paired", noise=0.5)
-    host.cfg = type("C", (), {"seed": 0, "es": type("E", (), {"sigma": 0.04})()})()
+    host.cfg = type("C", (), {"seed": 0, "es": type("E", (), {"sigma": 9.0})()})()  # not read: the strategy's is
+    host.search_sigma = 0.04
     host.reference = None
     for noise, want in ((0.5, 0.02), (0.0, 0.0)):
         cfg = MeanCloneConfig(noise=noise, noise_from=0)

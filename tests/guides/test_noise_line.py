@@ -52,3 +52,12 @@ def test_noise_scale_is_zero_before_noise_from_then_ramps():
     assert [noise_scale(ramp, g) for g in (14, 15, 16, 17, 18, 30)] == [0.0, 0.125, 0.25, 0.375, 0.5, 0.5]
     with pytest.raises(ValueError, match="noise_ramp=-1"):
         MeanCloneConfig(noise_ramp=-1)
+
+
+def test_over_cmaes_the_clones_noise_follows_cmas_adapted_step(tmp_path):
+    """shaped_cmaes: the clone's noise is noise x CMA-ES's search_scale() after each tell (its adapted step), so it
+    moves generation by generation instead of staying noise x es.sigma (CMA-ES's initial step)."""
+    rows = train(tmp_path / "c", {**CFG, "method": "shaped_cmaes"}).read_metrics()
+    noise = [float(r["clone_noise"]) for r in rows[3:] if r["clone_noise"]]
+    assert len(noise) >= 2 and all(x > 0 for x in noise)
+    assert len(set(noise)) == len(noise) and all(abs(x - 0.02) > 1e-6 for x in noise)

@@ -65,3 +65,19 @@ def test_a_checkpoint_from_before_the_path_reset_replays_without_it():
     c.load_state_dict(npz_round_trip(new.state_dict()))
     assert c.jump_resets_paths is True
     np.testing.assert_array_equal(new.ask(), c.ask())
+
+
+def test_search_scale_is_the_rms_of_pycmas_adapted_standard_deviations():
+    """The shaped method's clone noise is in units of search_scale(): CMA-ES's adapted per-coordinate steps (their
+    root mean square), not its initial sigma; Vanilla-ES's and Guided ES's sigma."""
+    from shaped_es.strategies import make_strategy
+
+    es = make_strategy("cmaes", np.zeros(6), sigma=0.3, popsize=8, seed=1, maximize=False)
+    assert es.search_scale() == pytest.approx(0.3, rel=1e-3)
+    for _ in range(15):  # a sphere: the step shrinks
+        X = es.ask()
+        es.tell(np.sum(X ** 2, axis=1))
+    assert es.search_scale() == pytest.approx(np.sqrt(np.mean(np.square(es._es.stds))))
+    assert es.search_scale() < 0.2
+    for name in ("vanilla", "guided"):
+        assert make_strategy(name, np.zeros(6), sigma=0.3, popsize=8).search_scale() == 0.3

@@ -180,7 +180,8 @@ class MeanCloneSettings(_Strict):
                          "scored 0.4 against its mean's 43). 1 from generation 15: UR5Reach-v0's late reward +6.5 over "
                          "20 seeds (seeds 0-9 and 200-209), the same generations to the threshold on 7 of 9 suite tasks "
                          "on seeds 0-9 (the Reacher and the kart 1.05x) and 8 of 9 on 200-209 (the Reacher 1.06x); 0: a "
-                         "plain fit. With shaped_cmaes es.sigma is CMA-ES's initial step size, not its adapted one "
+                         "plain fit. With shaped_cmaes the unit is CMA-ES's adapted step (the root mean square of its "
+                         "per-coordinate standard deviations after each tell), not es.sigma, its initial one "
                          "(docs/benchmarks/noise_from_v29)")
     noise_from: Int = Field(_MEAN.noise_from, ge=0, description="the noise applies to the clones made from this "
                             "generation on (0-based, as metrics.csv counts); before it the fit is plain: the early "

@@ -128,6 +128,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
         self._noise_said = False  # the line at the first clone fitted under parameter noise (mean_clone.noise_from)
+        # the strategy's search_scale() after its tell, the unit of the clone's noise (es.sigma for Vanilla-ES and
+        # Guided ES; CMA-ES's adapted step), set in after_tell before the mechanism clones
+        self.search_sigma = float(cfg.es.sigma)
         if mp.frame == "auto" and self.sh.labels == "mphi":  # guides/label_probe.py (a line: world frame only)
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor,
                                        lambda line: print(f"shaped-es: {self.run_name}: {line}", file=sys.stderr,
@@ -343,6 +346,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                 ready(self._next_population_mask(P))
                 ready_s[0] += time.perf_counter() - t
 
+        self.search_sigma = strategy.search_scale()
         t0 = time.perf_counter()
         out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
                                              strategy, map_tasks, judged=judged))
@@ -360,7 +364,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             mc = self.mean_clone_cfg
             ramp = f", growing to it over noise_ramp {mc.noise_ramp} generations" if mc.noise_ramp > 0 else ""
             print(f"shaped-es: {self.run_name}: generation {generation + 1}: the mean's clone is fitted under the search's "
-                  f"parameter noise from here on (shaping.mean_clone.noise {mc.noise:g} x es.sigma, from generation "
+                  f"parameter noise from here on (shaping.mean_clone.noise {mc.noise:g} x the search's step, from generation "
                   f"noise_from {mc.noise_from}{ramp}; metrics.csv clone_noise): the mean moves to where its population does well "
                   f"too; its test reward can dip for 10-25 generations first (docs/benchmarks/noise_from_v29)",
                   file=sys.stderr)

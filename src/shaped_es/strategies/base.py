@@ -95,6 +95,11 @@ class Strategy:
     def tell(self, fitness, surrogate=None) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def search_scale(self) -> float:
+        """The next ``ask``'s typical perturbation per coordinate: the root mean square of its standard
+        deviations (``sigma`` where the search is isotropic; the shaped method's clone noise is in these units)."""
+        return float(self.sigma)
+
     # -- helpers ------------------------------------------------------------------------------
     def _check_fitness(self, fitness) -> np.ndarray:
         f = np.asarray(fitness, dtype=np.float64)

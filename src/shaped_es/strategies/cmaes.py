@@ -100,6 +100,11 @@ class CMAES(Strategy):
             self._pending = self._isolated(self._es.ask)
         return np.array(self._pending, dtype=np.float64)  # (2P, n)
 
+    def search_scale(self) -> float:
+        """The root mean square of pycma's per-coordinate standard deviations (``sigma * sqrt(diag C)``,
+        adapted generation by generation; ``sigma0`` before the first ``tell``)."""
+        return float(np.sqrt(np.mean(np.square(self._es.stds))))
+
     def tell(self, fitness, surrogate=None) -> None:
         """Update from fitness (popsize,): larger is better if ``maximize`` (default), else a loss.
         ``surrogate`` is accepted and ignored."""

@@ -7,7 +7,8 @@ toward the labels by ``steps`` Adam steps on minibatches of them, from ``mu`` it
 
     theta* = argmin_theta 1/M sum_t (pi_theta(s_t) - a_hat_t)^2,  started at mu     (Eq. L(theta), on mu)
 
-With ``noise`` > 0 each step's gradient is taken under the search's own parameter noise (``s = noise * es.sigma``;
+With ``noise`` > 0 each step's gradient is taken under the search's own parameter noise (``s = noise * sigma``, the
+strategy's ``search_scale()``: ``es.sigma`` for Vanilla-ES and Guided ES, CMA-ES's adapted step for shaped_cmaes;
 ``shaping/param_noise.py``), the loss ``E_z 1/M sum_t (pi_{theta + s z}(s_t) - a_hat_t)^2``, from generation
 ``noise_from`` on (before it a plain fit; ``docs/benchmarks/clone_noise_v28``, ``docs/benchmarks/noise_from_v29``).
 
@@ -50,7 +51,7 @@ def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
     if int(rows.lengths().sum()) == 0 or cfg.steps == 0:
         return np.asarray(theta, np.float64), {}
     seed = seeding.derive_seed(host.cfg.seed, seeding.SHAPING, generation, key)
-    noise = noise_scale(cfg, generation) * host.cfg.es.sigma  # the search's own noise
+    noise = noise_scale(cfg, generation) * host.search_sigma  # the search's own noise (its strategy's step)
     clone_cfg = CloningConfig(steps=cfg.steps, lr=cfg.lr, batch_size=cfg.batch_size, optimizer="adam",
                               max_samples=cfg.max_samples, noise=noise)
     res = clone_sampled(host.spec, np.asarray(theta, np.float32)[None], rows, labels, clone_cfg,
