@@ -118,6 +118,26 @@ def test_a_changed_run_without_checkpoint_restarts(tmp_path):
     assert RunStore(out / "runs" / "vanilla_s0").read_config().es.pairs == 2
 
 
+def test_a_changed_run_without_checkpoint_holding_a_users_file_is_refused_and_nothing_deleted(tmp_path):
+    """A new user's notes.txt in a run folder that never checkpointed: the rerun with other settings deletes
+    nothing (the restart used to delete the whole folder) and says in one line what is in the way."""
+    out = tmp_path / "b"
+    run = out / "runs" / "vanilla_s0"
+    RunStore(run).create(build_config({"env": "CartPole-v1", "method": "vanilla", "es": {"pairs": 7}}))
+    (run / "notes.txt").write_text("mine")
+    (run / "figures").mkdir()
+    (run / "figures" / "reward.png").write_bytes(b"png")  # a run's own file beside it
+    before = sorted(p.relative_to(run) for p in run.rglob("*"))
+    with pytest.raises(StoreError, match=r"holds a run with other settings and no checkpoint, to be started again, "
+                                         r"but also files no run writes \(notes\.txt\); move them away"):
+        _cli(*TINY, "--methods", "vanilla", "--generations", 1, "--out", out)
+    assert sorted(p.relative_to(run) for p in run.rglob("*")) == before
+    assert (run / "notes.txt").read_text() == "mine"
+    (run / "notes.txt").unlink()  # moved away: the restart goes on, its own files replaced
+    assert _cli(*TINY, "--methods", "vanilla", "--generations", 1, "--out", out) == 0
+    assert _status(out) == {"vanilla_s0": "new"} and RunStore(run).read_config().es.pairs == 2
+
+
 def test_four_method_benchmark_on_a_builtin_env_with_defaults(tmp_path):
     out = tmp_path / "car"
     # default methods (shaped, vanilla, cmaes, ppo) and the env's own horizon; only sizes made tiny

@@ -30,6 +30,23 @@ def test_store_checkpoint_and_metrics(tmp_path):
     assert len(list(store.ckpt_dir.glob("gen_*.npz"))) == 2
 
 
+def test_keeping_the_newest_checkpoints_deletes_only_the_runs_own(tmp_path):
+    """A new user's backup copy beside the checkpoints (gen_000002_backup.npz / .json) matched the old
+    gen_*.npz pruning and was deleted with the run's own older checkpoints: only gen_NNNNNN files go now."""
+    store = RunStore(tmp_path)
+    store.save_checkpoint(1, {"a": np.zeros(2)}, {}, keep=2)
+    store.save_checkpoint(2, {"a": np.ones(2)}, {}, keep=2)
+    for ext in ("npz", "json"):
+        (store.ckpt_dir / f"gen_000002_backup.{ext}").write_bytes((store.ckpt_dir / f"gen_000002.{ext}").read_bytes())
+    (store.ckpt_dir / "gen_old.npz").write_bytes(b"mine")
+    for g in (3, 4, 5):
+        store.save_checkpoint(g, {"a": np.full(2, g)}, {}, keep=2)
+    names = sorted(p.name for p in store.ckpt_dir.iterdir())
+    assert names == ["gen_000002_backup.json", "gen_000002_backup.npz", "gen_000004.json", "gen_000004.npz",
+                     "gen_000005.json", "gen_000005.npz", "gen_old.npz", "latest.json"]
+    assert store.checkpoints() == [4, 5]
+
+
 def test_store_rejects_bad_checkpoints(tmp_path):
     store = RunStore(tmp_path)
     store.save_checkpoint(1, {"a": np.zeros(2)}, {}, keep=3)

@@ -110,6 +110,14 @@ def test_generation_and_member_history_reads(make_transitions, tmp_path):
     assert [t.generation for t in read_member_history(tmp_path, 0, [4, 1, 2], last=2)] == [2, 4]
     delete_generations(tmp_path, [0, 9])
     assert list_generations(tmp_path) == [1, 2, 4]
+    # a file a user put in a generation's folder stays, and so does its folder; the shards and a killed
+    # write's temporary go
+    gen1 = tmp_path / "gen_000001"
+    (gen1 / "mine.txt").write_text("mine")
+    (gen1 / f".members_0000-0001.parquet.{'a' * 32}.tmp").write_bytes(b"half")
+    delete_generations(tmp_path, [1, 2])
+    assert sorted(p.name for p in gen1.iterdir()) == ["mine.txt"] and (gen1 / "mine.txt").read_text() == "mine"
+    assert read_generation(tmp_path, 1) == [] and list_generations(tmp_path) == [1, 4]
 
 
 def _expect_error(path, match):

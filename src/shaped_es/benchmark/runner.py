@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import inspect
 import json
-import shutil
 import sys
 import time
 from dataclasses import asdict, dataclass, field
@@ -38,6 +37,7 @@ from shaped_es.config import ConfigError, RunConfig, build_config, merge
 from shaped_es.methods import METHODS, resolve
 from shaped_es.run_loop import run_finished
 from shaped_es.rundir.meta import RUNTIME_FIELDS
+from shaped_es.rundir.run_files import replace_run_dir
 from shaped_es.rundir.store import RunStore, StoreError, atomic_write_text
 
 SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
@@ -216,8 +216,8 @@ def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | No
             return "skipped"
         status = "resumed"  # more generations, or another executor: the run loop saves them once restored
     else:
-        if action == "restart":  # a run directory without a checkpoint: nothing to keep
-            shutil.rmtree(store.root)
+        if action == "restart":  # a run directory without a checkpoint: only the run's own files go
+            replace_run_dir(store.root)
         store.create(cfg)
         status = "new"
     with store.lock():  # held for the whole run (PPO included), not only around each write

@@ -49,8 +49,10 @@ class CheckpointFiles:
         atomic_write_text(self.ckpt_dir / f"{name}.json", json.dumps({**meta, "generation": generation,
                                                                       DIGEST_KEY: arrays_digest(arrays)}))
         atomic_write_text(self.ckpt_dir / "latest.json", json.dumps({"name": name}))
-        olds = sorted(self.ckpt_dir.glob("gen_*.npz"))[:-keep]
-        for old in olds:
+        # only the run's own names (gen_NNNNNN.npz / .json): a user's gen_000028_backup.npz beside them is not ours
+        ours = sorted((int(m.group(1)), p) for p in self.ckpt_dir.glob("gen_*.npz")
+                      if (m := _CKPT_RE.fullmatch(p.name[:-4])) is not None)
+        for _, old in ours[:-keep]:
             old.unlink(missing_ok=True)
             old.with_suffix(".json").unlink(missing_ok=True)
         return self.ckpt_dir / f"{name}.npz"

@@ -62,6 +62,7 @@ FORMAT_KEY, FORMAT_VERSION = b"shaped_es.trajectories", b"2"
 READABLE_VERSIONS = (b"1", b"2")  # 1: vectors as fixed_size_list<float32>
 RUN_KEY = b"run_id"
 _SHARD_RE = re.compile(r"^members_(\d{4,})-(\d{4,})\.parquet$")
+_TMP_RE = re.compile(r"^\.members_\d{4,}-\d{4,}\.parquet\.[A-Za-z0-9_]+\.tmp$")  # write_shard's, before its rename
 _GEN_RE = re.compile(r"^gen_(\d{6,})$")
 
 
@@ -386,9 +387,18 @@ def read_member_history(
 
 
 def delete_generations(root: str | os.PathLike, generations: Iterable[int]) -> None:
-    """Remove whole generations from the store (disk budget, or shards a killed run wrote past its
-    last checkpoint). Missing generations are ignored."""
+    """Remove generations from the store (disk budget, or shards a killed run wrote past its last checkpoint):
+    the files the store writes (shards, and the temporary files of a write cut short), then the generation's
+    directory if nothing else is left in it -- a file a user put there is kept, and so is its directory.
+    Missing generations are ignored."""
     for g in generations:
         fs, p = _resolve(_join(root, f"gen_{int(g):06d}"))
-        if fs.get_file_info(p).type == pafs.FileType.Directory:
+        if fs.get_file_info(p).type != pafs.FileType.Directory:
+            continue
+        entries = _listdir(fs, p)
+        ours = [i for i in entries if i.type == pafs.FileType.File
+                and (_SHARD_RE.match(i.base_name) or _TMP_RE.match(i.base_name))]
+        for i in ours:
+            fs.delete_file(i.path)
+        if len(ours) == len(entries):
             fs.delete_dir(p)

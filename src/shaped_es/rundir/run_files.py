@@ -1,0 +1,85 @@
+"""Replacing a run directory that holds no checkpoint (a benchmark rerun whose settings changed for a run that
+never checkpointed): only the files a run writes there, by name and folder, are deleted, and only when nothing
+else is there. A file of any other name (a user's notes beside the run, a backup copy), a symlink or a folder the
+run does not make refuses the replacement in one line with nothing deleted: a run never deletes what it did not
+write.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from shaped_es.rundir.atomic import StoreError
+
+_TMP = r"|\.[^/]+\.[A-Za-z0-9_]+\.tmp"  # atomic_write_bytes' and the trajectory store's temporaries
+# the names a run writes, folder by folder ("*": a run-made folder of that pattern); rundir/recovery.py's
+# RUN_FILES, with the run's lock, error log, probe candidate, position period, figures, TensorBoard and videos
+_WRITTEN = {
+    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json|label_probe_candidate\.npy|pruned\.json"
+         r"|\.lock|error\.log|position_period\.json",
+    "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
+    "mphi_data*": r"added_\d{6,}\.npz",
+    "trajectories/gen_*": r"members_\d{4,}-\d{4,}\.parquet",
+    "trajectories": r"(?!)",  # folders only
+    "tb": r"events\.out\.tfevents\.[^/]+",
+    "figures": r"[A-Za-z0-9_.-]+\.png",
+    "videos": r"gen_\d{6,}\.gif",
+}
+_FILE_RES = {k: re.compile(v + _TMP) for k, v in _WRITTEN.items()}
+_FOLDER_RES = [(re.compile(r"checkpoints|mphi_data[a-z_]*|trajectories|tb|figures|videos"), "."),
+               (re.compile(r"gen_\d{6,}"), "trajectories")]
+
+
+def _kind(rel: Path) -> str | None:
+    """The ``_WRITTEN`` key of a run-made folder at ``rel`` (relative to the run directory), else None."""
+    parts = rel.parts
+    if len(parts) == 1:
+        name = parts[0]
+        if name.startswith("mphi_data") and _FOLDER_RES[0][0].fullmatch(name):
+            return "mphi_data*"
+        return name if _FOLDER_RES[0][0].fullmatch(name) else None
+    if len(parts) == 2 and parts[0] == "trajectories" and _FOLDER_RES[1][0].fullmatch(parts[1]):
+        return "trajectories/gen_*"
+    return None
+
+
+def foreign_entries(root: Path) -> list[Path]:
+    """What in the run directory ``root`` no run wrote (sorted; symlinks are never followed and count as
+    foreign); ``[]``: every entry is a run's."""
+    foreign: list[Path] = []
+
+    def walk(folder: Path, key: str) -> None:
+        for p in sorted(folder.iterdir()):
+            rel = p.relative_to(root)
+            if p.is_symlink():
+                foreign.append(p)
+            elif p.is_dir():
+                sub = _kind(rel)
+                (walk(p, sub) if sub is not None else foreign.append(p))
+            elif not _FILE_RES[key].fullmatch(p.name):
+                foreign.append(p)
+
+    walk(root, ".")
+    return foreign
+
+
+def replace_run_dir(root: Path) -> None:
+    """Delete the run directory ``root`` for a fresh start when it holds only what a run writes (files first,
+    then the folders, deepest first); ``StoreError`` naming what else is there, with nothing deleted."""
+    try:
+        foreign = foreign_entries(root)
+    except OSError as exc:
+        raise StoreError(f"cannot list {root}: {exc.strerror or exc}") from None
+    if foreign:
+        shown = ", ".join(str(p.relative_to(root)) for p in foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+        raise StoreError(f"{root} holds a run with other settings and no checkpoint, to be started again, but also "
+                         f"files no run writes ({shown}); move them away (or the folder) and rerun, or use another "
+                         f"--out")
+    folders = sorted((p for p in root.rglob("*") if p.is_dir()), key=lambda p: len(p.parts), reverse=True)
+    for p in root.rglob("*"):
+        if p.is_file():
+            p.unlink()
+    for d in folders:
+        d.rmdir()
+    root.rmdir()
