@@ -40,6 +40,7 @@ from shaped_es.monitor.progress import ProgressDisplay
 from shaped_es.rundir.atomic import atomic_write_text
 from shaped_es.rundir.meta import Counters, checkpoint_mismatch, config_digest
 from shaped_es.rundir.prune import refuse_pruned
+from shaped_es.rundir.recovery import rows_covered
 from shaped_es.rundir.store import RunStore, StoreError
 
 # the columns every method's metrics row holds, in metrics.csv's order
@@ -64,6 +65,7 @@ class RunLoop:
         self.stopped: str | None = None  # STOP_AT or CALLBACK once the run ended early
         self.callbacks = as_callbacks(callback)
         self._restored_stop: str | None = None
+        self._rows_kept = 0  # metrics rows a restored checkpoint covers (the resume writes the rest again)
         self._repair = lambda: None  # restore's repair of the run directory, once a first generation ran
         self._crossed: tuple[int, float] | None = None  # (generation, test reward) that reached stop_at
         self._tb = None
@@ -111,8 +113,14 @@ class RunLoop:
         # elapsed: a resumed run's saved wall time, plus this process's start-up
         bar = ProgressDisplay(self.cfg.generations, self.c.generation, enabled=self.progress, label=self.label,
                               elapsed=self.c.wall_time_s + time.perf_counter() - self._started)
-        if self.c.generation and self.progress:  # a resumed run's counters continue (labels accepted/judged)
-            bar.count_labels(self.store.read_metrics()[: self.c.generation])
+        if self.c.generation and self.progress:  # a resumed run's counters continue (labels accepted/judged):
+            # the rows the checkpoint covers, one per generation; not those it writes again (rows that waited
+            # for their test episodes, which a killed run may have written after its checkpoint) nor repeats
+            kept = {}
+            for row in self.store.read_metrics():
+                if str(row.get("generation", "")).isdigit() and int(row["generation"]) < self._rows_kept:
+                    kept[int(row["generation"])] = row
+            bar.count_labels([kept[g] for g in sorted(kept)])
         saved = False
         try:
             for g in range(self.c.generation, self.cfg.generations):
@@ -222,6 +230,7 @@ class RunLoop:
             raise StoreError(f"{where} does not fit this run: {msg}{self.store.fallback_hint(meta['generation'])}"
                              ) from None
         self._repair = self.store.prepare_recovery(loaded=loaded)[1]
+        self._rows_kept = rows_covered(loaded)  # the rows the resume keeps; it writes the rest again
         for k, v in counters.items():
             setattr(self.c, k, v)
         best = meta.get("best_generation")

@@ -467,3 +467,25 @@ def test_train_says_when_no_candidate_was_accepted_and_vanilla_gives_the_same_ru
     assert "no candidate was accepted" not in cap.err
     assert (shaped["test_reward_mean"], shaped["train_reward_mean"]) == (vanilla["test_reward_mean"],
                                                                          vanilla["train_reward_mean"])
+
+
+def test_a_resumed_runs_labels_count_continues_without_counting_a_row_twice(tmp_path, monkeypatch, capsys):
+    """The progress line's ``labels A/J`` of a run resumed after a crash ends where the uninterrupted run's does: the
+    rows the killed run wrote past its checkpoint (rows that waited for their test episodes, written again by the
+    resume) are not counted twice (a new user's resumed Quickstart read 5/12 where the whole run read 5/11)."""
+    import re
+
+    cfg = {**CFG, "generations": 14, "checkpoint_every": 5, "shaping": {**CFG["shaping"], "backoff_after": 0}}
+
+    def last_count():
+        found = re.findall(r"labels (\d+)/(\d+)", capsys.readouterr().err)
+        return found[-1] if found else None
+
+    c, store = new_run(tmp_path / "full", cfg)
+    Trainer(c, store, progress=True).run()
+    full = last_count()
+    c, store = new_run(tmp_path / "cut", cfg)
+    run_until_crash(monkeypatch, c, store, 12)  # checkpoint at 10; rows past it on disk
+    capsys.readouterr()
+    Trainer(c, store, progress=True).run()
+    assert full is not None and last_count() == full

@@ -114,7 +114,7 @@ class Recovery:
                                  f"generations {_span(past)} (the run checkpoints every {uncheckpointed} "
                                  f"generation(s): were its checkpoints deleted?); restore them to resume, or move "
                                  f"{self.metrics_path.name} away to run again from generation 1")
-        cut = _rows_covered(loaded) - 1
+        cut = rows_covered(loaded) - 1
         header, rows, repeats = metrics_csv.rows_up_to(self.metrics_path, cut)  # validates too
         missing = sorted(set(range(cut + 1)) - {int(r["generation"]) for r in rows})
         if missing:  # deleted or cut by hand: going on would lose them without a word
@@ -140,7 +140,7 @@ class Recovery:
         return loaded, repair
 
 
-def _rows_covered(loaded) -> int:
+def rows_covered(loaded) -> int:
     """Generations whose metrics rows a checkpoint (``load_checkpoint``'s answer) covers: all it ran,
     less the rows that still waited for their test episodes (None: no checkpoint, no rows)."""
     if loaded is None:
