@@ -189,7 +189,8 @@ class MeanCloneSettings(_Strict):
                             "on CarNav-v0 and UR5Reach-v0)")
     noise_ramp: Int = Field(_MEAN.noise_ramp, ge=0, description="> 0: the noise grows linearly from noise_from "
                             "over this many generations (the k-th noisy clone gets min(1, k / noise_ramp) of it); 0: "
-                            "all of it from noise_from on")
+                            "all of it from noise_from on (10 stretched UR5Reach-v0's dip after the switch and ended "
+                            "lower: docs/benchmarks/noise_shape_v30)")
     scales: tuple[Float, ...] = Field(_MEAN.scales, min_length=1, description="candidate: mu + s (theta* - mu) "
                                       "is evaluated for each scale s, a positive number (e.g. [0.5, 1.0])")
     accept: Literal[tuple(ACCEPT_RULES)] = Field(
