@@ -10,6 +10,8 @@ missing, of another size than each other or non-finite. ``shaped_es.rollout`` re
 
 from __future__ import annotations
 
+import difflib
+
 import numbers
 import traceback
 import warnings
@@ -80,8 +82,12 @@ def make_env(env_id: str, env_kwargs: dict | None = None) -> gym.Env:
                     f"README, \"Your own env\")")
         elif ":" in env_id and not _registered_as(env_id.split(":", 1)[1]):  # no version of it either
             module, name = env_id.split(":", 1)
-            msg = (f"its module {module!r} imports but registers no {name!r}: call gymnasium.register"
-                   f"({name!r}, entry_point=...) in it (README, \"Your own env\")")
+            near = difflib.get_close_matches(name, list(gym.registry), n=1, cutoff=0.8)  # a typo of an id it has
+            if near:
+                msg = f"its module {module!r} imports but registers no {name!r}; did you mean {module}:{near[0]}?"
+            else:
+                msg = (f"its module {module!r} imports but registers no {name!r}: call gymnasium.register"
+                       f"({name!r}, entry_point=...) in it (README, \"Your own env\")")
         raise EnvSpecError(f"cannot make env {env_id!r}: {msg}") from None
     except Exception as exc:  # noqa: BLE001 - the env's module or constructor raised: one line + detail
         unexpected = [k for k in (env_kwargs or {}) if isinstance(exc, TypeError)

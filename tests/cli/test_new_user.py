@@ -164,6 +164,11 @@ def test_the_readme_says_how_to_bring_an_own_env_and_its_example_passes_check_en
                                   "'readme_noreg' imports but registers no 'ReadmeNoreg-v0': call gymnasium."
                                   "register('ReadmeNoreg-v0', entry_point=...) in it (README, \"Your own env\")"]
     assert not (tmp_path / "r").exists()
+    # a typo of the id the module does register: the id it meant (a new user's pmass:PointMas-v0)
+    assert main(["train", "--env", "readme_point:ReadmePoin-v0", *TINY, "--out", "r"]) == 2
+    assert _err_lines(capsys) == ["shaped-es: error: cannot make env 'readme_point:ReadmePoin-v0': its module "
+                                  "'readme_point' imports but registers no 'ReadmePoin-v0'; did you mean "
+                                  "readme_point:ReadmePoint-v0?"]
 
 
 def test_the_readmes_quickstart_ranges_are_the_committed_studys():

@@ -30,6 +30,17 @@ def test_a_users_own_page_is_refused_and_force_writes_over_it(tmp_path, two_runs
     assert "my notes" not in page.read_text()
 
 
+def test_a_folder_as_the_report_out_is_refused_naming_its_page(tmp_path, two_runs, capsys):
+    """A new user's ``report --out myrep2``: the line names the page to write instead (``myrep2/report.md``)."""
+    capsys.readouterr()
+    assert main(["report", two_runs[0], "--out", str(tmp_path / "myrep2")]) == 2
+    line = _one_error_line(capsys)
+    assert "got myrep2 (a report page: --out " in line and line.endswith(f"{tmp_path / 'myrep2' / 'report.md'})")
+    assert main(["report", two_runs[0], "--out", str(tmp_path / "rep.txt")]) == 2
+    assert _one_error_line(capsys).endswith(f"(a report page: --out {tmp_path / 'rep.md'})")
+    assert sorted(tmp_path.iterdir()) == []
+
+
 def test_the_same_runs_redraw_their_page_and_other_runs_are_refused(tmp_path, two_runs, capsys):
     page = tmp_path / "rep" / "report.md"
     assert main(["report", *two_runs, "--out", str(page)]) == 0

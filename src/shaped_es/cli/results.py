@@ -120,7 +120,9 @@ def cmd_report(a: argparse.Namespace) -> int:
         print(json.dumps(paths))
         return 0
     if suffix not in FIGURE_SUFFIXES:
-        raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name}")
+        page = out / "report.md" if not suffix else out.with_suffix(".md")  # a folder named: its page
+        raise ConfigError(f"--out must end in .md or one of {', '.join(FIGURE_SUFFIXES)}, got {out.name} "
+                          f"(a report page: --out {page})")
     targets = {"fig4": out, "profile": out.with_name(f"{out.stem}_profile{out.suffix}"),
                "fig5": out.with_name(f"{out.stem}_mphi{out.suffix}")}
     check_free(list(targets.values()), a.force)

@@ -32,7 +32,8 @@ class Pace:
         self.on = spent + rest > SAY_AFTER_S
         if self.on:
             self.say(f"label probe: {steps:,} env steps of babbling and members around the initial mean in "
-                     f"{spent:.0f} s; about {rest:.0f} s more before generation 1 (the labels of {drives - 1} "
+                     f"{spent:.0f} s; at most about {rest:.0f} s more before generation 1 (at the pace of its first "
+                     f"episodes, start-up included; the labels of {drives - 1} "
                      f"variants drive {EPISODES} episodes each, then {sims} candidates are cloned and driven over "
                      f"{ROUNDS} DAgger rounds; once per run, kept in label_probe.json)")
 
