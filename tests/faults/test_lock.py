@@ -118,6 +118,20 @@ def test_lock_is_reentrant_in_one_process_and_released(tmp_path):
     assert os.path.getsize(store.metrics_path) > 0
 
 
+def test_a_lock_that_is_a_symlink_is_refused_and_its_target_untouched(tmp_path):
+    """An auditor's ``ln -s /x/precious RUN/.lock``: the lock used to open the target, empty it and write the
+    owner record there; now the run is refused in one line and the target keeps its bytes."""
+    store = RunStore(tmp_path / "r")
+    store.root.mkdir()
+    precious = tmp_path / "precious"
+    precious.write_text("mine")
+    store.lock_path.symlink_to(precious)
+    with pytest.raises(StoreError, match=r"\.lock is a symlink; a run's lock is a file of its own"):
+        with store.lock():
+            pass
+    assert precious.read_text() == "mine" and store.lock_path.is_symlink()
+
+
 def test_a_deleted_lock_file_lets_no_second_writer_in(tmp_path, capsys):
     run = tmp_path / "r"
     cfg = write_config(tmp_path / "c.yaml", config("vanilla", generations=1))

@@ -10,7 +10,8 @@ RUN = ["config.yaml", "run.json", "metrics.csv", ".lock", "error.log", "label_pr
        "label_probe_candidate.npy", "position_period.json", ".metrics.csv.abc123.tmp",
        "checkpoints/latest.json", "mphi_data/added_000003.npz", "mphi_data_rival/added_000003.npz",
        "trajectories/gen_000000/members_0000-0007.parquet", "tb/events.out.tfevents.1.vm.2.0",
-       "figures/reward.png", "videos/gen_000004.gif"]
+       "figures/reward.png", "videos/gen_000004.gif", "figures/.reward.png.k2j4.tmp",
+       "trajectories/gen_000000/.members_0000-0007.parquet.abc.tmp"]
 
 
 def _make(root, names):
@@ -28,7 +29,11 @@ def test_a_runs_own_files_are_replaced_whole(tmp_path):
 
 
 @pytest.mark.parametrize("extra", ["notes.txt", "checkpoints/gen_000002_backup.npz", "trajectories/gen_000000/mine.txt",
-                                   "trajectories/keep/a.parquet", "figures/plot.pdf", "data/x.csv"])
+                                   "trajectories/keep/a.parquet", "figures/plot.pdf", "data/x.csv",
+                                   # names close to a run's (an auditor's): another figure, a folder that only
+                                   # looks like M_phi's data, a hidden .tmp of no name the run writes
+                                   "figures/my_plot.png", "mphi_data_backup/added_000001.npz", ".mine.x.tmp",
+                                   "checkpoints/.notes.txt.abc.tmp"])
 def test_anything_else_refuses_with_nothing_deleted(tmp_path, extra):
     run = tmp_path / "r"
     _make(run, RUN + [extra])

@@ -90,6 +90,11 @@ def test_render_gif_of_the_best_policy(tmp_path, capsys):
     assert half["frames"] == 1 + 3 and half["fps"] == 7.5  # t = 4, 8, 12; every 4th frame of 30 a second
     assert _cli(run, "--out", tmp_path / "fast.gif", "--fps", "50") == 0
     assert json.loads(capsys.readouterr().out)["fps"] == 50.0
+    # its temporary is a file of its own: a user's .vid2.gif.tmp (the fixed name it used) stays as it was
+    mine = tmp_path / ".vid2.gif.tmp"
+    mine.write_text("mine")
+    assert _cli(run, "--out", tmp_path / "vid2.gif") == 0
+    assert mine.read_text() == "mine" and (tmp_path / "vid2.gif").stat().st_size > 0
 
 
 @pytest.mark.parametrize("env", ["BlindRender-v0", "NoFrame-v0"])

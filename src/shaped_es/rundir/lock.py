@@ -147,7 +147,13 @@ def holder(root: Path) -> str | None:
 def _acquire_file(root: Path) -> _Lock:
     path = root / LOCK_NAME
     for _ in range(10):  # only loops when another process unlinked the file between our open and flock
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:  # never through a symlink: a .lock that points elsewhere would have that file emptied
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o644)
+        except OSError as exc:
+            if path.is_symlink():
+                raise StoreError(f"{path} is a symlink; a run's lock is a file of its own there (nothing was "
+                                 f"written through it): remove the link and run again") from None
+            raise
         try:
             if fcntl is not None:
                 try:

@@ -11,10 +11,11 @@ import re
 from pathlib import Path
 
 from shaped_es.rundir.atomic import StoreError
+from shaped_es.rundir.prune import DATA_DIRS
 
-_TMP = r"|\.[^/]+\.[A-Za-z0-9_]+\.tmp"  # atomic_write_bytes' and the trajectory store's temporaries
-# the names a run writes, folder by folder ("*": a run-made folder of that pattern); rundir/recovery.py's
-# RUN_FILES, with the run's lock, error log, probe candidate, position period, figures, TensorBoard and videos
+# the names a run writes, folder by folder (rundir/recovery.py's RUN_FILES, with the run's lock, error log, probe
+# candidate, position period, its figure, TensorBoard's events and the videos); each name's temporaries too
+# (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the trajectory store's)
 _WRITTEN = {
     ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json|label_probe_candidate\.npy|pruned\.json"
          r"|\.lock|error\.log|position_period\.json",
@@ -23,23 +24,22 @@ _WRITTEN = {
     "trajectories/gen_*": r"members_\d{4,}-\d{4,}\.parquet",
     "trajectories": r"(?!)",  # folders only
     "tb": r"events\.out\.tfevents\.[^/]+",
-    "figures": r"[A-Za-z0-9_.-]+\.png",
+    "figures": r"reward\.png",
     "videos": r"gen_\d{6,}\.gif",
 }
-_FILE_RES = {k: re.compile(v + _TMP) for k, v in _WRITTEN.items()}
-_FOLDER_RES = [(re.compile(r"checkpoints|mphi_data[a-z_]*|trajectories|tb|figures|videos"), "."),
-               (re.compile(r"gen_\d{6,}"), "trajectories")]
+_FILE_RES = {k: re.compile(rf"(?:{v})|\.(?:{v})\.[A-Za-z0-9_]+\.tmp") for k, v in _WRITTEN.items()}
+_TOP_FOLDERS = {"checkpoints", "trajectories", "tb", "figures", "videos"}
+_GEN_FOLDER = re.compile(r"gen_\d{6,}")
 
 
 def _kind(rel: Path) -> str | None:
     """The ``_WRITTEN`` key of a run-made folder at ``rel`` (relative to the run directory), else None."""
     parts = rel.parts
     if len(parts) == 1:
-        name = parts[0]
-        if name.startswith("mphi_data") and _FOLDER_RES[0][0].fullmatch(name):
+        if parts[0] in DATA_DIRS:
             return "mphi_data*"
-        return name if _FOLDER_RES[0][0].fullmatch(name) else None
-    if len(parts) == 2 and parts[0] == "trajectories" and _FOLDER_RES[1][0].fullmatch(parts[1]):
+        return parts[0] if parts[0] in _TOP_FOLDERS else None
+    if len(parts) == 2 and parts[0] == "trajectories" and _GEN_FOLDER.fullmatch(parts[1]):
         return "trajectories/gen_*"
     return None
 

@@ -397,7 +397,7 @@ def delete_generations(root: str | os.PathLike, generations: Iterable[int]) -> N
             continue
         entries = _listdir(fs, p)
         ours = [i for i in entries if i.type == pafs.FileType.File
-                and (_SHARD_RE.match(i.base_name) or _TMP_RE.match(i.base_name))]
+                and (_SHARD_RE.fullmatch(i.base_name) or _TMP_RE.fullmatch(i.base_name))]
         for i in ours:
             fs.delete_file(i.path)
         if len(ours) == len(entries):

@@ -12,6 +12,7 @@ one line naming that extra). The built-in envs and MuJoCo ones render without py
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import gymnasium as gym
@@ -21,6 +22,7 @@ from shaped_es import seeding
 from shaped_es.config import check_seed
 from shaped_es.env_probe import reward as one_reward
 from shaped_es.rollout import DEFAULT_MAX_STEPS, EnvSpecError, close_env, env_time_limit, make_env
+from shaped_es.rundir.atomic import atomic_write_bytes
 from shaped_es.rundir.store import RunStore, StoreError
 from shaped_es.trained.load import load_policy
 
@@ -134,8 +136,9 @@ def _write_gif(frames: list[np.ndarray], out: Path, fps: float) -> None:
     from PIL import Image
 
     images = [Image.fromarray(f) for f in frames]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.tmp")
-    images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
+    buf = io.BytesIO()
+    images[0].save(buf, format="GIF", save_all=True, append_images=images[1:],
                    duration=max(20, int(round(1000.0 / fps))), loop=0)
-    tmp.replace(out)
+    # a temporary of its own (mkstemp), then a rename: a fixed .NAME.tmp wrote over a user's file of that name,
+    # or through a symlink of that name out of the folder
+    atomic_write_bytes(out, buf.getvalue())
