@@ -489,3 +489,19 @@ def test_a_resumed_runs_labels_count_continues_without_counting_a_row_twice(tmp_
     capsys.readouterr()
     Trainer(c, store, progress=True).run()
     assert full is not None and last_count() == full
+
+
+def test_a_run_that_accepted_candidates_says_what_shaping_did_in_one_line():
+    """A new user found what shaping did only in the final JSON: a run whose labels paid ends with one line
+    (accepted of judged, undone, mean gain, generations backed off); a run that never accepted one keeps its
+    own line (never_accepted), and a run without judgements none."""
+    from shaped_es.guides.label_budget import shaping_line
+
+    s = {"candidates_judged": 13, "candidates_accepted": 6, "mean_gain": 2.4, "generations_backed_off": 4,
+         "jumps_reverted": 1}
+    assert shaping_line(s, 60) == ("shaping: 6 of 13 judged candidates accepted (1 undone by the next generation), "
+                                   "mean gain +2.40 over the mean's return; backed off 4 of 60 generations "
+                                   "(metrics.csv candidate_*, shaping_awake; shaped-es report RUN_DIR compares runs)")
+    assert "undone" not in shaping_line({**s, "jumps_reverted": 0}, 60)
+    assert shaping_line({**s, "candidates_accepted": 0}, 60) is None and shaping_line(None, 60) is None
+    assert shaping_line({**s, "candidates_judged": 0, "candidates_accepted": 0}, 60) is None

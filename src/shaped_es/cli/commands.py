@@ -169,9 +169,10 @@ def _run(cfg, store, a, probe=None) -> int:
         if (wrap := read_wrap_file(store.root)) is not None:  # a position that wraps (rollout/periodic.py)
             shaping["position_period"] = wrap
         out["shaping"] = shaping
-        from shaped_es.guides.label_budget import never_accepted
+        from shaped_es.guides.label_budget import never_accepted, shaping_line
 
-        if (line := never_accepted(shaping, METHODS[cfg.method].base)) is not None:
+        line = never_accepted(shaping, METHODS[cfg.method].base) or shaping_line(shaping, len(rows))
+        if line is not None:
             print(f"shaped-es: {store.root.name}: {line}", file=sys.stderr)
     print(json.dumps(out))
     return 0

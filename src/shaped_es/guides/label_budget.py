@@ -228,6 +228,21 @@ def never_accepted(summary: dict | None, base: str | None, short: bool = False) 
                    f"probe and awake generations)")
 
 
+def shaping_line(summary: dict | None, generations: int) -> str | None:
+    """The line a run prints at its end when candidates were accepted (``summary``: :func:`rows_summary`'s): how
+    many of the judged, how many the next generation undid, the mean gain, the generations backed off (a new user
+    found these only in the final JSON and the report); None where :func:`never_accepted` speaks, or none judged."""
+    if not summary or not summary["candidates_judged"] or not summary["candidates_accepted"]:
+        return None
+    undone = summary.get("jumps_reverted") or 0
+    gain = summary.get("mean_gain")
+    return (f"shaping: {summary['candidates_accepted']} of {summary['candidates_judged']} judged candidates accepted"
+            + (f" ({undone} undone by the next generation)" if undone else "")
+            + (f", mean gain {gain:+.2f} over the mean's return" if gain is not None else "")
+            + f"; backed off {summary['generations_backed_off']} of {generations} generations (metrics.csv "
+              f"candidate_*, shaping_awake; shaped-es report RUN_DIR compares runs)")
+
+
 def _num(v) -> float | None:
     try:
         x = float(v)
