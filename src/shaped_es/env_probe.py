@@ -11,7 +11,6 @@ missing, of another size than each other or non-finite. ``shaped_es.rollout`` re
 from __future__ import annotations
 
 import difflib
-
 import numbers
 import traceback
 import warnings

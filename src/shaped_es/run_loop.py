@@ -37,6 +37,7 @@ import time
 from shaped_es.config import RunConfig
 from shaped_es.monitor.callbacks import as_callbacks
 from shaped_es.monitor.progress import ProgressDisplay
+from shaped_es.rundir import metrics_csv
 from shaped_es.rundir.atomic import atomic_write_text
 from shaped_es.rundir.meta import Counters, checkpoint_mismatch, config_digest
 from shaped_es.rundir.prune import refuse_pruned
@@ -116,11 +117,7 @@ class RunLoop:
         if self.c.generation and self.progress:  # a resumed run's counters continue (labels accepted/judged):
             # the rows the checkpoint covers, one per generation; not those it writes again (rows that waited
             # for their test episodes, which a killed run may have written after its checkpoint) nor repeats
-            kept = {}
-            for row in self.store.read_metrics():
-                if str(row.get("generation", "")).isdigit() and int(row["generation"]) < self._rows_kept:
-                    kept[int(row["generation"])] = row
-            bar.count_labels([kept[g] for g in sorted(kept)])
+            bar.count_labels(metrics_csv.rows_up_to(self.store.metrics_path, self._rows_kept - 1)[1])
         saved = False
         try:
             for g in range(self.c.generation, self.cfg.generations):

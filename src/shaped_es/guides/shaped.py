@@ -84,6 +84,7 @@ from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_check import candidate_line, probe_line, source_line
 from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe, start_stats
 from shaped_es.guides.mphi_track import MphiTrack
+from shaped_es.guides.mechanisms.mean_clone import noise_line
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
 from shaped_es.guides.rival import names as rival_names, probe_shooting, rivals
@@ -361,12 +362,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                   file=sys.stderr)
         if (out.get("clone_noise") or 0) > 0 and not self._noise_said:  # None: no clone this generation
             self._noise_said = True
-            mc = self.mean_clone_cfg
-            ramp = f", growing to it over noise_ramp {mc.noise_ramp} generations" if mc.noise_ramp > 0 else ""
-            print(f"shaped-es: {self.run_name}: generation {generation + 1}: the mean's clone is fitted under the search's "
-                  f"parameter noise from here on (shaping.mean_clone.noise {mc.noise:g} x the search's step, from generation "
-                  f"noise_from {mc.noise_from}{ramp}; metrics.csv clone_noise): the mean moves to where its population does well "
-                  f"too; its test reward can dip for 10-25 generations first (docs/benchmarks/noise_from_v29)",
+            print(f"shaped-es: {self.run_name}: generation {generation + 1}: {noise_line(self.mean_clone_cfg)}",
                   file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now
             verdict.append(self._verdict(out, fitness))

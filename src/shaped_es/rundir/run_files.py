@@ -12,16 +12,16 @@ from pathlib import Path
 
 from shaped_es.rundir.atomic import StoreError
 from shaped_es.rundir.prune import DATA_DIRS
+from shaped_es.rundir.recovery import RUN_FILES
 
-# the names a run writes, folder by folder (rundir/recovery.py's RUN_FILES, with the run's lock, error log, probe
-# candidate, position period, its figure, TensorBoard's events and the videos); each name's temporaries too
+# the names a run writes, folder by folder: rundir/recovery.py's RUN_FILES, with the run's lock, error log, probe
+# candidate and position period, its figure, TensorBoard's events and the videos; each name's temporaries too
 # (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the trajectory store's)
 _WRITTEN = {
-    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json|label_probe_candidate\.npy|pruned\.json"
-         r"|\.lock|error\.log|position_period\.json",
-    "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
-    "mphi_data*": r"added_\d{6,}\.npz",
-    "trajectories/gen_*": r"members_\d{4,}-\d{4,}\.parquet",
+    ".": RUN_FILES["."] + r"|label_probe_candidate\.npy|\.lock|error\.log|position_period\.json",
+    "checkpoints": RUN_FILES["checkpoints"],
+    "mphi_data*": RUN_FILES["mphi_data"],  # each of prune's DATA_DIRS (M_phi's and its rivals')
+    "trajectories/gen_*": RUN_FILES["trajectories/*"],
     "trajectories": r"(?!)",  # folders only
     "tb": r"events\.out\.tfevents\.[^/]+",
     "figures": r"reward\.png",

@@ -40,6 +40,15 @@ def noise_scale(cfg: MeanCloneConfig, generation: int) -> float:
     return cfg.noise * (min(1.0, k / cfg.noise_ramp) if cfg.noise_ramp > 0 else 1.0)
 
 
+def noise_line(cfg: MeanCloneConfig) -> str:
+    """What a run says at its first clone fitted under the noise (after ``shaped-es: RUN: generation G: ``)."""
+    ramp = f", growing to it over noise_ramp {cfg.noise_ramp} generations" if cfg.noise_ramp > 0 else ""
+    return (f"the mean's clone is fitted under the search's parameter noise from here on (shaping.mean_clone.noise "
+            f"{cfg.noise:g} x the search's step, from generation noise_from {cfg.noise_from}{ramp}; metrics.csv "
+            f"clone_noise): the mean moves to where its population does well too; its test reward can dip for 10-25 "
+            f"generations first (docs/benchmarks/noise_from_v29)")
+
+
 def clone_mean(host, generation: int, theta: np.ndarray, cfg: MeanCloneConfig,
                rows=None, labels=None, key: int = CLONE_KEY) -> tuple[np.ndarray, dict]:
     """``(theta*, metrics)``: ``theta`` ``(n,)`` (the mean; with ``warm_start`` the previous clone)
