@@ -60,10 +60,11 @@ def test_check_new_names_the_cases(tmp_path):
 
 def test_clean_temporaries_touches_only_the_runs_own_files(tmp_path):
     store = RunStore(tmp_path / "run")
-    ours = [".metrics.csv.k2j3_x.tmp", "checkpoints/.gen_000003.npz.abcd1234.tmp",
+    ours = [".metrics.csv.k2j3_x.tmp", ".label_probe_candidate.npy.a1b2.tmp", ".position_period.json.zz9.tmp",
+            "checkpoints/.gen_000003.npz.abcd1234.tmp",
             "checkpoints/.latest.json.x1.tmp", "mphi_data/.added_000002.npz.q.tmp",
             "trajectories/gen_000001/.members_0000-0003.parquet.0123abcd.tmp"]
-    theirs = ["notes/.draft.md.tmp", ".notes.txt.x.tmp", "checkpoints/.mine.tmp", "tb/.events.x.tmp",
+    theirs = ["notes/.draft.md.tmp", ".notes.txt.x.tmp", ".label_probe_candidate.npy.bak", "checkpoints/.mine.tmp", "tb/.events.x.tmp",
               "figures/.reward.png.x.tmp", "trajectories/other/.members_0000-0003.parquet.a.tmp",
               "deep/checkpoints/.gen_000001.npz.a.tmp", "mphi_data/sub/.added_000002.npz.q.tmp"]
     for rel in ours + theirs:

@@ -25,7 +25,8 @@ from shaped_es.rundir.checkpoints import _CKPT_RE
 # clean-up deletes only the temporaries of these names (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the
 # trajectory store's), never walking any other folder, so a run directory holds nothing else of value to it
 RUN_FILES = {
-    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json|pruned\.json",
+    ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json|label_probe_candidate\.npy|pruned\.json"
+         r"|position_period\.json",
     "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
     "mphi_data": r"added_\d{6,}\.npz",
     "trajectories/*": r"members_\d{4,}-\d{4,}\.parquet",

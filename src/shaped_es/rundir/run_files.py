@@ -14,11 +14,11 @@ from shaped_es.rundir.atomic import StoreError
 from shaped_es.rundir.prune import DATA_DIRS
 from shaped_es.rundir.recovery import RUN_FILES
 
-# the names a run writes, folder by folder: rundir/recovery.py's RUN_FILES, with the run's lock, error log, probe
-# candidate and position period, its figure, TensorBoard's events and the videos; each name's temporaries too
-# (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the trajectory store's)
+# the names a run writes, folder by folder: rundir/recovery.py's RUN_FILES, with the run's lock and error log, its
+# figure, TensorBoard's events and the videos; each name's temporaries too (``.NAME.RANDOM.tmp``:
+# atomic_write_bytes' and the trajectory store's)
 _WRITTEN = {
-    ".": RUN_FILES["."] + r"|label_probe_candidate\.npy|\.lock|error\.log|position_period\.json",
+    ".": RUN_FILES["."] + r"|\.lock|error\.log",
     "checkpoints": RUN_FILES["checkpoints"],
     "mphi_data*": RUN_FILES["mphi_data"],  # each of prune's DATA_DIRS (M_phi's and its rivals')
     "trajectories/gen_*": RUN_FILES["trajectories/*"],
