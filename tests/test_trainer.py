@@ -153,3 +153,36 @@ def test_test_policy_mean_resumes_exactly(tmp_path, monkeypatch):
     assert strip_time(resumed) == strip_time(full)
     best = _train(tmp_path, "best", **{**over, "rollout": {**TINY["rollout"], "test_policy": "best"}})
     assert [r["test_reward_mean"] for r in best] != [r["test_reward_mean"] for r in full]  # another policy
+
+
+def test_an_interrupt_during_start_up_ends_the_executors_it_made(tmp_path, monkeypatch):
+    """A Ctrl-C while the trainer is still being built (the shaped method's label probe runs there, on the
+    executor's workers) shuts the executors the trainer made: a worker still starting would otherwise die on
+    its pool's semaphores, gone with the trainer, and print a traceback after the one-line message."""
+    import shaped_es.trainer as trainer_mod
+
+    made = []
+
+    class Recorder:
+        workers = 1
+
+        def __init__(self, *a, **k):
+            self.closed = 0
+            made.append(self)
+
+        def shutdown(self):
+            self.closed += 1
+
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(trainer_mod, "make_executor", Recorder)
+    monkeypatch.setattr(trainer_mod, "build_guide", interrupted)
+    cfg, store = new_run(tmp_path / "r", {**TINY, "executor": "process", "eval_workers": 1})
+    with pytest.raises(KeyboardInterrupt):
+        Trainer(cfg, store, progress=False)
+    assert [e.closed for e in made] == [1, 1]  # training's and evaluation's pools, each once
+    given = Recorder()
+    with pytest.raises(KeyboardInterrupt):
+        Trainer(cfg, store, executor=given, progress=False)
+    assert given.closed == 0  # a caller's executor stays the caller's to close

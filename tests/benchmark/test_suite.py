@@ -74,9 +74,10 @@ def test_suite_table_and_thresholds():
         write_suite_report("/nonexistent/suite")
 
 
-def test_cli_bad_input_is_one_line(capsys):
-    assert main(["suite", "run", "--out", "/tmp/x", "--tasks", "Nope-v0"]) == 2
+def test_cli_bad_input_is_one_line(capsys, tmp_path):
+    assert main(["suite", "run", "--out", str(tmp_path / "x"), "--tasks", "Nope-v0"]) == 2
     assert "not in suite" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
 
 
 def test_estimate_only_prints_each_task_and_writes_nothing(tmp_path):

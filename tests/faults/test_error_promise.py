@@ -99,10 +99,10 @@ def shards(gen, data):
     return f
 
 
-def mphi_part(fn):
-    """The newest M_phi data part's bytes replaced by ``fn(bytes)``."""
+def mphi_part(fn, folder: str = "mphi_data"):
+    """The newest M_phi data part's bytes (``folder``: a rival's) replaced by ``fn(bytes)``."""
     def f(run, tmp):
-        p = sorted((run / "mphi_data").glob("added_*.npz"))[-1]
+        p = sorted((run / folder).glob("added_*.npz"))[-1]
         p.write_bytes(fn(p.read_bytes()))
     return f
 
@@ -131,7 +131,8 @@ CASES = [
     ("ckpt-bad-counter", "vanilla", edit_json(None, lambda d: {**d, "env_steps": -4}), resume6(),
      "malformed counter 'env_steps'"),
     ("shard-missing", "shaped", remove("trajectories/gen_000003"), resume6(), "missing from"),
-    ("shard-corrupt", "shaped", shards(3, b"PAR1 not parquet"), resume6(), "corrupt trajectory shard"),
+    ("shard-corrupt", "shaped", shards(3, b"PAR1 not parquet"), resume6(),
+     "or resume from checkpoint gen_000003 or older"),
     ("mphi-part-missing", "shaped", remove("mphi_data"), resume6(), "M_phi data part"),
     ("mphi-part-corrupt", "shaped", mphi_part(lambda b: b"PK\x03\x04" + b[40:]), resume6(), "M_phi data part"),
     ("ray-start-fails", "vanilla", edit_text("config.yaml", lambda t: t.replace("address: null", "address: "
@@ -165,6 +166,9 @@ CASES = [
     ("metrics-rows-cut", "vanilla", edit_text("metrics.csv", lambda t: "".join(t.splitlines(True)[:3])),
      resume6(), "lacks the rows of generations 2-3"),
     ("run-id-garbage", "shaped", write("run.json", "{}"), resume6(), "holds no run id"),
+    ("config-emptied", "vanilla", write("config.yaml", ""), resume6(), "config.yaml is empty"),
+    ("rival-part-corrupt", "shaped", mphi_part(lambda b: b[: len(b) // 2], "mphi_data_rival"), resume6(),
+     "unreadable (BadZipFile); if only this checkpoint"),
     # 8. other libraries' lines: Gymnasium's env checker warns about this env (in error.log, one line here)
     ("env-checker-warnings", None, nothing, faulty("raise_step", env="fault_envs:Noisy-v0"),
      "raised RuntimeError"),

@@ -63,9 +63,11 @@ def test_clean_temporaries_touches_only_the_runs_own_files(tmp_path):
     ours = [".metrics.csv.k2j3_x.tmp", ".label_probe_candidate.npy.a1b2.tmp", ".position_period.json.zz9.tmp",
             "checkpoints/.gen_000003.npz.abcd1234.tmp",
             "checkpoints/.latest.json.x1.tmp", "mphi_data/.added_000002.npz.q.tmp",
-            "trajectories/gen_000001/.members_0000-0003.parquet.0123abcd.tmp"]
-    theirs = ["notes/.draft.md.tmp", ".notes.txt.x.tmp", ".label_probe_candidate.npy.bak", "checkpoints/.mine.tmp", "tb/.events.x.tmp",
-              "figures/.reward.png.x.tmp", "trajectories/other/.members_0000-0003.parquet.a.tmp",
+            "mphi_data_rival/.added_000005.npz.oo4zgge6.tmp", "mphi_data_shoot_third/.added_000001.npz.a.tmp",
+            "trajectories/gen_000001/.members_0000-0003.parquet.0123abcd.tmp", "figures/.reward.png.x1.tmp"]
+    theirs = ["notes/.draft.md.tmp", ".notes.txt.x.tmp", ".label_probe_candidate.npy.bak", "checkpoints/.mine.tmp",
+              "tb/.events.x.tmp", "figures/.fig4_test_reward.png.x.tmp", "figures/old.png",
+              "trajectories/other/.members_0000-0003.parquet.a.tmp",
               "deep/checkpoints/.gen_000001.npz.a.tmp", "mphi_data/sub/.added_000002.npz.q.tmp"]
     for rel in ours + theirs:
         p = store.root / rel

@@ -51,3 +51,33 @@ def test_the_legend_names_the_policy_a_run_tested(tmp_path):
     assert tested_policy(run("old", "method: vanilla\nrollout:\n  episodes: 2\n")) == "best member"  # before the setting
     assert tested_policy(run("ppo", "method: ppo\nrollout:\n  test_policy: mean\n")) == "policy"
     assert tested_policy(tmp_path / "missing") == "policy"
+
+
+def test_a_figure_is_written_whole_or_not_at_all(tmp_path):
+    """A figure goes through a temporary of its own and a rename (as every file of a run): a save that fails
+    while drawing leaves the old figure as it was and no temporary; one that succeeds replaces it."""
+    import matplotlib.pyplot as plt
+    import pytest
+
+    from shaped_es.report.figures import save_figure
+
+    out = tmp_path / "figures" / "reward.png"
+    out.parent.mkdir()
+    out.write_bytes(b"old figure")
+    fig = plt.figure()
+
+    def killed_midway(fh, **kw):  # half a PNG drawn, then the draw fails
+        fh.write(b"\x89PNG half")
+        raise RuntimeError("killed while drawing")
+
+    fig.savefig = killed_midway
+    with pytest.raises(RuntimeError):
+        save_figure(fig, out)
+    assert out.read_bytes() == b"old figure"
+    assert sorted(p.name for p in out.parent.iterdir()) == ["reward.png"]
+    fig = plt.figure()
+    fig.gca().plot([0, 1], [1, 0])
+    assert save_figure(fig, out) == out
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in out.parent.iterdir()) == ["reward.png"]
+    assert not plt.get_fignums()  # every figure closed, failed or not

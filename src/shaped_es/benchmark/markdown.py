@@ -19,6 +19,7 @@ from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
 from shaped_es.report.style import figure_title
+from shaped_es.rundir.atomic import clean_stale_temporaries
 from shaped_es.rundir.store import atomic_write_text
 
 MPHI_COLUMNS = ("mphi_train_loss", "mphi_fig5_test_loss", "mphi_fit_test_loss", "mphi_test_loss")
@@ -260,6 +261,8 @@ def write_report(out_md: str | Path, groups: dict[str, list[Path]], configs: dic
             summary.update(resolve(extra)(next(c for c in configs.values() if c.method == name)))
     summary_path = Path(summary_path) if summary_path else root / "summary.json"
     _drop_undrawn(summary_path, root, rel)
+    clean_stale_temporaries(root, (summary_path.name, out_md.name))  # a killed report's (its figures' below)
+    clean_stale_temporaries(root / "figures", (FIG4, FIG5, PROFILE))
     atomic_write_text(summary_path, json.dumps(summary, indent=2))
     atomic_write_text(out_md, render_markdown(summary, rel, runs, summary["settings"], title))
     return {"report": str(out_md), "summary": str(summary_path),

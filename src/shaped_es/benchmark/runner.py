@@ -38,6 +38,7 @@ from shaped_es.methods import METHODS, resolve
 from shaped_es.run_loop import run_finished
 from shaped_es.rundir.meta import RUNTIME_FIELDS
 from shaped_es.rundir.run_files import replace_run_dir
+from shaped_es.rundir.atomic import clean_stale_temporaries
 from shaped_es.rundir.store import RunStore, StoreError, atomic_write_text
 
 SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
@@ -346,6 +347,7 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
             return {"estimate_s": {k: round(e["seconds"], 1) for k, e in est.items()}}
     out.mkdir(parents=True, exist_ok=True)
     record = json.loads(json.dumps(asdict(spec)))  # tuples -> lists for YAML
+    clean_stale_temporaries(out, ("benchmark.yaml",))  # a killed invocation's
     atomic_write_text(out / "benchmark.yaml", yaml.safe_dump(record, sort_keys=False))
     status: dict[str, dict] = {}
     for name, (action, cfg) in plan.items():

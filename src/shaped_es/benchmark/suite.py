@@ -35,6 +35,7 @@ import yaml
 
 from shaped_es.benchmark.runner import BenchmarkSpec, check_own_folder, run_benchmark, run_name
 from shaped_es.config import ConfigError
+from shaped_es.rundir.atomic import clean_stale_temporaries
 from shaped_es.rundir.store import StoreError, atomic_write_text
 
 DEFAULT_SUITE = "waypoints"
@@ -119,6 +120,7 @@ def run_suite(out: str | Path, suite: str = DEFAULT_SUITE, tasks: list[str] | No
     record = _merged(out / "suite.yaml", {"suite": suite, "tasks": {s.env: s.generations for s in specs},
                                           "methods": list(methods), "seeds": list(seeds),
                                           "overrides": overrides or {}})
+    clean_stale_temporaries(out, ("suite.yaml", "suite.json", "suite.md"))  # a killed invocation's
     atomic_write_text(out / "suite.yaml", yaml.safe_dump(record, sort_keys=False))
     n_runs = len(specs) * len(methods) * len(seeds)
     done, t0 = 0, time.perf_counter()

@@ -21,6 +21,10 @@ from shaped_es.rundir.store import atomic_write_bytes
 _PART_RE = re.compile(r"added_(\d{6,})\.npz")
 
 
+class DamagedPart(ValueError):
+    """A data part on disk that cannot be read as written (not one that is missing, or another setup's)."""
+
+
 class DataParts:
     """The part files under ``root`` and the list ``kept`` of (generation, rows) a checkpoint names."""
 
@@ -73,11 +77,12 @@ class DataParts:
             try:
                 with np.load(path, allow_pickle=False) as z:
                     x, y = z["x"], z["y"]
+            except FileNotFoundError:
+                raise ValueError(f"M_phi data part {path} is missing") from None
             except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-                raise ValueError(f"M_phi data part {path} is missing or unreadable ({type(exc).__name__})") \
-                    from None
+                raise DamagedPart(f"M_phi data part {path} is unreadable ({type(exc).__name__})") from None
             if x.shape[:1] != (int(rows),) or y.shape[:1] != (int(rows),):
-                raise ValueError(f"M_phi data part {path} holds {x.shape[:1]} rows, the checkpoint says {rows}")
+                raise DamagedPart(f"M_phi data part {path} holds {x.shape[:1]} rows, the checkpoint says {rows}")
             if x.shape != (int(rows), in_dim) or y.shape != (int(rows), act_dim) or \
                     not (np.isfinite(x).all() and np.isfinite(y).all()):
                 raise ValueError(f"M_phi data part {path} is not this run's (shapes {x.shape}, {y.shape} or "

@@ -62,7 +62,7 @@ def load(path: Path, num_params: int) -> np.ndarray | None:
         return None
     try:
         theta = np.load(io.BytesIO(read_regular(path)), allow_pickle=False)
-    except (ValueError, OSError, StoreError) as exc:
+    except (ValueError, OSError, EOFError, StoreError) as exc:  # EOFError: an empty file
         raise ConfigError(f"{path} is not a probe candidate this version wrote ({exc}); move it away (the run "
                           f"then judges no candidate at generation 1)") from None
     if theta.shape != (num_params,) or not np.isfinite(theta).all():

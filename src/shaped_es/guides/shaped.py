@@ -83,6 +83,7 @@ from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
 from shaped_es.guides.label_check import candidate_line, probe_line, source_line
 from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe, start_stats
+from shaped_es.guides.mphi_parts import DamagedPart
 from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.mean_clone import noise_line
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
@@ -403,6 +404,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         for r in self.rivals:  # a checkpoint from before a rival: it starts afresh
             try:
                 r.track.restore(state, r.prefix, r.parts_key, optional=True)
+            except DamagedPart as exc:  # a damaged file: the checkpoint's message says what to do
+                raise ValueError(f"the {r.name} rival's model: {exc}") from None
             except ValueError as exc:  # its shape comes from the config and the probe's choices, not the checkpoint
                 raise ValueError(f"the {r.name} rival's model: {exc} (the run that wrote it had another setup: "
                                  f"its config or RUN/{PROBE_FILE}, which holds the shooting labels' horizon)") from None

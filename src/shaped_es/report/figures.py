@@ -18,6 +18,7 @@
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import matplotlib
@@ -29,6 +30,7 @@ import numpy as np  # noqa: E402
 from shaped_es.report.aggregate import profile_band  # noqa: E402
 from shaped_es.report.stats import band, common_grid  # noqa: E402
 from shaped_es.report.style import method_colors  # noqa: E402
+from shaped_es.rundir.atomic import atomic_write_bytes  # noqa: E402
 
 Metrics = dict[str, np.ndarray]
 X_AXES = (("generation", "generation"), ("env_steps", "env steps"), ("cpu_time_s", "CPU time (s)"),
@@ -68,11 +70,20 @@ def _draw(ax, runs: list[Metrics], xkey: str, ykey: str, color: str, label: str,
 
 
 def _save(fig, out: str | Path) -> Path:
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    return save_figure(fig, out)
+
+
+def save_figure(fig, out: str | Path) -> Path:
+    """``fig`` written to ``out`` (its format from the suffix) through a temporary of its own and a rename, as
+    every file of a run is: a kill while drawing leaves the old figure, not an empty file; closed."""
+    out = Path(out)
+    buf = io.BytesIO()
+    try:
+        fig.savefig(buf, dpi=110, format=out.suffix.lstrip(".") or "png")
+    finally:
+        plt.close(fig)
+    atomic_write_bytes(out, buf.getvalue())
     return out
 
 

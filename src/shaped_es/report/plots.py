@@ -10,6 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from shaped_es.report.figures import save_figure  # noqa: E402
 from shaped_es.report.style import method_color  # noqa: E402
 
 
@@ -106,8 +107,4 @@ def plot_runs(runs: dict[str, str | Path], out: str | Path, title: str = "") -> 
     if title:
         fig.suptitle(title)
     fig.tight_layout()
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)

@@ -6,9 +6,14 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import stat
 import tempfile
+import time
+from collections.abc import Iterable
 from pathlib import Path
+
+STALE_TMP_S = 600.0  # a temporary older than this is a killed writer's (a write takes well under a second)
 
 
 class StoreError(RuntimeError):
@@ -35,6 +40,24 @@ def atomic_write_bytes(path: Path, data: bytes) -> None:
 
 def atomic_write_text(path: Path, text: str) -> None:
     atomic_write_bytes(path, text.encode())
+
+
+def clean_stale_temporaries(folder: Path, names: Iterable[str], older_than_s: float = STALE_TMP_S) -> list[Path]:
+    """Delete the temporaries :func:`atomic_write_bytes` made for ``names`` in ``folder`` (``.NAME.RANDOM.tmp``:
+    regular files only, no symlink, no sub-folder) that were last written over ``older_than_s`` ago, so a
+    killed writer's, not one another process is still writing (folders without a lock: a benchmark's, a
+    suite's); returns what was deleted."""
+    pattern = re.compile(rf"\.(?:{'|'.join(re.escape(n) for n in names)})\.[A-Za-z0-9_]+\.tmp")
+    now, removed = time.time(), []
+    for p in entries(folder):
+        try:
+            st = p.lstat()
+        except OSError:
+            continue
+        if pattern.fullmatch(p.name) and stat.S_ISREG(st.st_mode) and now - st.st_mtime > older_than_s:
+            p.unlink(missing_ok=True)
+            removed.append(p)
+    return removed
 
 
 def _kind(mode: int) -> str:

@@ -33,12 +33,10 @@ from pathlib import Path
 from shaped_es.config import ConfigError, RunConfig
 from shaped_es.rundir.atomic import StoreError, atomic_write_text, entries, read_regular, real_dir
 from shaped_es.rundir.lock import holder
+from shaped_es.rundir.recovery import DATA_DIRS
 from shaped_es.rundir.store import RunStore
 
 PRUNED_NAME = "pruned.json"
-# the data-part folders of M_phi and its rivals (guides/shaped.py, guides/rival.py name them)
-DATA_DIRS = ("mphi_data", "mphi_data_rival", "mphi_data_servo", "mphi_data_shoot", "mphi_data_shoot_base",
-             "mphi_data_shoot_third")
 TRAJECTORIES = "trajectories"
 _TMP = r"\.[A-Za-z0-9_]+\.tmp"  # atomic_write_bytes' (and the trajectory store's) temporaries
 _PART_RE = re.compile(rf"added_\d{{6,}}\.npz|\.added_\d{{6,}}\.npz{_TMP}")

@@ -24,12 +24,16 @@ from shaped_es.rundir.checkpoints import _CKPT_RE
 # What the run writes, folder by folder (relative to the run directory; ``*`` a ``gen_NNNNNN`` folder):
 # clean-up deletes only the temporaries of these names (``.NAME.RANDOM.tmp``: atomic_write_bytes' and the
 # trajectory store's), never walking any other folder, so a run directory holds nothing else of value to it
+# the data-part folders of M_phi and its rivals (guides/shaped.py, guides/rival.py name them)
+DATA_DIRS = ("mphi_data", "mphi_data_rival", "mphi_data_servo", "mphi_data_shoot", "mphi_data_shoot_base",
+             "mphi_data_shoot_third")
 RUN_FILES = {
     ".": r"config\.yaml|run\.json|metrics\.csv|wandb_id|label_probe\.json|label_probe_candidate\.npy|pruned\.json"
          r"|position_period\.json",
     "checkpoints": r"gen_\d{6,}\.(?:npz|json)|latest\.json",
-    "mphi_data": r"added_\d{6,}\.npz",
+    **{d: r"added_\d{6,}\.npz" for d in DATA_DIRS},
     "trajectories/*": r"members_\d{4,}-\d{4,}\.parquet",
+    "figures": r"reward\.png",
 }
 _TMP_RES = {d: re.compile(rf"\.(?:{names})\.[A-Za-z0-9_]+\.tmp") for d, names in RUN_FILES.items()}
 

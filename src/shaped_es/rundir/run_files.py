@@ -11,8 +11,7 @@ import re
 from pathlib import Path
 
 from shaped_es.rundir.atomic import StoreError
-from shaped_es.rundir.prune import DATA_DIRS
-from shaped_es.rundir.recovery import RUN_FILES
+from shaped_es.rundir.recovery import DATA_DIRS, RUN_FILES
 
 # the names a run writes, folder by folder: rundir/recovery.py's RUN_FILES, with the run's lock and error log, its
 # figure, TensorBoard's events and the videos; each name's temporaries too (``.NAME.RANDOM.tmp``:
@@ -24,7 +23,7 @@ _WRITTEN = {
     "trajectories/gen_*": RUN_FILES["trajectories/*"],
     "trajectories": r"(?!)",  # folders only
     "tb": r"events\.out\.tfevents\.[^/]+",
-    "figures": r"reward\.png",
+    "figures": RUN_FILES["figures"],
     "videos": r"gen_\d{6,}\.gif",
 }
 _FILE_RES = {k: re.compile(rf"(?:{v})|\.(?:{v})\.[A-Za-z0-9_]+\.tmp") for k, v in _WRITTEN.items()}

@@ -235,6 +235,9 @@ class RunStore(CheckpointFiles, Recovery):
                 raise StoreError(f"{self.root} is not a run directory (not a directory)")
             raise StoreError(f"{self.root} is not a run directory (no config.yaml)")
         data = read_yaml(self.config_path)
+        if not data:  # every setting would be the default's, and no checkpoint would fit (not an older version)
+            raise StoreError(f"{self.config_path} is empty (a run writes it whole, so something emptied it): restore "
+                             f"the run's settings to it from a copy to use the run")
         for (*sections, key), before in SAVED_BEFORE.items():
             part = data
             for section in sections:

@@ -47,6 +47,7 @@ import re
 import uuid
 import warnings
 from collections.abc import Iterable, Sequence
+from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
@@ -266,6 +267,17 @@ def _first_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text[0] if text else ''}"
 
 
+def _damaged_hint(path: str | os.PathLike) -> str:
+    """What to do about a damaged shard of a run's generation folder (a shard is written whole and renamed, so
+    a crash leaves none half-written): restore it, or resume from a checkpoint taken before its generation ran,
+    which does not read it ("" outside a ``gen_NNNNNN`` folder)."""
+    m = re.fullmatch(r"gen_(\d{6,})", Path(os.fspath(path)).parent.name)
+    if m is None:
+        return ""
+    return (f"; restore it from a copy, or resume from checkpoint gen_{m.group(1)} or older (move the newer ones "
+            f"out of RUN/checkpoints), which does not read it")
+
+
 def read_shard(path: str | os.PathLike) -> list[Transitions]:
     """Read and validate one shard: one :class:`Transitions` per member, ascending (schema above)."""
     fs, p = _resolve(path)
@@ -274,7 +286,8 @@ def read_shard(path: str | os.PathLike) -> list[Transitions]:
     except FileNotFoundError:
         raise TrajectoryStoreError(f"trajectory shard not found: {path}") from None
     except (OSError, pa.ArrowException, ValueError) as exc:
-        raise TrajectoryStoreError(f"corrupt trajectory shard {path}: {_first_line(exc)}") from None
+        raise TrajectoryStoreError(f"corrupt trajectory shard {path}: {_first_line(exc).rstrip('.')}{_damaged_hint(path)}") \
+            from None
     return _from_table(table, os.fspath(path))
 
 

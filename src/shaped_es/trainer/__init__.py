@@ -97,6 +97,14 @@ class Trainer(CheckpointState, Rows, RunLoop):
             cfg.executor, workers=cfg.workers, **_executor_options(cfg)
         )
         self.eval_executor = self.executor
+        try:
+            self._start(cfg, store, probe)
+        except BaseException:  # a Ctrl-C during the label probe too: the workers it started (some may still be
+            self._close_executors()  # starting, and would die on their pool's semaphores with a traceback) end here
+            raise
+
+    def _start(self, cfg: RunConfig, store: RunStore, probe: EnvProbe | None) -> None:
+        """The rest of the construction, once the executor exists (the label probe uses its workers)."""
         if cfg.eval_workers and cfg.executor == "process" and self._own_executor:
             self.eval_executor = make_executor("process", workers=cfg.eval_workers,  # worker indices
                                                first_index=self.executor.workers,  # after training's
@@ -267,6 +275,9 @@ class Trainer(CheckpointState, Rows, RunLoop):
     def close(self) -> None:
         super().close()
         self.guide.close()
+        self._close_executors()
+
+    def _close_executors(self) -> None:
         if self._own_executor:
             if self.eval_executor is not self.executor:
                 self.eval_executor.shutdown()
