@@ -193,6 +193,23 @@ def test_a_run_whose_labels_never_won_says_it_took_the_strategys_own_steps():
     assert never_accepted(None, "vanilla") is None
 
 
+def test_a_never_paying_run_says_about_what_shaping_cost_it():
+    """Shaping's seconds: the probe's plus each awake generation's beyond the median slept one (the ES strategy's
+    own price in this run); none without 3 slept generations to price it by."""
+    from shaped_es.guides.label_budget import cost_summary, never_accepted
+
+    rows = [{"shaping_awake": a, "gen_time_s": t, "wall_time_s": w} for a, t, w in
+            [("1", "2.0", "7.0"), ("1", "1.5", "8.5"), ("0", "1.0", "9.5"), ("0", "1.2", "10.7"), ("0", "0.8", "11.5"),
+             ("1", "0.9", "12.4")]]
+    cost = cost_summary(rows, probe_s=5.0)
+    assert cost == {"seconds": 6.5, "probe_s": 5.0, "awake_generations": 3, "run_s": 11.5 + 0.9}  # 5 + 1.0 + 0.5 + 0
+    line = never_accepted({"candidates_judged": 2, "candidates_accepted": 0, "cost": cost}, "vanilla")
+    assert line.endswith("; shaping cost about 6 s of the run's 12 s: the label probe's 5.0 s and what its 3 awake "
+                         "generations took beyond a slept one's")
+    assert cost_summary(rows[:4], probe_s=5.0) is None  # 2 slept generations: no price
+    assert "cost" not in never_accepted({"candidates_judged": 2, "candidates_accepted": 0, "cost": None}, "vanilla")
+
+
 def test_disabled_budget_never_sleeps():
     assert _run(LabelBudget(patience=0, max_sleep=32), [False] * 20) == "1" * 21
 
@@ -500,8 +517,9 @@ def test_a_run_that_accepted_candidates_says_what_shaping_did_in_one_line():
     s = {"candidates_judged": 13, "candidates_accepted": 6, "mean_gain": 2.4, "generations_backed_off": 4,
          "jumps_reverted": 1}
     assert shaping_line(s, 60) == ("shaping: 6 of 13 judged candidates accepted (1 undone by the next generation), "
-                                   "mean gain +2.40 over the mean's return; backed off 4 of 60 generations "
-                                   "(metrics.csv candidate_*, shaping_awake; shaped-es report RUN_DIR compares runs)")
+                                   "mean gain +2.40 over the mean's return (every judged one's, the lost too); "
+                                   "backed off 4 of 60 generations (metrics.csv candidate_*, shaping_awake; "
+                                   "shaped-es report RUN_DIR compares runs)")
     assert "undone" not in shaping_line({**s, "jumps_reverted": 0}, 60)
     assert shaping_line({**s, "candidates_accepted": 0}, 60) is None and shaping_line(None, 60) is None
     assert shaping_line({**s, "candidates_judged": 0, "candidates_accepted": 0}, 60) is None

@@ -2,7 +2,16 @@
 ``clone_noise`` is 0 before it and ``noise * es.sigma`` from it, and the run says so in one line, once."""
 
 import pytest
-from helpers import train
+from helpers import new_run
+
+from shaped_es.trainer import Trainer
+
+
+def train(root, cfg, progress=True):
+    """The run trained with its progress display (the noise line is not said under --quiet)."""
+    cfg, store = new_run(root, cfg)
+    Trainer(cfg, store, progress=progress).run()
+    return store
 
 CFG = {"env": "PointVel-v0", "executor": "inline", "method": "shaped", "generations": 6, "seed": 0,
        "es": {"pairs": 4, "sigma": 0.04}, "policy": {"hidden": [4]},
@@ -61,3 +70,27 @@ def test_over_cmaes_the_clones_noise_follows_cmas_adapted_step(tmp_path):
     noise = [float(r["clone_noise"]) for r in rows[3:] if r["clone_noise"]]
     assert len(noise) >= 2 and all(x > 0 for x in noise)
     assert len(set(noise)) == len(noise) and all(abs(x - 0.02) > 1e-6 for x in noise)
+
+
+@pytest.mark.parametrize("first", [5, 2])
+def test_a_resumed_run_says_the_noise_line_only_if_it_had_not_yet(tmp_path, capsys, first):
+    """Extended past noise_from (5 generations, then resumed to 6), the run said the line in its first part and
+    does not say it again as if the noise began at the resume (a new user's extension printed it once per seed);
+    resumed before noise_from (2, then to 6), it says it once, when the noise begins."""
+    from shaped_es.cli.commands import main
+
+    run = tmp_path / "r"
+    train(run, {**CFG, "generations": first})
+    before = [ln for ln in capsys.readouterr().err.splitlines() if "parameter noise" in ln]
+    assert main(["resume", str(run), "--generations", "6"]) == 0
+    after = [ln for ln in capsys.readouterr().err.splitlines() if "parameter noise" in ln]
+    assert len(before + after) == 1 and len(after) == (first <= 3)
+
+
+def test_quiet_runs_do_not_say_the_noise_line(tmp_path, capsys):
+    """--quiet (a benchmark's runs): the line, the same in every run, is not said; the noise is applied alike."""
+    loud = train(tmp_path / "loud", CFG).read_metrics()
+    capsys.readouterr()
+    quiet = train(tmp_path / "quiet", CFG, progress=False).read_metrics()
+    assert "parameter noise" not in capsys.readouterr().err
+    assert [r["clone_noise"] for r in quiet] == [r["clone_noise"] for r in loud]

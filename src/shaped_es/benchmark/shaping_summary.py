@@ -104,7 +104,8 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
            "/ by the run's own labels / the rival "
            "frame's / the servo's / the shooting labels' / the shooting labels' at their other horizons where the probe "
            "cannot judge or beside a longer chosen one), the mean gain of the judged candidate over the mean (return, on every "
-           "episode both ran), generations backed off (shaping asleep) per run, and runs where no candidate "
+           "episode both ran; over every judged candidate, the lost ones too, so it is often negative in runs the "
+           "accepted ones carried), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
            "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
            "simulated candidate is not above zero action while another simulated candidate is), and says in how many runs it ran where not all.", "",

@@ -222,10 +222,11 @@ def never_accepted(summary: dict | None, base: str | None, short: bool = False) 
         who = f"{base}'s" if base else "the ES strategy's"
         return f"no candidate accepted in {_judged(summary)}: {who} own steps"
     head = f"no candidate was accepted in {_judged(summary)}: the search took "
+    cost = cost_words(summary.get("cost"))
     if base is None:
-        return head + "its ES strategy's own steps"
+        return head + "its ES strategy's own steps" + cost
     return head + (f"{base}'s own steps (--method {base}, same seed: the same policies, without shaping's "
-                   f"probe and awake generations)")
+                   f"probe and awake generations){cost}")
 
 
 def shaping_line(summary: dict | None, generations: int) -> str | None:
@@ -238,7 +239,8 @@ def shaping_line(summary: dict | None, generations: int) -> str | None:
     gain = summary.get("mean_gain")
     return (f"shaping: {summary['candidates_accepted']} of {summary['candidates_judged']} judged candidates accepted"
             + (f" ({undone} undone by the next generation)" if undone else "")
-            + (f", mean gain {gain:+.2f} over the mean's return" if gain is not None else "")
+            + (f", mean gain {gain:+.2f} over the mean's return (every judged one's, the lost too)"
+               if gain is not None else "")
             + f"; backed off {summary['generations_backed_off']} of {generations} generations (metrics.csv "
               f"candidate_*, shaping_awake; shaped-es report RUN_DIR compares runs)")
 
@@ -294,6 +296,33 @@ def rows_summary(rows: list[dict]) -> dict | None:
         out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
                        and _num(r.get("candidate_rival")) in vs) if has[v] else None
     return out
+
+
+MIN_SLEPT = 3  # generations shaping slept through before their median prices a generation without it
+
+
+def cost_summary(rows: list[dict], probe_s: float) -> dict | None:
+    """About what shaping cost a run in wall time: the label probe's seconds (``probe_s``) plus each awake
+    generation's seconds (``gen_time_s``) beyond the median of the generations it slept through, which are the ES
+    strategy's own, priced on this machine in this run; None with fewer than :data:`MIN_SLEPT` of those (no price
+    to compare with). Machine noise enters both sides: a rough figure, said as one ("about")."""
+    slept = [t for r in rows if _num(r.get("shaping_awake")) == 0 and (t := _num(r.get("gen_time_s"))) is not None]
+    if len(slept) < MIN_SLEPT:
+        return None
+    price = float(np.median(slept))
+    awake = [t for r in rows if _num(r.get("shaping_awake")) == 1 and (t := _num(r.get("gen_time_s"))) is not None]
+    run_s = _num(rows[-1].get("wall_time_s"))
+    return {"seconds": round(probe_s + sum(max(0.0, t - price) for t in awake), 1), "probe_s": round(probe_s, 1),
+            "awake_generations": len(awake), "run_s": None if run_s is None else round(run_s, 1)}
+
+
+def cost_words(cost: dict | None) -> str:
+    """``; shaping cost about 9 s of the run's 28 s: ...`` from :func:`cost_summary` ("" without one)."""
+    if not cost or cost.get("run_s") is None:
+        return ""
+    n = cost["awake_generations"]
+    return (f"; shaping cost about {cost['seconds']:.0f} s of the run's {cost['run_s']:.0f} s: the label probe's "
+            f"{cost['probe_s']:.1f} s and what its {n} awake generation{'s' * (n != 1)} took beyond a slept one's")
 
 
 def _judged(summary: dict) -> str:

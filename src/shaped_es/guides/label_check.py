@@ -143,7 +143,8 @@ def candidate_line(res: ProbeResult, won: bool, returns: tuple | None = None) ->
                else f"{cand:.2f} against {mean:.2f}" if returns is not None else "")
     beat_mean = (gain > 0) if gain is not None else (returns is not None and cand > mean)
     if won:
-        verdict = "won: it is the search's mean now (its test reward shows from the next generation's test)"
+        verdict = ("won: it is the search's mean now (its test reward shows from the next generation's test, on "
+                   "the test episodes, not the probe's)")
     elif not beat_mean:
         verdict = "lost to the initial mean" + (f" ({vs_mean})" if vs_mean else "") + f": {rest}"
     elif not cand > best:

@@ -55,6 +55,15 @@ def parse(raw: bytes) -> ProbeResult:
     return ProbeResult(**d)
 
 
+def seconds_in(root: Path) -> float:
+    """The label probe's wall seconds as ``RUN/label_probe.json`` records them (0.0: no probe file, or one that
+    cannot be read: only a report's detail reads this)."""
+    try:
+        return float(parse(read_regular(Path(root) / FILE)).seconds)
+    except (OSError, ValueError, StoreError, TypeError):
+        return 0.0
+
+
 def _stats_ok(v) -> bool:
     """``[count, mean, m2]``: a positive count and two equal-length lists of finite numbers, m2 >= 0."""
     if not (isinstance(v, list) and len(v) == 3 and isinstance(v[0], (int, float)) and not isinstance(v[0], bool)

@@ -85,7 +85,7 @@ from shaped_es.guides.label_check import candidate_line, probe_line, source_line
 from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe, start_stats
 from shaped_es.guides.mphi_parts import DamagedPart
 from shaped_es.guides.mphi_track import MphiTrack
-from shaped_es.guides.mechanisms.mean_clone import noise_line
+from shaped_es.guides.mechanisms.mean_clone import noise_line, noise_scale
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
 from shaped_es.guides.rival import names as rival_names, probe_shooting, rivals
@@ -109,6 +109,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self.cfg, self.spec, self.sh = cfg, spec, cfg.shaping
         self.traj_root = run_root(self.sh.trajectory_root, str(store.trajectories_dir), store.run_id())
         self.run_name = Path(store.root).name  # the run's lines name it (a benchmark's --quiet runs print in turn)
+        self.progress = True  # False (the trainer's --quiet): informational lines the same in every run not said
         self.placement = placement(cfg, spec)
         mp = self.sh.inverse_dynamics
         pos_dim = waypoint_dim(cfg, probe)
@@ -129,7 +130,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         self.has_controller = bool(probe is not None and probe.controller)  # the back-off note's hint
         self._metrics_path = Path(store.metrics_path)  # the back-off note reads its test rewards (_past_threshold)
         self._probe_res = None  # the label probe's result (None: no probe): its candidate, generation 0's line
-        self._noise_said = False  # the line at the first clone fitted under parameter noise (mean_clone.noise_from)
+        # the line at the first clone fitted under parameter noise (mean_clone.noise_from); None: resumed, not known
+        self._noise_said: bool | None = False
         # the strategy's search_scale() after its tell, the unit of the clone's noise (es.sigma for Vanilla-ES and
         # Guided ES; CMA-ES's adapted step), set in after_tell before the mechanism clones
         self.search_sigma = float(cfg.es.sigma)
@@ -318,6 +320,8 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         if self.mphi is not None:
             out["time_mphi_wait_s"] = time.perf_counter() - t_wait
         self._write_time = 0.0
+        if self._noise_said is None:  # resumed: the run said it before if its generations had reached the noise
+            self._noise_said = noise_scale(self.mean_clone_cfg, generation - 1) > 0
         self._last_generation = generation
         out["shaping_awake"] = int(self.awake)
         if not self.awake:
@@ -363,8 +367,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                   file=sys.stderr)
         if (out.get("clone_noise") or 0) > 0 and not self._noise_said:  # None: no clone this generation
             self._noise_said = True
-            print(f"shaped-es: {self.run_name}: generation {generation + 1}: {noise_line(self.mean_clone_cfg)}",
-                  file=sys.stderr)
+            if self.progress:  # --quiet: not said (the same line in every run of a benchmark)
+                print(f"shaped-es: {self.run_name}: generation {generation + 1}: {noise_line(self.mean_clone_cfg)}",
+                      file=sys.stderr)
         if not verdict:  # the mechanism never judged early: judged on its metrics now
             verdict.append(self._verdict(out, fitness))
         if verdict[0]:
@@ -396,6 +401,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         if "late_period" in state:
             self.position_period = np.asarray(state["late_period"], np.float64).reshape(-1)  # (d,)
             self._wrap_warned = True
+        self._noise_said = None  # decided at the first generation after the checkpoint (after_tell)
         self._cache.clear()
         if self.track is None:
             return

@@ -120,6 +120,8 @@ class Trainer(CheckpointState, Rows, RunLoop):
         x0 = seeding.initial_mean(self.spec, cfg.seed)
         self.strategy = build_strategy(cfg, x0)
         self.guide = build_guide(cfg, self.spec, store, probe, self.executor)
+        if hasattr(self.guide, "progress"):
+            self.guide.progress = self.progress
         self.best_params = np.asarray(self.strategy.mean, dtype=np.float32).copy()
         # es.obs_norm: the running statistics (None: off) and the normalizer best_params was tested with
         # (a shaped run's start from its label probe's data, so the probe's candidate, judged at generation 0, keeps
