@@ -239,6 +239,14 @@ def test_a_runs_line_says_what_its_labels_did(tmp_path):
     assert _outcome(shaped, tmp_path / "paid", 1.5) == (", last test reward 2.50, 1.5 reached at generation 2; candidates "
                                                         "accepted 1 of 3 judged")
     assert _outcome(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""
+    slept = tmp_path / "slept"  # three generations slept through price the awake ones: about what shaping cost
+    slept.mkdir()
+    (slept / "metrics.csv").write_text(
+        "generation,test_reward_mean,shaping_awake,candidate_accepted,candidate_gain,gen_time_s,wall_time_s\n"
+        "0,1.0,1,0,-1.0,3.0,9.0\n1,1.5,1,0,-1.0,3.0,12.0\n2,2.0,0,,,1.0,13.0\n3,2.0,0,,,1.0,14.0\n"
+        "4,2.5,0,,,1.0,15.0\n")
+    assert _outcome(shaped, slept).endswith("no candidate accepted in 2 judged generations: vanilla's own steps "
+                                            "(shaping about 4 s of 15 s)")  # no probe file: its 0 s
     checked = tmp_path / "checked"  # check_episodes: a winner the check did not bear out
     checked.mkdir()
     (checked / "metrics.csv").write_text("generation,test_reward_mean,shaping_awake,candidate_accepted,"

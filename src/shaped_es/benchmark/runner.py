@@ -294,7 +294,12 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     summary = rows_summary(rows)
     never = never_accepted(summary, METHODS[cfg.method].base, short=True)
     if never:
-        return out + f"; {never}"
+        from shaped_es.guides.label_budget import cost_summary
+        from shaped_es.guides.probe_file import seconds_in
+
+        cost = cost_summary(rows, seconds_in(root))  # about what shaping cost the run (None: no price)
+        return out + f"; {never}" + (f" (shaping about {cost['seconds']:.0f} s of {cost['run_s']:.0f} s)"
+                                     if cost and cost["run_s"] is not None else "")
     if summary and summary["candidates_judged"]:  # what shaping did, as the progress bar's "labels A/J"
         out += f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
         if summary.get("check_lost"):  # check_episodes: winners the check did not bear out
