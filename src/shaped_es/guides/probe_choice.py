@@ -130,7 +130,7 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
                       f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
                       f"standard errors")
     return best, (f"zero action beats the default's labels ({variant_text(incumbent)}) by {by:.2f} return; "
-                  f"{variant_text(best)} beats them by {best_gain:.2f} (> 2 paired standard errors)")
+                  f"{variant_text(best)} beats the default's labels by {best_gain:.2f} (> 2 paired standard errors)")
 
 
 def choose_targets(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray, clones: dict[str, np.ndarray],
