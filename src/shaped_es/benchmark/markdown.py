@@ -107,7 +107,8 @@ def _ratio_rows(ratios: dict, level: float, solved: dict[str, int] | None = None
 
     def cell(d: dict, x: str, y: str) -> str:
         if solved.get(x) == 0 and solved.get(y) == 0:
-            return "n/a: no seed of either reached it (every seed censored; more --generations?)"
+            return ("n/a: no seed of either reached it (every seed censored; more --generations, or a --threshold "
+                    "within the runs' reach, would tell them apart)")
         return ratio_text(d)
     rows = [[f"{x} / {y}", cell(r["generations"], x, y), cell(r["wall_time_s"], x, y)] for x, y, r in pairs]
     return [f"Ratios of the censored means above, with percentile-bootstrap {level:.0%} intervals (each method's "
