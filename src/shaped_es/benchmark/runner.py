@@ -279,7 +279,7 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     for a candidate run ``; candidates accepted 3 of 23 judged``, or ``; no candidate accepted ...`` where its
     labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed neither
     until the report. ``""`` where the run has no rows."""
-    from shaped_es.guides.label_budget import never_accepted, rows_summary
+    from shaped_es.guides.label_budget import never_accepted, rows_summary, run_cost
 
     try:
         rows = RunStore(root).read_metrics()
@@ -292,14 +292,11 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
         out = ""
     out += _reached(cfg, root, threshold) if rows else ""
     summary = rows_summary(rows)
+    if summary is not None:
+        summary["cost"] = run_cost(rows, root)  # about what shaping cost the run (None: no price)
     never = never_accepted(summary, METHODS[cfg.method].base, short=True)
     if never:
-        from shaped_es.guides.label_budget import cost_summary
-        from shaped_es.guides.probe_file import seconds_in
-
-        cost = cost_summary(rows, seconds_in(root))  # about what shaping cost the run (None: no price)
-        return out + f"; {never}" + (f" (shaping about {cost['seconds']:.0f} s of {cost['run_s']:.0f} s)"
-                                     if cost and cost["run_s"] is not None else "")
+        return out + f"; {never}"
     if summary and summary["candidates_judged"]:  # what shaping did, as the progress bar's "labels A/J"
         out += f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
         if summary.get("check_lost"):  # check_episodes: winners the check did not bear out

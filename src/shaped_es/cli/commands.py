@@ -164,11 +164,10 @@ def _run(cfg, store, a, probe=None) -> int:
                             "first_generation": int(hit["generations"]) if hit else None}
     shaping = rows_summary(rows)  # candidate runs: what the labels did
     if shaping is not None:
-        from shaped_es.guides.label_budget import cost_summary
-        from shaped_es.guides.probe_file import seconds_in
+        from shaped_es.guides.label_budget import run_cost
         from shaped_es.guides.shaped_setup import read_wrap_file
 
-        shaping["cost"] = cost_summary(rows, seconds_in(store.root))  # its wall seconds, about (None: no price)
+        shaping["cost"] = run_cost(rows, store.root)  # its wall seconds, about (None: no price)
 
         if (wrap := read_wrap_file(store.root)) is not None:  # a position that wraps (rollout/periodic.py)
             shaping["position_period"] = wrap

@@ -218,11 +218,14 @@ def never_accepted(summary: dict | None, base: str | None, short: bool = False) 
     benchmark's line for the run ends with."""
     if not summary or not summary["candidates_judged"] or summary["candidates_accepted"]:
         return None
+    cost = summary.get("cost")
     if short:
         who = f"{base}'s" if base else "the ES strategy's"
-        return f"no candidate accepted in {_judged(summary)}: {who} own steps"
+        return f"no candidate accepted in {_judged(summary)}: {who} own steps" + (
+            f" (shaping about {cost['seconds']:.0f} s of {cost['run_s']:.0f} s)"
+            if cost and cost.get("run_s") is not None else "")
     head = f"no candidate was accepted in {_judged(summary)}: the search took "
-    cost = cost_words(summary.get("cost"))
+    cost = cost_words(cost)
     if base is None:
         return head + "its ES strategy's own steps" + cost
     return head + (f"{base}'s own steps (--method {base}, same seed: the same policies, without shaping's "
@@ -314,6 +317,13 @@ def cost_summary(rows: list[dict], probe_s: float) -> dict | None:
     run_s = _num(rows[-1].get("wall_time_s"))
     return {"seconds": round(probe_s + sum(max(0.0, t - price) for t in awake), 1), "probe_s": round(probe_s, 1),
             "awake_generations": len(awake), "run_s": None if run_s is None else round(run_s, 1)}
+
+
+def run_cost(rows: list[dict], root) -> dict | None:
+    """:func:`cost_summary` of the run in folder ``root`` (its probe's seconds from ``RUN/label_probe.json``)."""
+    from shaped_es.guides.probe_file import seconds_in
+
+    return cost_summary(rows, seconds_in(root))
 
 
 def cost_words(cost: dict | None) -> str:
