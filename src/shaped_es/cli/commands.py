@@ -348,6 +348,7 @@ def main(argv: list[str] | None = None) -> int:
         route.flush()
         what, code = ("terminated (SIGTERM)", 143) if isinstance(exc, Terminated) else ("interrupted", 130)
         print(f"shaped-es: {what}{'; ' + hint if hint else ''}", file=sys.stderr)
+        route.release_interrupted(exc)
         return code
     except Exception as exc:  # noqa: BLE001 - every error is one line (traceback: --debug, error.log)
         line, code = error_line(exc, a, debug)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import errno
+import gc
 import os
 import signal
 import subprocess
@@ -203,6 +204,35 @@ class WarningRoute:
         where = f"their text in {self.log}" if logged else ("shown above" if self.debug else "--debug shows them")
         n, names = len(sources), ", ".join(dict.fromkeys(sources))
         print(f"shaped-es: warning: {n} warning{'s' * (n > 1)} from {names} ({where})", file=sys.stderr)
+
+    def release_interrupted(self, exc: BaseException) -> None:
+        """Free what a Ctrl-C left half-built, quietly. The signal can land inside a library's constructor
+        (NumPy's ``np.savez`` opening its ``ZipFile``): the half-built object's ``__del__`` then fails when
+        the traceback is freed and Python prints "Exception ignored in ..." after the command's one line.
+        The interrupted frames are cleared here, such errors going to ``error.log`` (the terminal with
+        ``--debug``), not counted as the command's warnings: the interruption made them."""
+        old = sys.unraisablehook
+
+        def hook(u) -> None:
+            text = "".join(traceback.format_exception(u.exc_type, u.exc_value, u.exc_traceback))
+            text = f"{u.err_msg or 'Exception ignored in'}: {u.object!r}\n{text}"
+            if self.debug:
+                sys.stderr.write(text)
+            if self.log:
+                warning_log.append(self.log, "after the interruption", text)
+
+        sys.unraisablehook = hook
+        try:
+            seen: set[int] = set()
+            while exc is not None and id(exc) not in seen:  # the exception and those it was raised during
+                seen.add(id(exc))
+                traceback.clear_frames(exc.__traceback__)  # finished frames' locals: their objects freed now
+                exc = exc.__cause__ or exc.__context__
+            gc.collect()  # and those in reference cycles
+        finally:
+            sys.unraisablehook = old
+        if self.log and self.log.is_file():
+            self.offset = self.log.stat().st_size
 
     def close(self) -> None:
         self.flush()
