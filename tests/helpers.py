@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from shaped_es.config import RunConfig, build_config
+from shaped_es.data import Transitions
 from shaped_es.rundir.store import RunStore
 from shaped_es.trainer import TIME_COLUMNS, Trainer
 
@@ -168,3 +169,38 @@ def npz_round_trip(state: dict) -> dict:
     buf.seek(0)
     with np.load(buf, allow_pickle=False) as z:
         return {k: z[k] for k in z.files}
+
+
+# --- bodies -----------------------------------------------------------------------------------------------
+
+
+def egocentric_obs(p, heading, w):
+    """The waypoint in the car's own frame: all it sees."""
+    d = w - p
+    c, s = np.cos(heading), np.sin(heading)
+    return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
+
+
+def _car_step(p, heading, a):
+    """Speed ``0.05 (a0 + 1.5) / 2.5`` forward (always moving), turn rate ``0.3 a1``."""
+    heading = heading + 0.3 * a[1]
+    speed = 0.05 * (a[0] + 1.5) / 2.5
+    return p + speed * np.array([np.cos(heading), np.sin(heading)]), heading
+
+
+def egocentric_car(n_eps=60, T=30, seed=0) -> Transitions:
+    """A car's steps (actions held 4 steps, random between) seen only from its own frame (:func:`egocentric_obs`):
+    no world heading in its state, as CarNav-v0's and a new user's car-and-trailer (the shooting frame's tests)."""
+    rng = np.random.default_rng(seed)
+    S, P, W, A, ep, st = [], [], [], [], [], []
+    for e in range(n_eps):
+        p, heading, w = rng.normal(size=2), rng.uniform(-np.pi, np.pi), rng.normal(size=2) * 2
+        for t in range(T):
+            if t % 4 == 0:
+                a = rng.uniform(-1, 1, size=2)
+            S.append(egocentric_obs(p, heading, w)), P.append(p.copy()), W.append(w.copy()), A.append(a.copy())
+            ep.append(e), st.append(t)
+            p, heading = _car_step(p, heading, a)
+    f32 = lambda x: np.asarray(x, np.float32)  # noqa: E731
+    return Transitions(0, 0, np.array(ep, np.int32), np.array(st, np.int32), f32(S), f32(P), f32(W), f32(A),
+                       np.zeros(len(st), np.float32))

@@ -25,6 +25,8 @@ def test_merge_dotted():
         ({"rollout": {"episodes": "two"}}, "rollout.episodes"),
         ({"policy": {"hidden": [0]}}, "policy"),
         ({"es": {"alpha": 1.5}}, "es.alpha"),
+        ({"shaping": {"inverse_dynamics": {"shoot_frame": "waypoint", "shoot_model": "rollout"}}},
+         "shoot_frame waypoint needs shoot_model chunk"),
     ],
 )
 def test_bad_fields_one_line(data, needle):

@@ -320,6 +320,8 @@ GOOD = {"frame": "both", "query_clip": None, "returns": {"both": [1.0]}, "env_st
                                   json.dumps({**GOOD, "shoot_horizon": "8"}),
                                   json.dumps({**GOOD, "shoot_horizon": 65}), json.dumps({**GOOD, "shoot_tried": [1.0]}),
                                   json.dumps({**GOOD, "chunk": 0}), json.dumps({**GOOD, "chunk": "4"}),
+                                  json.dumps({**GOOD, "shoot_frame": "motion"}),
+                                  json.dumps({**GOOD, "shoot_frame_errors": {"world": "1"}}),
                                   json.dumps({k: v for k, v in GOOD.items() if k != "returns"}), "DIR"])
 
 
@@ -341,6 +343,10 @@ def test_a_saved_probe_parses():
     assert probe_file.parse(json.dumps(GOOD).encode()).shoot_on is None  # a probe from before the gate
     assert probe_file.parse(json.dumps({**GOOD, "shoot": [1.0], "shoot_on": False}).encode()).shoot_on is False
     assert probe_file.parse(json.dumps(GOOD).encode()).shoot_horizon is None  # before the horizon's choice
+    assert probe_file.parse(json.dumps(GOOD).encode()).shoot_frame is None  # before the frame's choice: world
+    got = probe_file.parse(json.dumps({**GOOD, "shoot_frame": "waypoint",
+                                       "shoot_frame_errors": {"world": 1.4, "waypoint": 0.3}}).encode())
+    assert (got.shoot_frame, got.shoot_frame_errors) == ("waypoint", {"world": 1.4, "waypoint": 0.3})
 
 
 def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monkeypatch):
@@ -373,7 +379,7 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
             thetas.extend(x0 + lab.horizon if isinstance(lab, Shooter) else next(own_iter) for lab in labels)
         return [(drives[lab.horizon], 7) if isinstance(lab, Shooter) else next(out) for lab in labels]
 
-    monkeypatch.setattr(label_probe, "shoot_labels", lambda cfg, spec, data, pos, m, h: Shooter(h))
+    monkeypatch.setattr(label_probe, "shoot_labels", lambda cfg, spec, data, pos, m, h, frame: Shooter(h))
     monkeypatch.setattr(label_probe, "clone_rounds_many", rounds)
     cfg = build_config(POINT)
     spec = MLPSpec(4, 2, (4,))

@@ -10,7 +10,7 @@ import pytest
 from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import RunConfig
 from shaped_es.guides.mechanisms.candidate import MeanCandidate
-from shaped_es.guides.rival import FRAME, SERVO, SHOOT, rival_frame, rivals, servo_on, shoot_on
+from shaped_es.guides.rival import FRAME, SERVO, SHOOT, names, rival_frame, rivals, servo_on, shoot_on
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.settings import InverseDynamicsConfig
 from shaped_es.shaping.settings import MeanCloneConfig
@@ -46,6 +46,17 @@ def test_the_probe_can_drop_the_shooting_rival(tmp_path):
     assert kept == [r.variant for r in rivals(cfg, "both", 5, 3, 5, InverseDynamicsConfig(), tmp_path, True)]
     assert [r.variant for r in rivals(cfg, "both", 5, 3, 5, InverseDynamicsConfig(), tmp_path, False)] == [
         FRAME, SERVO]
+
+
+def test_the_shooting_rival_predicts_in_the_frame_the_probe_chose_unless_one_is_configured(tmp_path):
+    cfg = RunConfig.model_validate(_rival())
+    shooter = lambda c, **kw: next(r for r in rivals(c, "both", 5, 3, 5, InverseDynamicsConfig(), tmp_path, **kw)  # noqa: E731
+                                   if r.variant == SHOOT)
+    assert shooter(cfg).track.mphi.frame == "world"  # not probed: auto is the world frame
+    r = shooter(cfg, shoot_frame="waypoint")
+    assert r.track.mphi.frame == "waypoint" and names([r]) == ["shooting (4 steps, waypoint frame)"]
+    fixed = RunConfig.model_validate(_rival(mp={"shoot_frame": "world"}))
+    assert shooter(fixed, shoot_frame="waypoint").track.mphi.frame == "world"
 
 
 def test_rival_candidate_is_judged_and_the_run_resumes_exactly(tmp_path, monkeypatch):

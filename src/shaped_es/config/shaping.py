@@ -9,7 +9,7 @@ from pydantic import Field, model_validator
 
 from shaped_es.config.scalars import Bool, Float, Int, _Strict
 from shaped_es.methods import MECHANISMS
-from shaped_es.shaping.settings import (ACCEPT_RULES, LABEL_SOURCES, SHOOT_COSTS, SHOOT_MODELS, CloningConfig, InverseDynamicsConfig,
+from shaped_es.shaping.settings import (ACCEPT_RULES, LABEL_SOURCES, SHOOT_COSTS, SHOOT_FRAMES, SHOOT_MODELS, CloningConfig, InverseDynamicsConfig,
                                         MeanCloneConfig)
 
 # The shaping sections take their defaults from the shaping layer's dataclasses (one truth); guides/shaped.py
@@ -83,6 +83,12 @@ class InverseDynamicsSettings(_Strict):
                                                "rollout (one step of the whole observation and the position, rolled "
                                                "out h steps with the action held: a body that is far from linear "
                                                "over h steps, a quadrotor tilting to move; shaping/forward_rollout.py)")
+    shoot_frame: Literal[SHOOT_FRAMES] = Field(
+        "auto", description="the frame the shooting labels' chunk model predicts paths in: world, or waypoint (x "
+        "toward the waypoint; a body that observes itself only relative to itself, with no world heading in its "
+        "state: a car's heading error and lidar, a trailer's goal in its own frame); auto: the label probe picks the "
+        "one whose model predicts the probe's held-out steps better (the waypoint frame only at half the world "
+        "frame's error or less; world without a probe or with one coordinate; guides/probe_shoot_frame.py)")
     shoot_probe_horizons: tuple[Annotated[Int, Field(ge=1, le=64)], ...] = Field(
         (8, 16, 32), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "
@@ -154,6 +160,13 @@ class InverseDynamicsSettings(_Strict):
         "data; an env whose rewards are never positive trains too), those whose positive (waypoint) part of "
         "the return reaches min_return (positive, the paper's words: 'a cumulative positive reward of 5'; "
         "what made the paper's mechanism work, docs/paper-construction.md), or the whole return (total)")
+
+    @model_validator(mode="after")
+    def _shoot_frame(self):
+        if self.shoot_frame == "waypoint" and self.shoot_model == "rollout":
+            raise ValueError("shoot_frame waypoint needs shoot_model chunk (the rollout model predicts in the world "
+                             "frame only)")
+        return self
 
 
 class CloningSettings(_Strict):

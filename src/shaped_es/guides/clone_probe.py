@@ -162,10 +162,12 @@ def fit_on(model, data):
     return model
 
 
-def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, horizon: int | None = None):
+def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, horizon: int | None = None,
+                 frame: str = "world"):
     """The shooting labels (``shaping/forward_shoot.py``) trained on the label probe's data (``data``: its
-    recorded steps per generation); ``horizon``: the steps an action is held (None: the config's)."""
+    recorded steps per generation); ``horizon``: the steps an action is held (None: the config's); ``frame``:
+    their model's."""
     h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
     kind = cfg.shaping.inverse_dynamics.shoot_model
-    m = fit_on(shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h, kind=kind), data)
+    m = fit_on(shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h, kind=kind, frame=frame), data)
     return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead, cfg.shaping.inverse_dynamics.shoot_cost)

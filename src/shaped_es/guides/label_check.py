@@ -240,7 +240,7 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         details.append(f"{best}'s simulated candidate (what the frame was chosen on) "
                        f"{_against_zero(res.clones[best], res.zero_action)}")
     if res.shoot:  # the shooting rival is probed: its clone against zero action decides it
-        details.append(f"the shooting labels' simulated candidate {horizon_text(res)} "
+        details.append(f"the shooting labels' simulated candidate {frame_text(res)}{horizon_text(res)} "
                        f"{_against_zero(res.shoot, res.zero_action)}: a run {'keeps' if res.shoot_on else 'drops'} "
                        f"that rival" + (_drop_text(res) if not res.shoot_on else "" if not kept_below_zero(res) else
                                         f" (no simulated candidate clearly beats zero action: it runs at {horizons})"
@@ -251,10 +251,22 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
     out["zero_action_ended_early"] = early  # of the EPISODES (None: no step limit to end before)
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
-            "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried,
+            "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried, "shoot_frame": res.shoot_frame,
+            "shoot_frame_errors": res.shoot_frame_errors,
             "env_steps": res.env_steps, "seconds": res.seconds, "details": details,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out
+
+
+def frame_text(res: ProbeResult) -> str:
+    """``(in the waypoint frame: ...) ``, where the probe chose that frame for the shooting labels by their models'
+    held-out errors (``guides/probe_shoot_frame.py``); else nothing (the world frame, as before)."""
+    if res.shoot_frame != "waypoint":
+        return ""
+    e = res.shoot_frame_errors
+    why = (f": its paths' held-out error {e['waypoint']:.2f} against the world frame's {e['world']:.2f}, a body "
+           f"whose state has no world heading" if {"world", "waypoint"} <= set(e) else "")
+    return f"(in the waypoint frame{why}) "
 
 
 def zero_ended_early(cfg, spec, limit: int | None, zero_action: list[float]) -> int | None:

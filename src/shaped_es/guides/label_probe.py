@@ -93,7 +93,7 @@ import numpy as np
 from shaped_es import seeding
 from shaped_es.config import RunConfig
 from shaped_es.policies import MLPSpec
-from shaped_es.guides import probe_candidate
+from shaped_es.guides import probe_candidate, probe_shoot_frame
 from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, probe_stats, shoot_labels
 from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets,  # noqa: F401 - beats: re-exported
                                           clone_beats, keep_shoot)
@@ -156,7 +156,8 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     # would be its initial weights): not probed
     longest = max((int(np.bincount(t.episode).max()) for t in flat if len(t)), default=0)  # steps
     horizons = [h for h in horizons if h == mp.shoot_horizon or h < longest]
-    shooters = [shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, h) for h in horizons]
+    shoot_frame, frame_errors = probe_shoot_frame.decide(mp, spec, pos_dim, data, mphi_cfg) if horizons else (None, {})
+    shooters = [shoot_labels(cfg, spec, data, pos_dim, mphi_cfg, h, shoot_frame or "world") for h in horizons]
     thetas: list[np.ndarray] = []  # each simulated candidate (n,), in the order of sources + shooters
     one = sum(v[2] is None for v in base)  # the one-step variants: keys 0.., the shooters' next (as before chunks)
     keys = ([i if v[2] is None else CHUNK_KEY + i for i, v in enumerate(base)]
@@ -193,4 +194,5 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     return ProbeResult(frame, clip, returns, steps, time.perf_counter() - t0, reason, [float(v) for v in zero],
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
                        *(top if top is not None else (None, None)), chunk, passed,
-                       None if stats is None else [stats.count, stats.mean.tolist(), stats.m2.tolist()])
+                       None if stats is None else [stats.count, stats.mean.tolist(), stats.m2.tolist()],
+                       shoot_frame, frame_errors)

@@ -48,6 +48,10 @@ def parse(raw: bytes) -> ProbeResult:
         (d.get("chunk") is None or (type(d.get("chunk")) is int and 1 <= d["chunk"] <= 64), "chunk"),
         (isinstance(d.get("passed", []), list) and all(isinstance(v, str) for v in d.get("passed", [])), "passed"),
         (d.get("obs_stats") is None or _stats_ok(d["obs_stats"]), "obs_stats"),
+        (d.get("shoot_frame") in (None, "world", "waypoint"), "shoot_frame"),
+        (isinstance(d.get("shoot_frame_errors", {}), dict) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in d.get("shoot_frame_errors", {}).values()),
+         "shoot_frame_errors"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:

@@ -49,6 +49,10 @@ class ProbeResult:
     # running statistics start from and its simulated candidates were fitted under (clone_probe.probe_stats;
     # None: off, or a probe from before)
     obs_stats: list | None = None
+    # the shooting labels' frame (shaping.inverse_dynamics.shoot_frame auto: guides/probe_shoot_frame.py; None: a
+    # probe from before, the world frame) and each frame's held-out error it was chosen by ({}: not compared)
+    shoot_frame: str | None = None
+    shoot_frame_errors: dict[str, float] = field(default_factory=dict)
 
     def standing(self) -> dict[str, list[float]]:
         """The simulated candidates of the variants not passed over (``clones`` without :attr:`passed`'s)."""

@@ -116,11 +116,11 @@ def shoot_on(cfg) -> bool:
 
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
                 seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR, ahead: float = 0.0,
-                cost: str = "min", kind: str = "chunk") -> MphiTrack:
-    """The shooting labels' forward model (M_phi's training settings, its own seed; ``kind``: ``shoot_model``),
-    labels and data parts."""
+                cost: str = "min", kind: str = "chunk", frame: str = "world") -> MphiTrack:
+    """The shooting labels' forward model (M_phi's training settings, its own seed; ``kind``, ``frame``:
+    ``shoot_model``'s), labels and data parts."""
     model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
-                        seed=seeding.derive_seed(seed, seeding.SHAPING, key), kind=kind)
+                        seed=seeding.derive_seed(seed, seeding.SHAPING, key), kind=kind, frame=frame)
     return MphiTrack(model, ShootLabels(model, ahead, cost), Path(root) / folder)
 
 
@@ -131,13 +131,14 @@ def probe_shooting(res, mp) -> dict:
     return {"shoot": res.shoot_on, "shoot_horizon": res.shoot_horizon, "shoot_base": res.keeps_base(),
             "unjudged": res.unjudged_shooting() if mp.shoot_unjudged else None,  # the probe could not judge
             "third": res.third_horizon() if mp.shoot_unjudged and mp.shoot_unjudged_all else None,
-            "beside": res.long_nearest() if mp.shoot_long_nearest else None}
+            "beside": res.long_nearest() if mp.shoot_long_nearest else None,
+            "shoot_frame": res.shoot_frame}
 
 
 def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, root: Path,
            shoot: bool | None = None, shoot_horizon: int | None = None, shoot_base: bool = False,
            unjudged: tuple[int | None, str] | None = None, third: int | None = None,
-           beside: int | None = None) -> list[Rival]:
+           beside: int | None = None, shoot_frame: str | None = None) -> list[Rival]:
     """This run's rival label variants, in the order their candidates' rows take; ``shoot``: the label
     probe's verdict on the shooting rival (False: dropped; None: not probed, the config decides),
     ``shoot_horizon`` the horizon it chose (None: the config's), and ``shoot_base`` whether the config's
@@ -145,7 +146,9 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
     the probe could not judge (``ProbeResult.unjudged_shooting``), the second horizon that runs beside the
     chosen one (variant 4; None: none) and the path score of both; ``third``: there, with ``shoot_unjudged_all``,
     the probed horizon neither of them holds (variant 6; ``ProbeResult.third_horizon``; None: none); ``beside``: where
-    the probe could judge, a horizon that runs beside the chosen one (variant 4; ``ProbeResult.long_nearest``)."""
+    the probe could judge, a horizon that runs beside the chosen one (variant 4; ``ProbeResult.long_nearest``);
+    ``shoot_frame``: the frame the probe chose for the shooting labels (None: not probed, the config's, auto being
+    the world frame)."""
     out = []
     rf = rival_frame(cfg, frame, pos_dim)
     if rf is not None:
@@ -168,28 +171,31 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         elif beside is not None and beside != h and not both:  # shoot_long_nearest: the nearest beside a long one
             both, base = True, beside
         kind = cfg.shaping.inverse_dynamics.shoot_model
+        configured = cfg.shaping.inverse_dynamics.shoot_frame
+        sf = configured if configured != "auto" else (shoot_frame or "world")
 
         def track(horizon: int, key: int, folder: str) -> MphiTrack:
             return shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, horizon, root, cfg.seed, key, folder, ahead, cost,
-                               kind)
-        out.append(Rival(SHOOT, shoot_name(h, cost) if both else "shooting", track(h, SHOOT_KEY, SHOOT_DIR), "shoot/",
+                               kind, sf)
+        out.append(Rival(SHOOT, shoot_name(h, cost, sf) if both else "shooting", track(h, SHOOT_KEY, SHOOT_DIR), "shoot/",
                          "shoot/parts"))
         if both:
-            out.append(Rival(SHOOT_BASE, shoot_name(base, cost), track(base, SHOOT_BASE_KEY, SHOOT_BASE_DIR),
+            out.append(Rival(SHOOT_BASE, shoot_name(base, cost, sf), track(base, SHOOT_BASE_KEY, SHOOT_BASE_DIR),
                              "shoot_base/", "shoot_base/parts"))
         if unjudged is not None and third is not None:
-            out.append(Rival(SHOOT_THIRD, shoot_name(third, cost), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
+            out.append(Rival(SHOOT_THIRD, shoot_name(third, cost, sf), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
                              "shoot_third/", "shoot_third/parts"))
     return out
 
 
-def shoot_name(horizon: int, cost: str = "min") -> str:
-    """A shooting rival's name with its horizon (and its path score where it is not the nearest pass):
-    ``shooting (8 steps)``, ``shooting (8 steps, mean distance)``."""
-    return f"shooting ({horizon} steps{', mean distance' if cost == 'mean' else ''})"
+def shoot_name(horizon: int, cost: str = "min", frame: str = "world") -> str:
+    """A shooting rival's name with its horizon (and its path score where it is not the nearest pass, its frame
+    where it is not the world's): ``shooting (8 steps)``, ``shooting (8 steps, mean distance, waypoint frame)``."""
+    return (f"shooting ({horizon} steps{', mean distance' if cost == 'mean' else ''}"
+            f"{', waypoint frame' if frame == 'waypoint' else ''})")
 
 
 def names(rivals: list[Rival]) -> list[str]:
     """The rivals' names for the probe's line, the shooting labels' with their horizon: ``shooting (8 steps)``."""
-    return [shoot_name(r.track.mphi.horizon, r.track.labels.cost) if r.name == "shooting" else r.name
-            for r in rivals]
+    return [shoot_name(r.track.mphi.horizon, r.track.labels.cost, getattr(r.track.mphi, "frame", "world"))
+            if r.name == "shooting" else r.name for r in rivals]

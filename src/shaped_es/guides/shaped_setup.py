@@ -74,9 +74,18 @@ def check_shaped(cfg: RunConfig, probe: EnvProbe) -> None:
     check_candidate_settings(cfg)
     spec = policy_spec(cfg, probe)
     check_period(cfg, waypoint_dim(cfg, probe))
+    check_shoot_frame(cfg, waypoint_dim(cfg, probe))
     check_labels(cfg, spec, probe)
     if cfg.shaping.reference_run:
         reference_actions(cfg.shaping.reference_run, spec)
+
+
+def check_shoot_frame(cfg: RunConfig, pos_dim: int) -> None:
+    """The shooting labels' waypoint frame turns the first two waypoint coordinates: one ``ConfigError`` line on
+    a 1-D waypoint space."""
+    if cfg.shaping.inverse_dynamics.shoot_frame == "waypoint" and pos_dim < 2:
+        raise ConfigError(f"shaping.inverse_dynamics.shoot_frame=waypoint needs a waypoint space of at least two "
+                          f"coordinates (this env's has {pos_dim}); use world or auto")
 
 
 def check_obs_norm(cfg: RunConfig) -> None:

@@ -19,6 +19,7 @@ TARGETS = ("one_step", "hindsight", "matched", "chunk")
 LABEL_SOURCES = ("mphi", "reference", "controller")  # shaping/labels.py
 ACCEPT_RULES = ("best", "mean", "paired", "best_paired")
 SHOOT_MODELS = ("chunk", "rollout")  # the shooting labels' forward model (forward_shoot.py, forward_rollout.py)
+SHOOT_FRAMES = ("auto", "world", "waypoint")  # the shooting labels' frame (forward_shoot.py; auto: the probe's)
 SHOOT_COSTS = ("min", "mean")  # how the shooting labels score a held action's path (shaping/forward_shoot.py)
 FILTERS = ("total", "positive", "none")
 QUERY_SCALES = ("raw", "own_step")
