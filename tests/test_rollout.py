@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from shaped_es.policies import MLPSpec
+from shaped_es.policies import MLPSpec, forward
 from shaped_es.rollout import EnvSpecError, RolloutTask, make_env, run_task
 
 
@@ -253,3 +253,36 @@ def test_far_positions_are_recorded_from_the_episodes_first_position():
     np.testing.assert_allclose(far[0], near[0], atol=1e-6)  # steps (episode boundary row included: both restart)
     np.testing.assert_allclose(far[1], near[1], atol=1e-6)
     assert np.abs(near[0]).max() > 1e-3 and np.abs(far[2]).max() < 2.0  # real steps; far ones recorded near 0
+
+
+def _kart_wrapped(**kwargs):
+    """Kart-v0 as a user wraps it: the world pose dropped from the observation, the reward doubled."""
+    import gymnasium as gym
+
+    env = gym.make("Kart-v0", **kwargs)
+    env = gym.wrappers.TransformObservation(env, lambda o: o[4:], gym.spaces.Box(-np.inf, np.inf, (4,), np.float32))
+    return gym.wrappers.TransformReward(env, lambda r: 2.0 * r)
+
+
+def test_a_built_in_env_under_a_users_wrapper_runs_through_the_wrapper():
+    """The batched core steps the unwrapped env: under a wrapper the episodes run through Gymnasium, so the
+    policy sees the wrapper's observation (4 wide; the core's 8 failed the policy's product) and the wrapper's
+    reward counts (it was silently the core's)."""
+    import gymnasium as gym
+
+    from shaped_es.envs.core import get_batch_core
+
+    gym.register("KartWrapped-v0", entry_point=_kart_wrapped)
+    assert get_batch_core(gym.make("Kart-v0")) is not None and get_batch_core(gym.make("KartWrapped-v0")) is None
+    assert get_batch_core(gym.make("Kart-v0", max_episode_steps=30)) is None  # a shorter limit than the core's
+    spec = MLPSpec(4, 2, (8,))
+    res = run_task(RolloutTask("KartWrapped-v0", {}, spec, spec.init(0)[None], np.arange(1), np.array([[5]]),
+                               record=True))
+    assert res.transitions[0].state.shape[1] == 4
+    env = gym.make("Kart-v0")
+    obs, _ = env.reset(seed=5)
+    total = 0.0
+    for _ in range(int(res.lengths[0, 0])):  # the same policy on the unwrapped env: half the wrapped return
+        obs, r, term, trunc, _ = env.step(forward(spec, spec.init(0)[None], obs[None, None, 4:], rowwise=True)[0, 0])
+        total += r
+    assert res.returns[0, 0] == pytest.approx(2.0 * total, rel=1e-4)

@@ -83,9 +83,29 @@ class BatchCore(Protocol):
 
 
 def get_batch_core(env: Any) -> BatchCore | None:
-    """The env's batched core if it offers one (``env.unwrapped.batch_core``), else ``None``."""
+    """The env's batched core if it offers one (``env.unwrapped.batch_core``) and nothing wraps it but what
+    ``gymnasium.make`` adds (:func:`transparent`), else ``None``. A built-in env under a user's wrapper (an
+    observation without the world pose, a scaled reward) runs through that wrapper, episode by episode: the core
+    steps the unwrapped env, and would skip it (a wrapped observation's width then failed the policy's product;
+    a wrapped reward was silently not counted)."""
     core = getattr(getattr(env, "unwrapped", env), "batch_core", None)
-    return core if isinstance(core, BatchCore) else None
+    return core if isinstance(core, BatchCore) and transparent(env, core.max_steps) else None
+
+
+def transparent(env: Any, max_steps: int) -> bool:
+    """Whether every wrapper around ``env.unwrapped`` is one ``gymnasium.make`` adds (order enforcing, the passive
+    env checker) or a time limit no shorter than the core's ``max_steps`` (the batched loop's own limit)."""
+    import gymnasium as gym
+
+    e = env
+    while isinstance(e, gym.Wrapper):
+        if isinstance(e, gym.wrappers.TimeLimit):
+            if e._max_episode_steps < max_steps:
+                return False
+        elif not isinstance(e, (gym.wrappers.OrderEnforcing, gym.wrappers.PassiveEnvChecker)):
+            return False
+        e = e.env
+    return True
 
 
 CONTROLLER_HOOK = "waypoint_controller"
