@@ -59,3 +59,13 @@ def test_a_configured_waypoint_frame_on_a_1d_waypoint_space_is_refused_before_th
     with pytest.raises(ConfigError, match="needs a waypoint space of at least two coordinates"):
         check_shoot_frame(cfg, 1)
     check_shoot_frame(cfg, 2)
+
+
+@pytest.mark.parametrize("world, waypoint, want", [(1.3, 0.5, "waypoint"), (1.0, 0.8, "waypoint"),
+                                                   (1.3, 1.1, "world"),  # the waypoint frame no clearly better
+                                                   (0.6, 0.1, "world")])  # the world frame's model explains some
+def test_the_waypoint_frame_only_where_the_world_frames_model_explains_nothing(monkeypatch, world, waypoint, want):
+    monkeypatch.setattr(probe_shoot_frame, "fit_on", lambda model, data: model)
+    monkeypatch.setattr(probe_shoot_frame, "unexplained", lambda m, trs: world if m.frame == "world" else waypoint)
+    frame, errors = probe_shoot_frame.choose(2, 2, 2, _data(egocentric_car), CFG, 4)
+    assert (frame, errors) == (want, {"world": world, "waypoint": waypoint})

@@ -86,9 +86,10 @@ class InverseDynamicsSettings(_Strict):
     shoot_frame: Literal[SHOOT_FRAMES] = Field(
         "auto", description="the frame the shooting labels' chunk model predicts paths in: world, or waypoint (x "
         "toward the waypoint; a body that observes itself only relative to itself, with no world heading in its "
-        "state: a car's heading error and lidar, a trailer's goal in its own frame); auto: the label probe picks the "
-        "one whose model predicts the probe's held-out steps better (the waypoint frame only at half the world "
-        "frame's error or less; world without a probe or with one coordinate; guides/probe_shoot_frame.py)")
+        "state: a car's heading error and lidar, a trailer's goal in its own frame); auto: the label probe picks it by "
+        "how well each frame's model predicts its held-out steps (the waypoint frame where the world frame's model "
+        "explains nothing and the waypoint frame's does clearly better; world without a probe or with one "
+        "coordinate; guides/probe_shoot_frame.py)")
     shoot_probe_horizons: tuple[Annotated[Int, Field(ge=1, le=64)], ...] = Field(
         (8, 16, 32), description="with frame auto, the label probe also simulates the shooting labels' candidate at "
         "these horizons and the run takes the one whose candidate beats shoot_horizon's clearly (signed-rank, as "
