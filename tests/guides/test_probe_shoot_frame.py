@@ -69,3 +69,15 @@ def test_the_waypoint_frame_only_where_the_world_frames_model_explains_nothing(m
     monkeypatch.setattr(probe_shoot_frame, "unexplained", lambda m, trs: world if m.frame == "world" else waypoint)
     frame, errors = probe_shoot_frame.choose(2, 2, 2, _data(egocentric_car), CFG, 4)
     assert (frame, errors) == (want, {"world": world, "waypoint": waypoint})
+
+
+def test_check_env_says_the_waypoint_frame_and_why():
+    from shaped_es.guides.label_check import frame_text
+    from shaped_es.guides.probe_result import ProbeResult
+
+    res = ProbeResult("both", None, {}, 0, 0.0, "r", shoot_frame="waypoint",
+                      shoot_frame_errors={"world": 1.45, "waypoint": 0.12})
+    assert frame_text(res) == ("(in the waypoint frame: its paths' held-out error 0.12 against the world frame's 1.45, "
+                               "a body whose state has no world heading) ")
+    assert frame_text(ProbeResult("both", None, {}, 0, 0.0, "r", shoot_frame="world")) == ""
+    assert frame_text(ProbeResult("both", None, {}, 0, 0.0, "r")) == ""  # a probe from before: the world frame
