@@ -10,6 +10,7 @@ import pytest
 from helpers import egocentric_car
 from shaped_es.data import Transitions
 from shaped_es.guides import probe_shoot_frame
+from shaped_es.shaping.forward_shoot import ForwardChunk
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
 CFG = InverseDynamicsConfig(hidden=(32, 32), lr=3e-3, steps_per_generation=1500, seed=0)
@@ -66,7 +67,7 @@ def test_a_configured_waypoint_frame_on_a_1d_waypoint_space_is_refused_before_th
                                                    (0.6, 0.1, "world")])  # the world frame's model explains some
 def test_the_waypoint_frame_only_where_the_world_frames_model_explains_nothing(monkeypatch, world, waypoint, want):
     monkeypatch.setattr(probe_shoot_frame, "fit_on", lambda model, data: model)
-    monkeypatch.setattr(probe_shoot_frame, "unexplained", lambda m, trs: world if m.frame == "world" else waypoint)
+    monkeypatch.setattr(ForwardChunk, "unexplained", lambda m, trs: world if m.frame == "world" else waypoint)
     frame, errors = probe_shoot_frame.choose(2, 2, 2, _data(egocentric_car), CFG, 4)
     assert (frame, errors) == (want, {"world": world, "waypoint": waypoint})
 

@@ -14,12 +14,6 @@ from shaped_es.shaping.settings import InverseDynamicsConfig
 H = 4
 
 
-def _unexplained(m: ForwardChunk, tr: Transitions) -> float:
-    x, y, _ = m._pairs(tr, np.unique(tr.episode))
-    pred = m.predict(x[:, :2], x[:, 2:]).reshape(len(x), -1)
-    return float(((pred - y) ** 2).sum() / ((y - y.mean(0)) ** 2).sum())
-
-
 @pytest.fixture(scope="module")
 def fitted():
     cfg = InverseDynamicsConfig(hidden=(32, 32), lr=3e-3, seed=0)
@@ -29,7 +23,7 @@ def fitted():
         m = ForwardChunk(2, 2, 2, cfg, horizon=H, frame=frame)
         m.add([train])
         m.train(3000)
-        out[frame] = (m, _unexplained(m, test))
+        out[frame] = (m, m.unexplained([test]))
     return out
 
 
@@ -78,3 +72,15 @@ def test_frames_a_model_cannot_use_are_one_line_errors():
     with pytest.raises(ValueError, match="world frame only"):
         shoot_model(3, 2, 2, cfg, kind="rollout", frame="waypoint")
     assert shoot_model(3, 2, 2, cfg, frame="waypoint").frame == "waypoint"
+
+
+def test_unexplained_is_one_for_the_mean_path_and_none_without_paths(fitted):
+    m = fitted["waypoint"][0]
+    assert m.unexplained([]) is None
+    assert m.unexplained([egocentric_car(n_eps=1, T=H, seed=4)]) is None  # no step with H successors
+    mean_model = ForwardChunk(2, 2, 2, InverseDynamicsConfig(), horizon=H, frame="waypoint")
+    test = egocentric_car(seed=1)
+    mean_model.add([test])  # fixes its scales; predict the mean path by hand below
+    x, y, _ = mean_model._pairs(test, np.unique(test.episode))
+    mean_model.predict = lambda s, a: np.broadcast_to(y.mean(axis=0), (len(s), y.shape[1])).reshape(len(s), H, 2)
+    assert mean_model.unexplained([test]) == pytest.approx(1.0)

@@ -32,25 +32,6 @@ WORLD_FAILS = 0.9  # the world frame's held-out error at which its model explain
 RATIO = 0.8  # and the waypoint frame's must be at most this share of it
 
 
-def unexplained(model, trs: list[Transitions]) -> float | None:
-    """The share of the paths' variance ``model`` (a chunk model) leaves unexplained on ``trs``' steps (None: no
-    path in them, or no variance)."""
-    xs, ys = [], []
-    for tr in trs:
-        if len(tr) == 0:
-            continue
-        pairs = model._pairs(tr, np.unique(tr.episode))
-        if pairs is not None:
-            xs.append(pairs[0])
-            ys.append(pairs[1])
-    if not xs:
-        return None
-    x, y = np.concatenate(xs), np.concatenate(ys).astype(np.float64)  # (N, obs + act), (N, h d)
-    pred = model.predict(x[:, : model.obs_dim], x[:, model.obs_dim:]).reshape(len(x), -1)  # (N, h, d) -> (N, h d)
-    spread = float(((y - y.mean(axis=0)) ** 2).sum())
-    return float(((pred - y) ** 2).sum()) / spread if spread > 0 else None
-
-
 def choose(obs_dim: int, pos_dim: int, act_dim: int, data: list[list[Transitions]], mphi_cfg,
            horizon: int) -> tuple[str, dict[str, float]]:
     """``(frame, {frame: held-out error})``: each frame's chunk model fitted on one generation of ``data`` (a list
@@ -65,7 +46,7 @@ def choose(obs_dim: int, pos_dim: int, act_dim: int, data: list[list[Transitions
         scores = []
         for k in range(len(data)):  # cross-fitted: each generation's model scored on the others' steps
             m = fit_on(shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon, frame=frame), data[k:k + 1])
-            e = unexplained(m, [t for j, g in enumerate(data) if j != k for t in g])
+            e = m.unexplained([t for j, g in enumerate(data) if j != k for t in g])
             if e is None:
                 return "world", {}
             scores.append(e)

@@ -117,6 +117,22 @@ class ForwardChunk(ForwardServo):
         out = self.label(states, actions).astype(np.float64) * self.step_scale  # (N, h d)
         return out.reshape(-1, self.horizon, self.pos_dim)  # (N, h d) -> (N, h, d)
 
+    def unexplained(self, trs: list[Transitions]) -> float | None:
+        """The share of the variance of ``trs``' paths (in this model's frame) that its predictions leave
+        unexplained: 1 is the mean path's error (None: no path in them, or no variance)."""
+        xs, ys = [], []
+        for tr in trs:
+            pairs = self._pairs(tr, np.unique(tr.episode)) if len(tr) else None
+            if pairs is not None:
+                xs.append(pairs[0])
+                ys.append(pairs[1])
+        if not xs:
+            return None
+        x, y = np.concatenate(xs), np.concatenate(ys).astype(np.float64)  # (N, obs + act), (N, h d)
+        pred = self.predict(x[:, : self.obs_dim], x[:, self.obs_dim:]).reshape(len(x), -1)  # (N, h, d) -> (N, h d)
+        spread = float(((y - y.mean(axis=0)) ** 2).sum())
+        return float(((pred - y) ** 2).sum()) / spread if spread > 0 else None
+
 
 class ShootLabels(ForwardLabels):
     """``a_hat = argmin_a min_j |f_j(s, a) - (w - p)|`` over :func:`candidate_actions` (module docstring);
