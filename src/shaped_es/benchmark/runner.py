@@ -28,6 +28,7 @@ import inspect
 import json
 import sys
 import time
+import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -39,7 +40,7 @@ from shaped_es.run_loop import run_finished
 from shaped_es.rundir.meta import RUNTIME_FIELDS
 from shaped_es.rundir.run_files import replace_run_dir
 from shaped_es.rundir.atomic import clean_stale_temporaries
-from shaped_es.rundir.store import RunStore, StoreError, atomic_write_text
+from shaped_es.rundir.store import RunStore, StoreError, StoreWarning, atomic_write_text
 
 SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
 SPACING_KEY = "waypoint_spacing"
@@ -203,7 +204,22 @@ def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str
         raise StoreError(f"runs {names} in {runs_dir} hold a different config ({fields}) with finished "
                          f"generations; {others}delete those to redo them with these settings, or use another "
                          f"--out")
+    if cfgs:
+        warn_env_edited(runs_dir, [n for n, (act, _) in plan.items() if act == "reuse"], next(iter(cfgs.values())).env)
     return plan
+
+
+def warn_env_edited(runs_dir: Path, names: list[str], env_id: str) -> None:
+    """One warning line naming the reused runs made on an earlier version of the env's module (its source hash
+    in their ``run.json`` differs: ``rundir/env_source.py``): a rerun reuses them as they are."""
+    edited = [n for n in names if RunStore(runs_dir / n).env_changed(env_id)]
+    if not edited:
+        return
+    file = RunStore(runs_dir / edited[0]).env_changed(env_id)
+    shown = ", ".join(edited[:4]) + (f" and {len(edited) - 4} more" if len(edited) > 4 else "")
+    warnings.warn(f"{file} changed since runs {shown} in {runs_dir} were made: they are reused as they are (their "
+                  f"results are the earlier env's); delete them, or use another --out, to redo them on the env as "
+                  f"it is now", StoreWarning, stacklevel=2)
 
 
 def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | None = None) -> str:

@@ -70,7 +70,7 @@ def cmd_train(a: argparse.Namespace) -> int:
 def cmd_resume(a: argparse.Namespace) -> int:
     from shaped_es.config import ConfigError, build_config, merge
     from shaped_es.rundir.prune import refuse_pruned
-    from shaped_es.rundir.store import RunStore
+    from shaped_es.rundir.store import RunStore, StoreWarning
 
     store = RunStore(a.run_dir)
     store.read_config()  # "not a run directory" before anything is created or locked
@@ -78,6 +78,10 @@ def cmd_resume(a: argparse.Namespace) -> int:
     with store.lock():
         cfg = store.read_config()
         loaded = _fitting_checkpoint(cfg, store)  # a foreign or unreadable checkpoint: nothing changes
+        edited = store.env_changed(cfg.env)  # a user's env module edited since the run was made: said, not refused
+        if edited:
+            warnings.warn(f"{edited} changed since {a.run_dir} was made: the run continues on the env as it is now",
+                          StoreWarning, stacklevel=2)
         done = int(loaded[1]["generation"]) if loaded else 0
         if a.generations is not None and a.generations < done:
             raise ConfigError(f"{a.run_dir} has {done} generations done; --generations {a.generations} is "

@@ -53,6 +53,7 @@ from typing import Any
 
 from shaped_es.rundir import metrics_csv
 from shaped_es.config import RunConfig, build_config, dump_config, read_yaml
+from shaped_es.rundir.env_source import changed, fingerprint
 from shaped_es.rundir.lock import HELD, LOCK_NAME, acquire, probe, release
 from shaped_es.rundir.atomic import (  # noqa: F401 - StoreWarning, atomic_write_bytes: re-exported
     StoreError, StoreWarning, atomic_write_bytes, atomic_write_text, check_regular, open_append, read_regular)
@@ -198,7 +199,11 @@ class RunStore(CheckpointFiles, Recovery):
         except OSError as exc:
             raise StoreError(f"cannot create run directory {self.root}: {exc.strerror or exc}") from None
         self._check_writable()
-        atomic_write_text(self.run_json, json.dumps({"run_id": uuid.uuid4().hex[:16]}))  # before the config:
+        meta = {"run_id": uuid.uuid4().hex[:16]}
+        source = fingerprint(cfg.env)  # a user's env module's source hash (env_source.py): an edit is then seen
+        if source is not None:
+            meta["env_source"] = source
+        atomic_write_text(self.run_json, json.dumps(meta))  # before the config:
         atomic_write_text(self.config_path, dump_config(cfg))  # a run directory has its id from the start
 
     def run_id(self) -> str | None:
@@ -216,6 +221,18 @@ class RunStore(CheckpointFiles, Recovery):
             raise StoreError(f"{self.run_json} holds no run id (a 16-64 digit hex 'run_id'); it names the "
                              f"run's trajectory shards, so restore it to resume")
         return rid
+
+    def env_source(self) -> dict | None:
+        """The env module's fingerprint :meth:`create` kept in ``run.json`` (None: none kept, or unreadable)."""
+        try:
+            data = json.loads(read_regular(self.run_json).decode("utf-8"))
+        except (OSError, ValueError, StoreError):
+            return None
+        return data.get("env_source") if isinstance(data, dict) else None
+
+    def env_changed(self, env_id: str) -> str | None:
+        """The env module's file name if it was edited since this run was made (``env_source.changed``)."""
+        return changed(self.env_source(), env_id)
 
     def save_config(self, cfg: RunConfig) -> None:
         """Make ``config.yaml`` say ``cfg`` (a no-op when it does): what ``resume`` (or a benchmark
