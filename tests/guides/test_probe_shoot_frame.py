@@ -79,6 +79,6 @@ def test_check_env_says_the_waypoint_frame_and_why():
     res = ProbeResult("both", None, {}, 0, 0.0, "r", shoot_frame="waypoint",
                       shoot_frame_errors={"world": 1.45, "waypoint": 0.12})
     assert frame_text(res) == ("(in the waypoint frame: its paths' held-out error 0.12 against the world frame's 1.45, "
-                               "a body whose state has no world heading) ")
+                               "as where a body's state has no world heading) ")
     assert frame_text(ProbeResult("both", None, {}, 0, 0.0, "r", shoot_frame="world")) == ""
     assert frame_text(ProbeResult("both", None, {}, 0, 0.0, "r")) == ""  # a probe from before: the world frame

@@ -264,8 +264,8 @@ def frame_text(res: ProbeResult) -> str:
     if res.shoot_frame != "waypoint":
         return ""
     e = res.shoot_frame_errors
-    why = (f": its paths' held-out error {e['waypoint']:.2f} against the world frame's {e['world']:.2f}, a body "
-           f"whose state has no world heading" if {"world", "waypoint"} <= set(e) else "")
+    why = (f": its paths' held-out error {e['waypoint']:.2f} against the world frame's {e['world']:.2f}, as where "
+           f"a body's state has no world heading" if {"world", "waypoint"} <= set(e) else "")
     return f"(in the waypoint frame{why}) "
 
 
