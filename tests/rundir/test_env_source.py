@@ -48,10 +48,10 @@ def test_the_fingerprint_is_the_named_modules_source_and_none_for_built_ins(user
     assert fp["module"] == "edited_line" and fp["file"] == str(user_env.resolve()) and len(fp["sha256"]) == 64
     assert fingerprint("CartPole-v1") is None and fingerprint("shaped_es:UR5Reach-v0") is None
     assert fingerprint("no_such_module_here:X-v0") is None
-    assert changed(fp, "edited_line:EditedLine-v0") is None
+    assert changed(fp, fingerprint("edited_line:EditedLine-v0")) is None
     user_env.write_text(ENV + "# tuned\n")
-    assert changed(fp, "edited_line:EditedLine-v0") == "edited_line.py"
-    assert changed(None, "edited_line:EditedLine-v0") is None  # a run made before fingerprints: nothing said
+    assert changed(fp, fingerprint("edited_line:EditedLine-v0")) == "edited_line.py"
+    assert changed(None, fingerprint("edited_line:EditedLine-v0")) is None  # a run made before fingerprints: nothing said
 
 
 def _bench(out, gens=2):

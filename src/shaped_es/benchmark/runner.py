@@ -212,10 +212,15 @@ def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str
 def warn_env_edited(runs_dir: Path, names: list[str], env_id: str) -> None:
     """One warning line naming the reused runs made on an earlier version of the env's module (its source hash
     in their ``run.json`` differs: ``rundir/env_source.py``): a rerun reuses them as they are."""
-    edited = [n for n in names if RunStore(runs_dir / n).env_changed(env_id)]
+    from shaped_es.rundir.env_source import fingerprint
+
+    now = fingerprint(env_id)  # hashed once, compared with each run's
+    if now is None:
+        return
+    edited = [n for n in names if RunStore(runs_dir / n).env_changed(env_id, now)]
     if not edited:
         return
-    file = RunStore(runs_dir / edited[0]).env_changed(env_id)
+    file = Path(now["file"]).name
     shown = ", ".join(edited[:4]) + (f" and {len(edited) - 4} more" if len(edited) > 4 else "")
     warnings.warn(f"{file} changed since runs {shown} in {runs_dir} were made: they are reused as they are (their "
                   f"results are the earlier env's); delete them, or use another --out, to redo them on the env as "

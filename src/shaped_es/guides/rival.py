@@ -197,5 +197,5 @@ def shoot_name(horizon: int, cost: str = "min", frame: str = "world") -> str:
 
 def names(rivals: list[Rival]) -> list[str]:
     """The rivals' names for the probe's line, the shooting labels' with their horizon: ``shooting (8 steps)``."""
-    return [shoot_name(r.track.mphi.horizon, r.track.labels.cost, getattr(r.track.mphi, "frame", "world"))
+    return [shoot_name(r.track.mphi.horizon, r.track.labels.cost, r.track.mphi.frame)
             if r.name == "shooting" else r.name for r in rivals]

@@ -35,10 +35,10 @@ def fingerprint(env_id: str) -> dict | None:
     return {"module": module, "file": str(Path(origin).resolve()), "sha256": digest}
 
 
-def changed(recorded: dict | None, env_id: str) -> str | None:
-    """The module's file name if its source differs from ``recorded`` (a run's ``run.json`` ``env_source``); None
-    when it is the same, or either side has none (a run made before fingerprints, a built-in env)."""
-    now = fingerprint(env_id)
+def changed(recorded: dict | None, now: dict | None) -> str | None:
+    """The module's file name if its source now (``now``: :func:`fingerprint`'s) differs from ``recorded`` (a run's
+    ``run.json`` ``env_source``); None when it is the same, or either side has none (a run made before fingerprints,
+    a built-in env)."""
     if not (isinstance(recorded, dict) and now) or recorded.get("module") != now["module"]:
         return None
     return Path(now["file"]).name if recorded.get("sha256") != now["sha256"] else None

@@ -230,9 +230,10 @@ class RunStore(CheckpointFiles, Recovery):
             return None
         return data.get("env_source") if isinstance(data, dict) else None
 
-    def env_changed(self, env_id: str) -> str | None:
-        """The env module's file name if it was edited since this run was made (``env_source.changed``)."""
-        return changed(self.env_source(), env_id)
+    def env_changed(self, env_id: str, now: dict | None = None) -> str | None:
+        """The env module's file name if it was edited since this run was made (``env_source.changed``; ``now``:
+        the module's fingerprint if already taken, else taken here)."""
+        return changed(self.env_source(), now or fingerprint(env_id))
 
     def save_config(self, cfg: RunConfig) -> None:
         """Make ``config.yaml`` say ``cfg`` (a no-op when it does): what ``resume`` (or a benchmark

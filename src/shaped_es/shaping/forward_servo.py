@@ -50,6 +50,8 @@ class ForwardServo(InverseDynamics):
     In the base class's names ``act_dim`` is the model's output width (the waypoint space's ``d``) and
     ``query_dim`` its second input's (the action's); ``ctrl_dim`` is the action dimension."""
 
+    frame = "world"  # the frame its displacements are in (the chunk model can also predict in the waypoint frame)
+
     def __init__(self, obs_dim: int, pos_dim: int, act_dim: int, config=None):
         super().__init__(obs_dim, pos_dim, act_dim, config)
         self.ctrl_dim = act_dim

@@ -154,7 +154,7 @@ class ShootLabels(ForwardLabels):
         err = np.asarray(tr.waypoint, np.float64) - tr.position  # (T, d) world frame
         if self.ahead:
             err += self.ahead * (tr.waypoint - waypoint_before(tr))  # (T, d) the waypoint path's last step
-        if getattr(self.model, "frame", "world") == "waypoint":
+        if self.model.frame == "waypoint":
             err = rotate(err, waypoint_angle(tr))  # (T, d) the aim in the model's frame
         return err.astype(np.float32)
 
