@@ -127,3 +127,20 @@ def test_a_shaped_probe_keeps_its_run_lines_to_itself(capsys):
     capsys.readouterr()
     assert timed_pace(cfg).generation_s > 0
     assert "labels: frame=" not in capsys.readouterr().err
+
+
+def test_a_continued_run_is_estimated_at_its_recent_pace():
+    """A new user's shaped runs extended from 40 to 80 generations: estimated from all 40 (the probe's and the
+    early awake generations' seconds) at 10 min, they took 4.3; their last generations' pace is what goes on."""
+    from shaped_es.benchmark.estimate import RECENT
+
+    class Store:  # a run's metrics rows: 30 slow generations, then RECENT fast ones
+        def exists(self):
+            return True
+
+        def read_metrics(self):
+            return [{"gen_time_s": str(2.0 if g < 30 else 0.5), "gen_env_steps": "100", "rollout_time_s": "0.1"}
+                    for g in range(30 + RECENT)]
+
+    pace = measured_pace(build_config(ES), [Store()])
+    assert pace.generation_s == pytest.approx(0.5)

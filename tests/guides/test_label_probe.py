@@ -731,6 +731,10 @@ def test_generation_0s_line_says_which_test_the_probes_candidate_failed():
            "against 0.30 on the population's episodes" in paired
     assert "lost to the initial mean (-0.30 over its 6 paired episodes)" in candidate_line(res, False,
                                                                                           (0.5, 0.1, 0.2, -0.3, 6))
+    # a new user's forklift: "beat the initial mean (+0.00 ...)"; a gain below two decimals keeps its digit
+    assert "beat the initial mean (+0.0004 over its 6 paired episodes)" in candidate_line(
+        res, False, (1.35, 1.30, 1.72, 0.0004, 6))
+    assert "lost to the initial mean (-0.003 over" in candidate_line(res, False, (1.0, 1.1, 1.7, -0.003, 6))
     # a variant's candidate is "the labels of frame=world, query_clip=none" (it read "query_clip=none's")
     assert candidate_line(res, True).startswith("the label probe's best simulated candidate (the labels of frame=world")
     assert "'s, " not in candidate_line(res, True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 
 DEFAULT_METHODS = "shaped,vanilla,cmaes,ppo"
 
@@ -32,9 +33,10 @@ def add_benchmark_parser(sub) -> argparse.ArgumentParser:
     b.add_argument("--sample", type=int, metavar="N",
                    help="with --grid: N combinations drawn at random (seeded by --first-seed) instead of all "
                         "(default: all)")
-    b.add_argument("--seeds", type=int, default=10,
-                   help="number of seeds per method (seeds FIRST..FIRST+N-1; default 10)")
-    b.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
+    b.add_argument("--seeds", type=seeds_arg, default=10,
+                   help="number of seeds per method (seeds FIRST..FIRST+N-1; default 10), or a range A-B "
+                        "(seeds A..B)")
+    b.add_argument("--first-seed", type=int, help="first root seed (default 0)")
     b.add_argument("--generations", type=int, help="generations per run (default: the config's)")
     b.add_argument("--out", help="benchmark directory (rerun to skip finished runs); required unless "
                    "--estimate-only (default: none; with --estimate-only, its finished runs count as done)")
@@ -85,8 +87,9 @@ def add_suite_parser(sub) -> argparse.ArgumentParser:
     r.add_argument("--tasks", help="comma-separated env ids of the suite (default: all; shaped-es suite list)")
     r.add_argument("--methods", default=",".join(SUITE_METHODS),
                    help=f"comma-separated methods (default {','.join(SUITE_METHODS)})")
-    r.add_argument("--seeds", type=int, default=10, help="seeds per method (FIRST..FIRST+N-1; default 10)")
-    r.add_argument("--first-seed", type=int, default=0, help="first root seed (default 0)")
+    r.add_argument("--seeds", type=seeds_arg, default=10,
+                   help="seeds per method (FIRST..FIRST+N-1; default 10), or a range A-B (seeds A..B)")
+    r.add_argument("--first-seed", type=int, help="first root seed (default 0)")
     r.add_argument("--generations", type=int,
                    help="generations of every run (default: each task's budget in the suite, shaped-es suite list)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", type=set_item,
@@ -109,15 +112,14 @@ def cmd_suite_run(a: argparse.Namespace) -> int:
     from shaped_es.benchmark.suite import run_suite
     from shaped_es.config import ConfigError, parse_set
 
-    if a.seeds <= 0 or a.first_seed < 0:
-        raise ConfigError("--seeds must be positive and --first-seed non-negative")
+    seeds = seed_list(a.seeds, a.first_seed)
     if a.generations is not None and a.generations <= 0:
         raise ConfigError(f"--generations must be positive, got {a.generations}")
     overrides = {k: v for k, v in {"executor": a.executor, "workers": a.workers}.items() if v is not None}
     overrides.update(parse_set(a.set))
     res = run_suite(a.out, suite=a.suite, tasks=[t.strip() for t in a.tasks.split(",") if t.strip()] if a.tasks
                     else None, methods=tuple(m.strip() for m in a.methods.split(",") if m.strip()),
-                    seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=a.generations,
+                    seeds=seeds, generations=a.generations,
                     overrides=overrides, progress=not a.quiet, estimate_only=a.estimate_only)
     print(json.dumps(res))
     return 0
@@ -140,6 +142,35 @@ def cmd_suite_list(a: argparse.Namespace) -> int:
             thr = builtin_threshold(t.env)
             print(f"  {t.env:<15} {t.generations:>4} generations  threshold {thr[0] if thr else '-':<6}  {t.note}")
     return 0
+
+
+def seeds_arg(text: str) -> int | tuple[int, int]:
+    """``--seeds``: a count (``10``) or an inclusive range (``0-9``, ``100-109``: two new users typed it)."""
+    m = re.fullmatch(r"\s*(\d+)\s*-\s*(\d+)\s*", text)
+    if m:
+        lo, hi = int(m.group(1)), int(m.group(2))
+        if hi < lo:
+            raise argparse.ArgumentTypeError(f"the range {text!r} ends before it starts (A-B with A <= B)")
+        return lo, hi
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is neither a count (10) nor a range of seeds (0-9)") from None
+
+
+def seed_list(seeds: int | tuple[int, int], first: int | None) -> tuple[int, ...]:
+    """The root seeds of ``--seeds`` (a count from ``--first-seed``, default 0, or a range) -> a tuple."""
+    from shaped_es.config import ConfigError
+
+    if isinstance(seeds, tuple):
+        if first is not None and first != seeds[0]:
+            raise ConfigError(f"--seeds {seeds[0]}-{seeds[1]} names its first seed; --first-seed {first} "
+                              f"disagrees (give one of them)")
+        return tuple(range(seeds[0], seeds[1] + 1))
+    first = 0 if first is None else first
+    if seeds <= 0 or first < 0:
+        raise ConfigError("--seeds must be positive and --first-seed non-negative")
+    return tuple(range(first, first + seeds))
 
 
 def add_threshold(p: argparse.ArgumentParser) -> None:
@@ -209,8 +240,7 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
     from shaped_es.config import ConfigError, RunConfig, parse_set, read_yaml
 
-    if a.seeds <= 0 or a.first_seed < 0:
-        raise ConfigError("--seeds must be positive and --first-seed non-negative")
+    seeds = seed_list(a.seeds, a.first_seed)
     if a.out is None and not a.estimate_only:
         raise ConfigError("benchmark needs --out DIR, the benchmark directory (only --estimate-only, which "
                           "writes nothing, runs without it)")
@@ -236,12 +266,12 @@ def cmd_benchmark(a: argparse.Namespace) -> int:
     if a.sample is not None and not a.grid:
         raise ConfigError("--sample draws from a --grid; give one (e.g. --grid es.sigma=0.05,0.1)")
     if a.grid:  # a sweep: the grid's combinations are the methods compared
-        swept = grid_variants([m for m in methods if m not in variants], a.grid, a.sample, a.first_seed)
+        swept = grid_variants([m for m in methods if m not in variants], a.grid, a.sample, seeds[0])
         variants.update(swept)
         methods = tuple(swept)
     spec = BenchmarkSpec(
         env=a.env, methods=methods,
-        seeds=tuple(range(a.first_seed, a.first_seed + a.seeds)), generations=int(generations), base=base,
+        seeds=seeds, generations=int(generations), base=base,
         overrides=overrides, sparse_waypoints=a.sparse_waypoints, alpha=a.alpha, eta=a.eta,
         threshold=a.threshold, variants=variants,
     )

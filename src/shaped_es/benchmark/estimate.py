@@ -4,7 +4,8 @@ thousands of env steps on one core) is seen before it bites.
 
 Per method, in order of preference:
 
-- **measured**: runs of this benchmark that already have generations (a rerun): their own pace;
+- **measured**: runs of this benchmark that already have generations (a rerun): their own recent pace (the
+  median of their last ``RECENT`` generations);
 - **timed**: a short probe of the method's config (its first seed's) in a temporary directory on this
   machine, as it is loaded now: ES methods run ``PROBE_GENERATIONS`` generations (the pace of the
   generations after the first, whose start-up, worker pools and compiled kernels, is counted once per
@@ -30,6 +31,7 @@ from shaped_es.methods import METHODS, resolve
 from shaped_es.rundir.store import RunStore
 
 PROBE_GENERATIONS = 4
+RECENT = 10  # generations of a run already begun whose pace its continuation is estimated at
 
 
 @dataclass(frozen=True)
@@ -52,7 +54,10 @@ def measured_pace(cfg: RunConfig, stores: list[RunStore]) -> Pace | None:
     later, firsts = [], []
     for store in stores:
         rows = store.read_metrics() if store.exists() else []
-        later += [r for r in rows[1:] if r.get("gen_time_s") not in (None, "")]
+        # the last RECENT generations: a run continued goes on at its recent pace (a new user's shaped runs,
+        # extended from 40 to 80 generations, were estimated at 10 min from all 40 and took 4.3: the label
+        # probe's and the early awake generations' seconds, which a later generation no longer pays)
+        later += [r for r in rows[max(1, len(rows) - RECENT):] if r.get("gen_time_s") not in (None, "")]
         firsts += [float(rows[0]["gen_time_s"])] if rows and rows[0].get("gen_time_s") not in (None, "") else []
     if not later:
         return None

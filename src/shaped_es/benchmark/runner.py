@@ -386,7 +386,7 @@ def run_benchmark(spec: BenchmarkSpec, out: str | Path, progress: bool = False, 
                          title=f"Benchmark on {spec.env}", extra=extra, threshold=spec.threshold)
     from shaped_es.benchmark.verdict import verdict_lines
 
-    for line in verdict_lines(json.loads(Path(paths["summary"]).read_text())):  # the report's verdict, in brief
+    for line in verdict_lines(json.loads(Path(paths["summary"]).read_text()), str(out)):  # the report's verdict
         log(f"[benchmark] {line}")
     longer = _longer(groups, spec.generations)
     if longer:  # a rerun with a smaller budget: the page cuts the runs there, the run lines above did not

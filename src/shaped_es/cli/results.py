@@ -115,7 +115,8 @@ def cmd_report(a: argparse.Namespace) -> int:
         paths = write_report(out, groups, configs, title=a.title or "", threshold=a.threshold)
         from shaped_es.benchmark.verdict import verdict_lines
 
-        for line in verdict_lines(json.loads(Path(paths["summary"]).read_text())):  # as a benchmark ends
+        where = " ".join(a.run_dirs)
+        for line in verdict_lines(json.loads(Path(paths["summary"]).read_text()), where):  # as a benchmark ends
             print(f"[report] {line}", file=sys.stderr)
         print(json.dumps(paths))
         return 0

@@ -139,7 +139,7 @@ def candidate_line(res: ProbeResult, won: bool, returns: tuple | None = None) ->
     rest = "not counted by the back-off (it shows in labels A/J), the run goes on as without it"
     cand, mean, best = returns[:3] if returns is not None else (None, None, None)
     gain, n = returns[3:5] if returns is not None and len(returns) >= 5 else (None, None)
-    vs_mean = (f"{gain:+.2f} over its {n} paired episodes" if gain is not None
+    vs_mean = (f"{signed(gain)} over its {n} paired episodes" if gain is not None
                else f"{cand:.2f} against {mean:.2f}" if returns is not None else "")
     beat_mean = (gain > 0) if gain is not None else (returns is not None and cand > mean)
     if won:
@@ -155,6 +155,12 @@ def candidate_line(res: ProbeResult, won: bool, returns: tuple | None = None) ->
         verdict = (f"beat the initial mean ({vs_mean}) but not by the acceptance rule (shaping.mean_clone.accept: "
                    f"the paired gain must exceed its standard error): {rest}")
     return f"the label probe's best simulated candidate ({candidate_what(res)}) {verdict}"
+
+
+def signed(x: float) -> str:
+    """``+0.42``; a gain too small for two decimals keeps its sign's digit (``+0.0004``: a new user read "beat
+    the initial mean (+0.00 ...)" as a tie called a win)."""
+    return f"{x:+.2f}" if x == 0 or abs(x) >= 0.005 else f"{x:+.1g}"
 
 
 def candidate_what(res: ProbeResult) -> str:
