@@ -29,8 +29,8 @@ def test_few_runs_reaching_the_threshold_lead_with_the_late_reward():
     ratios = {"generations": {"ratio": 0.98, "ci": [0.93, 1.0]}, "wall_time_s": {"ratio": 2.19, "ci": [2.0, 2.4]}}
     (line,) = verdict_lines(_summary(_method(2, 21.9, 15.94), _method(0, 10.0, 4.79), ratios), "bench")
     assert line == ("shaped vs vanilla: 2/5 vs 0/5 seeds reached 9; too few runs reached it for ratios to it to tell "
-                    "(shaped-es report bench --threshold T --out report_T.md compares them at a bar T below 9); late "
-                    "test reward IQM 15.94 vs 4.79; whole runs' wall time 2.19x")
+                    "(shaped-es report bench --threshold T --out report_T/report.md compares them at a bar T below 9); "
+                    "late test reward IQM 15.94 vs 4.79; whole runs' wall time 2.19x")
     (line,) = verdict_lines(_summary(_method(0, 21.9, 1.2), _method(0, 10.0, -0.8)), "bench")
     assert line.startswith("shaped vs vanilla: 0/5 vs 0/5 seeds reached 9; neither reached it (shaped-es report bench")
     # half of one side reached it: the ratios, as before

@@ -70,7 +70,7 @@ def verdict_lines(summary: dict, where: str | None = None) -> list[str]:
 
 def _lower_bar(where: str, thr: float) -> str:
     """The hint of a threshold most runs missed: the report at a lower bar."""
-    return f"shaped-es report {where} --threshold T --out report_T.md compares them at a bar T below {thr:g}"
+    return f"shaped-es report {where} --threshold T --out report_T/report.md compares them at a bar T below {thr:g}"
 
 
 def _censored(name: str, m: dict, ref: str, r: dict) -> list[str]:
