@@ -138,7 +138,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
         if (frame, chunk) not in models:
             mc = replace(mphi_cfg, frame=frame, **({} if chunk is None else {"targets": "chunk", "horizon": chunk}))
             m = fit_on(InverseDynamics(spec.obs_dim, pos_dim, spec.act_dim, mc), data)
-            x = m.newest(m.dataset_size)[0][:, spec.obs_dim:]  # (N, d') training displacements
+            x = m.newest(m.dataset_size)[0][:, spec.obs_dim: spec.obs_dim + m.displacement_dim]  # (N, d')
             models[(frame, chunk)] = (m, float(np.linalg.norm(x, axis=1).mean()) if len(x) else 0.0)
         m, step = models[(frame, chunk)]
         label = MphiLabels(m, frame, mphi_cfg.query_scale, mphi_cfg.query_mix)  # the run's own label source

@@ -52,11 +52,15 @@ def collect(cfg: RunConfig, spec: MLPSpec, x0: np.ndarray, executor=None, on_gen
     return out, steps
 
 
-def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: float = 1.0) -> np.ndarray:
+def query(pos: np.ndarray, wp: np.ndarray, prev: np.ndarray, frame: str, mix: float = 1.0,
+          last_too: bool = False) -> np.ndarray:
     """M_phi's query ``(B, d)`` or ``(B, 2d)`` online, as ``query_displacement`` offline: ``w_t - p_t``
     mixed with the last step (``mixed_query``) in ``frame`` (the motion frame: the angle of
     ``p_t - p_{t-1}``, 0 at an episode's first step; the waypoint frame: the angle of ``w_t - p_t``; as
-    ``shaping/frames.py``)."""
+    ``shaping/frames.py``); ``last_too``: the last step ``(B, d)`` after it, as ``query_inputs`` keeps it
+    (M_phi's ``step_change``)."""
+    if last_too:
+        return np.concatenate([query(pos, wp, prev, frame, mix), (pos - prev).astype(np.float32)], axis=1)
     last = (pos - prev).astype(np.float64)  # (B, d) the last step
     toward = (wp - pos).astype(np.float64)  # (B, d)
     d = mixed_query(toward, last, mix)  # (B, d)
@@ -79,10 +83,11 @@ def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0
     """Returns ``(E,)`` of episodes driven by ``label(obs (B, obs), query) -> (B, act)`` and their steps;
     batched through the env's core when it has one, else one Gymnasium env episode by episode."""
     env = make_env(cfg.env, cfg.env_kwargs)  # observations as the run's rollouts see them (flattened)
+    last = bool(getattr(label, "last_width", 0))  # M_phi's step_change: the last step follows the query
     try:
         core = get_batch_core(env)
         if core is not None:
-            return _drive_core(core, cfg, label, frame, seeds, mix)
+            return _drive_core(core, cfg, label, frame, seeds, mix, last)
         rets, steps = [], 0
         pair = lambda info: tuple(np.asarray(info[k], np.float64).reshape(1, -1) for k in (POSITION_KEY, WAYPOINT_KEY))
         for s in seeds:
@@ -93,7 +98,7 @@ def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0
             prev = pos
             ret, t = 0.0, 0
             while True:
-                a = label(np.asarray(obs, np.float32).reshape(1, -1), query(pos, wp, prev, frame, mix))[0]
+                a = label(np.asarray(obs, np.float32).reshape(1, -1), query(pos, wp, prev, frame, mix, last))[0]
                 obs, r, term, trunc, info = env.step(to_space(env.action_space, np.clip(a, -1, 1)))
                 ret, t = ret + one_reward(r), t + 1
                 if term or trunc or (cfg.rollout.max_steps is not None and t >= cfg.rollout.max_steps):
@@ -108,7 +113,8 @@ def drive(cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float = 1.0
         env.close()
 
 
-def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float) -> tuple[np.ndarray, int]:
+def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix: float,
+                last: bool = False) -> tuple[np.ndarray, int]:
     state, obs, info = core.reset(np.asarray(seeds, np.int64))
     B = len(seeds)
     limit = core.max_steps if cfg.rollout.max_steps is None else min(core.max_steps, cfg.rollout.max_steps)
@@ -116,7 +122,7 @@ def _drive_core(core, cfg: RunConfig, label, frame: str, seeds: np.ndarray, mix:
     pos = prev = np.asarray(info[POSITION_KEY], np.float64).reshape(B, -1)  # (B, d)
     for _ in range(limit):
         wp = np.asarray(info[WAYPOINT_KEY], np.float64).reshape(B, -1)
-        a = np.clip(label(np.asarray(obs, np.float32).reshape(B, -1), query(pos, wp, prev, frame, mix)), -1, 1)
+        a = np.clip(label(np.asarray(obs, np.float32).reshape(B, -1), query(pos, wp, prev, frame, mix, last)), -1, 1)
         state, obs, r, term, trunc, info = core.step(state, a.astype(np.float32))
         rets += np.where(alive, r, 0.0)
         steps += int(alive.sum())

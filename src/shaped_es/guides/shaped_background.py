@@ -40,7 +40,8 @@ class BackgroundWork:
                 sub = slice(None, None, max(1, rows // FIT_TEST_ROWS))  # every k-th row: a fixed sample
                 obs = self.spec.obs_dim
                 self._pending["mphi_fit_test_loss"] = self.mphi.test_loss(x[sub, :obs], x[sub, obs:], y[sub])
-            norms = np.linalg.norm(x[:, self.spec.obs_dim :], axis=1)  # (rows,) training displacement norms
+            obs = self.spec.obs_dim  # (rows,) training displacement norms (not step_change's block after them)
+            norms = np.linalg.norm(x[:, obs : obs + self.mphi.displacement_dim], axis=1)
             cnt = self.step_norm[0] + norms.size
             self.step_norm = np.array([cnt, self.step_norm[1] + (norms.sum() - norms.size *
                                                                   self.step_norm[1]) / cnt])

@@ -21,8 +21,7 @@ from shaped_es.rollout import RolloutResult, RolloutTask, run_task
 from shaped_es.shaping.cloning import CloneResult, CloningConfig, clone_sampled
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.frames import frame_dim
-from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_displacement
-from shaped_es.shaping.labels import clip_norm
+from shaped_es.shaping.inverse_dynamics import InverseDynamics, InverseDynamicsConfig, query_inputs
 from shaped_es.shaping.trajectories import TrajectoryStoreError, read_members, write_shard
 
 # (traj_root, generation, member) -> transitions; per worker process, bounded by _CACHE_GENERATIONS
@@ -68,12 +67,14 @@ def member_data(traj_root: str, members, generations) -> dict[int, list[Transiti
 
 
 def states_and_queries(hist: list[Transitions], frame: str, obs_dim: int, pos_dim: int,
-                       scale: str = "raw", mix: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """One member's ``D_i`` as states ``(T, obs)`` and M_phi's queries ``(T, d)`` (before any clip)."""
+                       scale: str = "raw", mix: float = 1.0, step_change: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """One member's ``D_i`` as states ``(T, obs)`` and M_phi's queries ``(T, d)`` (before any clip; with
+    ``step_change`` the last step after them, ``(T, d + d)``: ``mphi_inputs.query_inputs``)."""
     if not hist:
-        return np.zeros((0, obs_dim), np.float32), np.zeros((0, frame_dim(frame, pos_dim)), np.float32)
+        return np.zeros((0, obs_dim), np.float32), np.zeros((0, frame_dim(frame, pos_dim) + pos_dim * step_change),
+                                                            np.float32)
     s = np.concatenate([h.state for h in hist])
-    q = np.concatenate([query_displacement(h, frame, scale, mix) for h in hist])
+    q = np.concatenate([query_inputs(h, frame, scale, mix, step_change) for h in hist])
     return s, q.astype(np.float32)
 
 
@@ -90,7 +91,7 @@ def states_and_expert(hist: list[Transitions], obs_dim: int, act_dim: int) -> tu
 def labeller(mphi: InverseDynamics, max_displacement: float | None):
     """``(states, raw queries) -> a_hat``; queries clipped per row to ``max_displacement`` first."""
     def label(states: np.ndarray, queries: np.ndarray) -> np.ndarray:
-        return mphi.label(states, clip_norm(queries, max_displacement))
+        return mphi.ask(states, queries, max_displacement)
     return label
 
 
@@ -127,7 +128,7 @@ def label_and_clone(task: CloneTask) -> CloneOutput:
     else:
         mphi = InverseDynamics.from_state_dict(task.mphi_state, task.mphi_config)
         sq = [states_and_queries(data[int(m)], task.mphi_config.frame, mphi.obs_dim, mphi.pos_dim,
-                                 task.mphi_config.query_scale, task.mphi_config.query_mix)
+                                 task.mphi_config.query_scale, task.mphi_config.query_mix, mphi.step_change)
               for m in task.members]
         label = labeller(mphi, task.max_displacement)
     rows = MemberRows.from_lists([s for s, _ in sq], [q for _, q in sq])

@@ -54,6 +54,7 @@ class ForwardServo(InverseDynamics):
 
     def __init__(self, obs_dim: int, pos_dim: int, act_dim: int, config=None):
         super().__init__(obs_dim, pos_dim, act_dim, config)
+        self.step_change = False  # M_phi's extra input: not a forward model's
         self.ctrl_dim = act_dim
         self.act_dim, self.query_dim, self.in_dim = pos_dim, act_dim, obs_dim + act_dim
         self.net = LeanMLP((self.in_dim, *self.config.hidden, pos_dim), self._rng)

@@ -35,7 +35,10 @@ from shaped_es.shaping import kernels
 from shaped_es.shaping.frames import frame_dim
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.mphi_inputs import (  # noqa: F401 - the input helpers stay importable from here
+    clip_norm,
     episode_end,
+    query_change,
+    query_inputs,
     kept_episodes,
     mixed_query,
     query_displacement,
@@ -103,7 +106,10 @@ class InverseDynamics:
             raise ValueError("inverse dynamics needs waypoint-space positions (info 'position', 'waypoint')")
         self.config = config or InverseDynamicsConfig()
         self.obs_dim, self.pos_dim, self.act_dim = obs_dim, pos_dim, act_dim
-        self.query_dim = frame_dim(self.config.frame, pos_dim)  # displacement inputs (frame "both": 2d)
+        # step_change (world and both frames, whose query starts with the world displacement): d more inputs,
+        # the displacement's change from the last step's pace (mphi_inputs.change_block)
+        self.step_change = bool(self.config.step_change) and self.config.frame in ("world", "both")
+        self.query_dim = frame_dim(self.config.frame, pos_dim) + pos_dim * self.step_change  # (both: 2d [+ d])
         self.in_dim = obs_dim + self.query_dim
         self._rng = np.random.default_rng(int(self.config.seed))  # init, then minibatch draws
         self.net = LeanMLP((self.in_dim, *self.config.hidden, act_dim), self._rng)
@@ -115,6 +121,11 @@ class InverseDynamics:
         self._bx = self._by = None  # backing buffers of _x, _y once rows are added (_append)
         self._start = 0  # where _x starts in them
         self._lock = threading.Lock()
+
+    @property
+    def displacement_dim(self) -> int:
+        """The displacement's columns among the inputs after the state (the change block, if any, follows)."""
+        return self.query_dim - self.pos_dim * self.step_change
 
     @property
     def dataset_size(self) -> int:
@@ -134,7 +145,7 @@ class InverseDynamics:
             if good.size == 0:
                 continue
             c = self.config
-            s, disp, a = target_pairs(tr, c.frame, c.targets, c.horizon, self._rng)
+            s, disp, a = target_pairs(tr, c.frame, c.targets, c.horizon, self._rng, self.step_change)
             keep = np.isin(tr.episode[episode_end(tr) > np.arange(len(tr))], good)  # (T',) kept episodes
             if keep.all():  # the usual case once episodes pass: no copies
                 xs.append(np.concatenate([s, disp], axis=1))
@@ -246,10 +257,22 @@ class InverseDynamics:
                                                                           self.config.clip_input))
         return a.reshape(*lead, self.act_dim)
 
+    def ask(self, states: np.ndarray, inputs: np.ndarray, max_displacement: float | None = None) -> np.ndarray:
+        """Labels for a label source's kept inputs (``mphi_inputs.query_inputs``): the query clipped to
+        ``max_displacement`` and, with ``step_change``, its change from the last step (kept after the query)
+        appended: ``(..., obs)``, ``(..., d' [+ d])`` -> ``(..., act)``."""
+        if not self.step_change:
+            return self.label(states, clip_norm(inputs, max_displacement))
+        inputs = np.asarray(inputs)
+        dq = self.query_dim - self.pos_dim  # the query's width; the last step follows it
+        h = self.config.horizon if self.config.targets == "chunk" else 1  # steps a query spans
+        q = clip_norm(inputs[..., :dq], max_displacement)
+        return self.label(states, query_change(q, inputs[..., dq:], self.pos_dim, h))
+
     def label_transitions(self, tr: Transitions) -> np.ndarray:
         """Labels ``(T, act)`` for every step of ``tr``: ``M_phi(s_t, waypoint_t - position_t)``."""
         c = self.config
-        return self.label(tr.state, query_displacement(tr, c.frame, c.query_scale, c.query_mix))
+        return self.ask(tr.state, query_inputs(tr, c.frame, c.query_scale, c.query_mix, self.step_change))
 
     def test_loss(self, states: np.ndarray, displacement: np.ndarray, reference_actions: np.ndarray) -> float:
         """Mean Euclidean distance between labels and reference actions (paper, Fig. 5 test loss)."""

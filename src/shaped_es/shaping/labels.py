@@ -26,17 +26,9 @@ import numpy as np
 
 from shaped_es.data import Transitions
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
-from shaped_es.shaping.mphi_inputs import query_displacement
+from shaped_es.shaping.mphi_inputs import clip_norm, query_inputs  # noqa: F401 - clip_norm: re-exported
 
 LABEL_SOURCES = ("mphi", "reference", "controller")
-
-
-def clip_norm(d: np.ndarray, max_norm: float | None) -> np.ndarray:
-    """Scale rows of ``d`` ``(..., k)`` down to at most ``max_norm`` in Euclidean norm."""
-    if max_norm is None:
-        return d
-    n = np.linalg.norm(d, axis=-1, keepdims=True)  # (..., 1)
-    return d * np.minimum(1.0, max_norm / np.maximum(n, 1e-12))
 
 
 class LabelSource:
@@ -72,11 +64,16 @@ class MphiLabels(LabelSource):
     def ready(self) -> bool:
         return self.mphi.iterations > 0
 
+    @property
+    def last_width(self) -> int:
+        """Columns of the last step kept after the query (M_phi's ``step_change``; 0: none)."""
+        return self.mphi.pos_dim if self.mphi.step_change else 0
+
     def inputs(self, tr: Transitions) -> np.ndarray:
-        return query_displacement(tr, self.frame, self.query_scale, self.query_mix)  # (T, d)
+        return query_inputs(tr, self.frame, self.query_scale, self.query_mix, self.mphi.step_change)  # (T, d [+ d])
 
     def __call__(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-        return self.mphi.label(states, clip_norm(inputs, self.max_displacement))
+        return self.mphi.ask(states, inputs, self.max_displacement)
 
 
 class ReferenceLabels(LabelSource):

@@ -40,6 +40,7 @@ class InverseDynamicsConfig:
     filter: str = "none"  # which return min_return tests: none (keep all) | positive (paper) | total
     query_scale: str = "raw"  # label queries: raw w_t - p_t (paper) | own_step (query_displacement)
     query_mix: float = 1.0  # label queries: (1 - mix) (p_t - p_{t-1}) + mix (w_t - p_t) (mixed_query; 1: paper)
+    step_change: bool = False  # also input the displacement's change from the last step (world, both frames)
     seed: int = 0  # seeds weight init and minibatch sampling
 
     def __post_init__(self):
