@@ -204,3 +204,27 @@ def egocentric_car(n_eps=60, T=30, seed=0) -> Transitions:
     f32 = lambda x: np.asarray(x, np.float32)  # noqa: E731
     return Transitions(0, 0, np.array(ep, np.int32), np.array(st, np.int32), f32(S), f32(P), f32(W), f32(A),
                        np.zeros(len(st), np.float32))
+
+
+# a weakly actuated 2-D point mass (tests/shaping/test_mphi_step_change.py, tests/guides/test_probe_step_change.py)
+DT, GAIN = 0.05, 0.075  # a weakly actuated point mass: a step is mostly the velocity it already has
+
+
+def point_mass(seed: int, episodes: int = 16, steps: int = 100, gain: float | None = None):
+    """A 2-D point mass, ``v += GAIN a`` (or ``gain``), ``p += DT v``, random actions; state ``(p, v)``, waypoint the origin."""
+    rng = np.random.default_rng(seed)
+    rows = {k: [] for k in ("episode", "step", "state", "position", "waypoint", "action")}
+    for e in range(episodes):
+        p, v = rng.uniform(-1, 1, 2), rng.uniform(-0.5, 0.5, 2)
+        for t in range(steps):
+            a = rng.uniform(-1, 1, 2)
+            for k, x in (("episode", e), ("step", t), ("state", np.r_[p, v]), ("position", p.copy()),
+                         ("waypoint", np.zeros(2)), ("action", a)):
+                rows[k].append(x)
+            v = np.clip(v + (GAIN if gain is None else gain) * a, -1, 1)
+            p = p + DT * v
+    f = lambda k, dt: np.asarray(rows[k], dt)  # noqa: E731
+    n = len(rows["episode"])
+    return Transitions(0, 0, f("episode", np.int32), f("step", np.int32), f("state", np.float32),
+                       f("position", np.float32), f("waypoint", np.float32), f("action", np.float32),
+                       np.zeros(n, np.float32))

@@ -91,7 +91,8 @@ def test_an_empty_set_value_is_refused_naming_the_key_and_got_empty(key):
 
 def test_settings_dataclasses_share_their_config_sections_defaults():
     """One truth: the shaping dataclasses and PPOSettings have their config section's defaults (a section's
-    ``frame: auto`` resolves to the dataclass's world/motion in guides/shaped.py), PPOSettings its fields."""
+    ``frame: auto`` resolves to the dataclass's world/motion in guides/shaped.py, ``step_change: auto`` to its
+    off or the label probe's choice), PPOSettings its fields."""
     from dataclasses import fields
 
     from shaped_es.baselines.ppo_settings import PPOSettings
@@ -99,7 +100,7 @@ def test_settings_dataclasses_share_their_config_sections_defaults():
     from shaped_es.shaping.settings import CloningConfig, InverseDynamicsConfig
 
     assert [f.name for f in fields(PPOSettings)] == list(PPOConfig.model_fields)
-    for cls, section, resolved in ((InverseDynamicsConfig, InverseDynamicsSettings, {"frame"}),
+    for cls, section, resolved in ((InverseDynamicsConfig, InverseDynamicsSettings, {"frame", "step_change"}),
                                    (CloningConfig, CloningSettings, set()), (PPOSettings, PPOConfig, set())):
         shared = [f for f in fields(cls) if f.name in section.model_fields and f.name not in resolved]
         assert len(shared) >= 5, cls

@@ -90,15 +90,17 @@ def _close(a, b, rel=1e-4):
             assert float(ra[k]) == pytest.approx(float(rb[k]), rel=rel, abs=1e-6), (ra["generation"], k)
 
 
-@pytest.mark.parametrize("worker_cache,query_scale", [(True, "raw"), (False, "raw"), (True, "own_step")])
-def test_master_and_worker_placement_give_the_same_run(tmp_path, monkeypatch, worker_cache, query_scale):
+@pytest.mark.parametrize("worker_cache,query_scale,step_change", [(True, "raw", False), (False, "raw", False),
+                                                                   (True, "own_step", False), (True, "raw", True)])
+def test_master_and_worker_placement_give_the_same_run(tmp_path, monkeypatch, worker_cache, query_scale, step_change):
     from shaped_es.guides import shaped_tasks
 
     if not worker_cache:  # every clone task reads its members' data from the store
         monkeypatch.setattr(shaped_tasks, "_CACHE_GENERATIONS", 0)
     shaped_tasks._CACHE.clear()
     sh = TINY["shaping"]
-    sh = {**sh, "inverse_dynamics": {**sh.get("inverse_dynamics", {}), "query_scale": query_scale}}
+    sh = {**sh, "inverse_dynamics": {**sh.get("inverse_dynamics", {}), "query_scale": query_scale,
+                                     "step_change": step_change}}  # M_phi's last-step block on both placements
     master = _run(tmp_path, "master", method="shaped", shaping={**sh, "placement": "master"})
     workers = _run(tmp_path, "workers", method="shaped", shaping={**sh, "placement": "workers"})
     a, b = strip_time(master.read_metrics()), strip_time(workers.read_metrics())

@@ -4,36 +4,13 @@ step, which a second-order body's action shows in where the displacement itself 
 import numpy as np
 import pytest
 
-from shaped_es.data import Transitions
+from helpers import point_mass
 from shaped_es.guides.probe_rollouts import query
 from shaped_es.shaping.forward_servo import ForwardServo
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.mphi_inputs import change_block, clip_norm, query_change, query_inputs, target_pairs
 from shaped_es.shaping.settings import InverseDynamicsConfig
-
-DT, GAIN = 0.05, 0.075  # a weakly actuated point mass: a step is mostly the velocity it already has
-
-
-def point_mass(seed: int, episodes: int = 16, steps: int = 100) -> Transitions:
-    """A 2-D point mass, ``v += GAIN a``, ``p += DT v``, random actions; state ``(p, v)``, waypoint the origin."""
-    rng = np.random.default_rng(seed)
-    rows = {k: [] for k in ("episode", "step", "state", "position", "waypoint", "action")}
-    for e in range(episodes):
-        p, v = rng.uniform(-1, 1, 2), rng.uniform(-0.5, 0.5, 2)
-        for t in range(steps):
-            a = rng.uniform(-1, 1, 2)
-            for k, x in (("episode", e), ("step", t), ("state", np.r_[p, v]), ("position", p.copy()),
-                         ("waypoint", np.zeros(2)), ("action", a)):
-                rows[k].append(x)
-            v = np.clip(v + GAIN * a, -1, 1)
-            p = p + DT * v
-    f = lambda k, dt: np.asarray(rows[k], dt)  # noqa: E731
-    n = len(rows["episode"])
-    return Transitions(0, 0, f("episode", np.int32), f("step", np.int32), f("state", np.float32),
-                       f("position", np.float32), f("waypoint", np.float32), f("action", np.float32),
-                       np.zeros(n, np.float32))
-
 
 def held_out_r2(step_change: bool, steps: int = 500) -> float:
     cfg = InverseDynamicsConfig(frame="world", min_return=-1e9, seed=0, step_change=step_change)

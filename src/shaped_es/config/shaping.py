@@ -20,11 +20,13 @@ _MPHI, _CLONE, _MEAN = InverseDynamicsConfig(), CloningConfig(), MeanCloneConfig
 class InverseDynamicsSettings(_Strict):
     hidden: tuple[Int, ...] = Field(_MPHI.hidden, description="ReLU widths; paper (20, 20) nav, 3 layers arm")
     lr: Float = Field(_MPHI.lr, gt=0, description="Adam learning rate (paper)")
-    step_change: Bool = Field(
-        _MPHI.step_change, description="M_phi also sees how far each displacement departs from the last step's "
+    step_change: Literal["auto"] | Bool = Field(
+        "auto", description="M_phi also sees how far each displacement departs from the last step's "
         "(p_{t+1} - p_t - (p_t - p_{t-1}); queries: w_t - p_t - (p_t - p_{t-1})), world and both frames: on a "
         "second-order body a step is mostly the velocity it already had, and the torque's share is learned "
-        "slowly from the displacement alone (shaping/mphi_inputs.py, docs/benchmarks/step_change_v33)")
+        "slowly from the displacement alone (shaping/mphi_inputs.change_block); auto: the label probe's choice, "
+        "on where M_phi without it explains little of held-out actions and with it far more "
+        "(guides/probe_step_change.py; without a probe: false); docs/benchmarks/step_change_v33")
     batch_size: Int = Field(_MPHI.batch_size, gt=0, description="minibatch size (paper)")
     steps_per_generation: Int = Field(_MPHI.steps_per_generation, ge=0,
                                       description="training iterations per generation")

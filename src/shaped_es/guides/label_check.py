@@ -251,6 +251,12 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
                        f"that rival" + (_drop_text(res) if not res.shoot_on else "" if not kept_below_zero(res) else
                                         f" (no simulated candidate clearly beats zero action: it runs at {horizons})"
                                         if res.unjudged() else " (its candidate is above every variant's)"))
+    if res.step_change:  # guides/probe_step_change.py
+        e = res.step_change_errors
+        details.append("M_phi also sees each step's change from the last (shaping.inverse_dynamics.step_change"
+                       + (f": held-out actions' unexplained share {e['change']:.2f} against {e['plain']:.2f} "
+                          f"without it, as on a body whose step is mostly the velocity it had" if
+                          {"plain", "change"} <= set(e) else "") + ")")
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 1, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")
@@ -258,7 +264,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
     out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk, "reason": res.reason},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried, "shoot_frame": res.shoot_frame,
-            "shoot_frame_errors": res.shoot_frame_errors,
+            "shoot_frame_errors": res.shoot_frame_errors, "step_change": res.step_change,
+            "step_change_errors": res.step_change_errors,
             "env_steps": res.env_steps, "seconds": res.seconds, "details": details,
             "verdict": verdict + f" (paired over {EPISODES} episodes; the probe took {res.env_steps} env steps)"}
     return out

@@ -93,7 +93,7 @@ import numpy as np
 from shaped_es import seeding
 from shaped_es.config import RunConfig
 from shaped_es.policies import MLPSpec
-from shaped_es.guides import probe_candidate, probe_shoot_frame
+from shaped_es.guides import probe_candidate, probe_shoot_frame, probe_step_change
 from shaped_es.guides.clone_probe import clone_rounds_many, fit_on, probe_stats, shoot_labels
 from shaped_es.guides.probe_choice import (beats, best_beating, choose_targets,  # noqa: F401 - beats: re-exported
                                           clone_beats, keep_shoot)
@@ -131,6 +131,10 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)
     models: dict[tuple[str, int | None], tuple[InverseDynamics, float]] = {}
+    # M_phi's step_change (auto: by its models' held-out error on the probe's two data generations), for every
+    # M_phi the probe fits and the run's (forward models ignore it)
+    step_change, change_errors = probe_step_change.decide(mp, spec, pos_dim, data, mphi_cfg)
+    mphi_cfg = replace(mphi_cfg, step_change=step_change)
     flat = [t for g in data for t in g]  # the probe's recorded steps, a member per entry
     stats = probe_stats(cfg, flat)  # es.obs_norm: generation 0's statistics, its candidates' normalizer (None: off)
     sources = []  # each variant's label source, in order (their simulated candidates run in lock-step below)
@@ -195,4 +199,4 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
                        clones, shoot, shoot_on, horizon, tried if len(tried) > 1 else {},
                        *(top if top is not None else (None, None)), chunk, passed,
                        None if stats is None else [stats.count, stats.mean.tolist(), stats.m2.tolist()],
-                       shoot_frame, frame_errors)
+                       shoot_frame, frame_errors, step_change, change_errors)

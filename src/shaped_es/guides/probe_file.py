@@ -49,6 +49,10 @@ def parse(raw: bytes) -> ProbeResult:
         (isinstance(d.get("passed", []), list) and all(isinstance(v, str) for v in d.get("passed", [])), "passed"),
         (d.get("obs_stats") is None or _stats_ok(d["obs_stats"]), "obs_stats"),
         (d.get("shoot_frame") in (None, "world", "waypoint"), "shoot_frame"),
+        (d.get("step_change") is None or isinstance(d.get("step_change"), bool), "step_change"),
+        (isinstance(d.get("step_change_errors", {}), dict) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in d.get("step_change_errors", {}).values()),
+         "step_change_errors"),
         (isinstance(d.get("shoot_frame_errors", {}), dict) and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) for v in d.get("shoot_frame_errors", {}).values()),
          "shoot_frame_errors"),

@@ -53,6 +53,10 @@ class ProbeResult:
     # probe from before, the world frame) and each frame's held-out error it was chosen by ({}: not compared)
     shoot_frame: str | None = None
     shoot_frame_errors: dict[str, float] = field(default_factory=dict)
+    # M_phi's step_change (shaping.inverse_dynamics.step_change auto: guides/probe_step_change.py; None: a probe
+    # from before, off) and the held-out action errors it was chosen by ({}: not compared)
+    step_change: bool | None = None
+    step_change_errors: dict[str, float] = field(default_factory=dict)
 
     def standing(self) -> dict[str, list[float]]:
         """The simulated candidates of the variants not passed over (``clones`` without :attr:`passed`'s)."""

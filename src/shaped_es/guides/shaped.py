@@ -139,7 +139,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             res, fresh = load_or_probe(Path(store.root) / PROBE_FILE, cfg, spec, pos_dim, self.mphi_cfg, executor,
                                        lambda line: print(f"shaped-es: {self.run_name}: {line}", file=sys.stderr,
                                                           flush=True))
-            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame, **(
+            self.mphi_cfg = dataclasses.replace(self.mphi_cfg, frame=res.frame, step_change=bool(res.step_change), **(
                 {} if res.chunk is None else {"targets": "chunk", "horizon": res.chunk}))  # the probe's M_phi
             self.query_clip = res.query_clip
             # counted in generation 0's row, also by a run that restarts it with the probe on file

@@ -52,7 +52,8 @@ def mphi_config(cfg: RunConfig, pos_dim: int):
 
     mp = cfg.shaping.inverse_dynamics
     frame = mp.frame if mp.frame != "auto" else ("both" if pos_dim >= 2 else "world")
-    return from_section(InverseDynamicsConfig, mp, frame=frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING))
+    return from_section(InverseDynamicsConfig, mp, frame=frame, seed=seeding.derive_seed(cfg.seed, seeding.SHAPING),
+                        step_change=mp.step_change is True)  # auto: off until the label probe chooses
 
 
 def from_section(cls, section, **resolved):
