@@ -27,6 +27,9 @@ def test_merge_dotted():
         ({"es": {"alpha": 1.5}}, "es.alpha"),
         ({"shaping": {"inverse_dynamics": {"shoot_frame": "waypoint", "shoot_model": "rollout"}}},
          "shoot_frame waypoint needs shoot_model chunk"),
+        ({"shaping": {"inverse_dynamics": {"step_change": True, "frame": "motion"}}},
+         "step_change true needs frame world, both or auto"),
+        ({"shaping": {"inverse_dynamics": {"step_change": "yes"}}}, "shaping.inverse_dynamics.step_change"),
     ],
 )
 def test_bad_fields_one_line(data, needle):

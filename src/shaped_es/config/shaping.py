@@ -174,6 +174,9 @@ class InverseDynamicsSettings(_Strict):
         if self.shoot_frame == "waypoint" and self.shoot_model == "rollout":
             raise ValueError("shoot_frame waypoint needs shoot_model chunk (the rollout model predicts in the world "
                              "frame only)")
+        if self.step_change is True and self.frame in ("motion", "waypoint"):
+            raise ValueError(f"step_change true needs frame world, both or auto (its change block is the world "
+                             f"displacement's; frame {self.frame} has none)")
         return self
 
 
