@@ -5,7 +5,8 @@ import pytest
 
 from shaped_es.data import Transitions
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
-from shaped_es.shaping.labels import ControllerLabels, MphiLabels, ReferenceLabels, clip_norm
+from shaped_es.shaping.labels import ControllerLabels, MphiLabels, ReferenceLabels
+from shaped_es.shaping.mphi_inputs import clip_norm
 from shaped_es.shaping.mphi_inputs import query_displacement
 from shaped_es.shaping.settings import InverseDynamicsConfig
 

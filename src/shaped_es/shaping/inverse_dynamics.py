@@ -264,7 +264,7 @@ class InverseDynamics:
         if not self.step_change:
             return self.label(states, clip_norm(inputs, max_displacement))
         inputs = np.asarray(inputs)
-        dq = self.query_dim - self.pos_dim  # the query's width; the last step follows it
+        dq = self.displacement_dim  # the query's width; the last step follows it
         h = self.config.horizon if self.config.targets == "chunk" else 1  # steps a query spans
         q = clip_norm(inputs[..., :dq], max_displacement)
         return self.label(states, query_change(q, inputs[..., dq:], self.pos_dim, h))

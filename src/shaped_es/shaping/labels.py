@@ -26,7 +26,7 @@ import numpy as np
 
 from shaped_es.data import Transitions
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
-from shaped_es.shaping.mphi_inputs import clip_norm, query_inputs  # noqa: F401 - clip_norm: re-exported
+from shaped_es.shaping.mphi_inputs import query_inputs
 
 LABEL_SOURCES = ("mphi", "reference", "controller")
 
