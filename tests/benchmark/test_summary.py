@@ -169,6 +169,9 @@ def test_report_files(runs, tmp_path):
     assert "no pair does" in md  # 2 seeds a side: the interval is [1, 1] but Mann-Whitney p = 0.22
     assert "test reward >= 2.00 (--threshold)" in md and "3 + 1 = 4 for a run of 3 generations" in md
     assert "time_mphi_s" in md
+    # the verdict the benchmark prints as it ends, on the page too (a new user's crane looked for it there)
+    verdict = md.split("## Verdict in brief")[1].split("## ")[0]
+    assert "- cmaes vs vanilla: " in verdict and "- shaped vs vanilla: " in verdict
     summary = json.loads((tmp_path / "rep" / "summary.json").read_text())
     assert set(summary["methods"]) == {"vanilla", "cmaes", "shaped"}
     assert summary["figures"]["fig4"] == "figures/fig4_test_reward.png"

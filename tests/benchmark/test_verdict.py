@@ -18,8 +18,8 @@ def test_a_run_that_gained_nothing_says_so_and_its_price():
     terminal said only where report.md was."""
     sh = {"candidates_judged": 231, "candidates_accepted": 41, "runs_without_acceptance": 1, "runs": 5}
     lines = verdict_lines(_summary(_method(0, 26.5, 1.61, sh), _method(0, 10.0, 1.84)))
-    assert lines == ["shaped vs vanilla: 0/5 vs 0/5 seeds reached 9; neither reached it; late test reward IQM 1.61 "
-                     "vs 1.84; whole runs' wall time 2.65x; candidates accepted 41 of 231 (1 of 5 runs none: "
+    assert lines == ["shaped vs vanilla: late test reward IQM 1.61 vs 1.84; 0/5 vs 0/5 seeds reached 9; neither "
+                     "reached it; whole runs' wall time 2.65x; candidates accepted 41 of 231 (1 of 5 runs none: "
                      "vanilla's own steps there)"]
 
 
@@ -28,11 +28,12 @@ def test_few_runs_reaching_the_threshold_lead_with_the_late_reward():
     led with "wall time to it 2.19x", whole runs' lengths, where shaped ended at three times Vanilla-ES's reward."""
     ratios = {"generations": {"ratio": 0.98, "ci": [0.93, 1.0]}, "wall_time_s": {"ratio": 2.19, "ci": [2.0, 2.4]}}
     (line,) = verdict_lines(_summary(_method(2, 21.9, 15.94), _method(0, 10.0, 4.79), ratios), "bench")
-    assert line == ("shaped vs vanilla: 2/5 vs 0/5 seeds reached 9; too few runs reached it for ratios to it to tell "
-                    "(shaped-es report bench --threshold T --out report_T/report.md compares them at a bar T below 9); "
-                    "late test reward IQM 15.94 vs 4.79; whole runs' wall time 2.19x")
+    assert line == ("shaped vs vanilla: late test reward IQM 15.94 vs 4.79; 2/5 vs 0/5 seeds reached 9; too few runs "
+                    "reached it for ratios to it to tell (shaped-es report bench --threshold T --out "
+                    "report_T/report.md compares them at a bar T below 9); whole runs' wall time 2.19x")
     (line,) = verdict_lines(_summary(_method(0, 21.9, 1.2), _method(0, 10.0, -0.8)), "bench")
-    assert line.startswith("shaped vs vanilla: 0/5 vs 0/5 seeds reached 9; neither reached it (shaped-es report bench")
+    assert line.startswith("shaped vs vanilla: late test reward IQM 1.20 vs -0.80; 0/5 vs 0/5 seeds reached 9; "
+                           "neither reached it (shaped-es report bench")
     # half of one side reached it: the ratios, as before
     (line,) = verdict_lines(_summary(_method(3, 21.9, 15.94), _method(0, 10.0, 4.79), ratios), "bench")
     assert "generations to it 0.98x" in line and "report bench" not in line
@@ -58,7 +59,8 @@ def test_ratios_to_the_threshold_with_their_intervals():
 def test_the_first_method_is_the_baseline_without_vanilla_and_one_method_has_no_verdict():
     s = {"threshold": {"value": 1.0}, "methods": {"cmaes": _method(1, 2.0, 0.5), "shaped": _method(2, 4.0, 0.7)}}
     (line,) = verdict_lines(s)
-    assert line.startswith("shaped vs cmaes: 2/5 vs 1/5 seeds reached 1;") and "whole runs' wall time 2.00x" in line
+    assert line.startswith("shaped vs cmaes: late test reward IQM 0.70 vs 0.50; 2/5 vs 1/5 seeds reached 1;")
+    assert "whole runs' wall time 2.00x" in line
     assert verdict_lines({"threshold": {"value": 1.0}, "methods": {"shaped": _method(1, 2.0, 0.5)}}) == []
 
 

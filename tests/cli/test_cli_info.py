@@ -125,19 +125,20 @@ def test_list_fields_name_their_item_type(capsys):
 def test_check_env_labels_drives_the_body_with_m_phi_labels(capsys):
     """``--labels``: the label probe of a shaped run with frame auto, against zero action, with its choice."""
     lines = _out(capsys, ["check-env", "PointVel-v0", "--labels"]).out.strip().splitlines()
-    assert lines[-7].startswith("labels: label-driven return over 10 episodes: both ")
-    assert "zero action -1.00" in lines[-7]
-    assert lines[-6].startswith("labels: the simulated candidate's return (the initial mean cloned toward ")
+    assert lines[-8].startswith("labels: label-driven return over 10 episodes: both ")
+    assert "zero action -1.00" in lines[-8]
+    assert lines[-7].startswith("labels: the simulated candidate's return (the initial mean cloned toward ")
     # the probe of seed 0, not every run's pick: each run probes with its own seed (9 of 10 may pick another)
-    assert lines[-5].startswith("labels: with seed 0 a shaped run picks frame=")
-    assert lines[-5].endswith("; each run probes with its own seed")
-    assert lines[-4].startswith("labels: both's simulated candidate (what the frame was chosen on) scores ")
-    assert lines[-3].startswith("labels: the shooting labels' simulated candidate (actions held ")
-    assert "a run keeps that rival" in lines[-3]
+    assert lines[-6].startswith("labels: with seed 0 a shaped run picks frame=")
+    assert lines[-6].endswith("; each run probes with its own seed")
+    assert lines[-5].startswith("labels: both's simulated candidate (what the frame was chosen on) scores ")
+    assert lines[-4].startswith("labels: the shooting labels' simulated candidate (actions held ")
+    assert "a run keeps that rival" in lines[-4]
+    assert lines[-3].startswith("labels: M_phi does not see each step's change from the last")  # a first-order point
     # the best simulated candidate, judged beside generation 0 (guides/probe_candidate.py)
     assert lines[-2].startswith("labels: a run judges the best simulated candidate beside generation 1, as its ")
     assert lines[-1].startswith("labels: both's labels drive the body: they beat zero action")  # they pay
-    assert max(len(ln) for ln in lines[-4:]) < 300  # one fact a line
+    assert max(len(ln) for ln in lines[-5:]) < 300  # one fact a line
     out = json.loads(_out(capsys, ["check-env", "PointVel-v0", "--labels", "--json"]).out)
     assert set(out["labels"]["returns"]) == {f"{f}{k}{c}" for f in ("both", "world") for k in ("", "+chunk4")
                                              for c in ("", "+clip2", "+clip4")}  # one-step and chunk targets, 3 clips

@@ -891,3 +891,39 @@ def test_a_long_probe_says_how_far_it_is_and_a_short_one_stays_quiet():
     first.after_data(500, 5, 13, 16, data_left=5)
     first.after_data(1000, 10, 13, 16)
     assert len(early) == 1 and "about 615 s more" in early[0], early
+
+
+
+def test_with_step_change_every_variant_asks_for_the_mean_pace():
+    """Where M_phi sees each step's change the probe's variants all clip the query to the mean training step
+    (probe_variants.probed_clip), and the run takes that clip."""
+    from shaped_es.config import build_config
+    from shaped_es.guides.shaped_setup import mphi_config
+    from shaped_es.rollout import policy_spec, probe_env
+
+    cfg = build_config({**POINT, "env": "PointForce-v0", "shaping": {"inverse_dynamics": {
+        "probe_chunk": 0, "step_change": True}}})
+    spec = policy_spec(cfg, probe_env(cfg.env, cfg.env_kwargs, reset=True))
+    res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
+    assert res.step_change and set(res.clones) == {"both+clip1", "world+clip1"} and res.query_clip == 1.0
+
+
+@pytest.mark.parametrize("on", [True, False])
+def test_check_labels_says_whether_m_phi_sees_each_steps_change(monkeypatch, on):
+    """A new user's crane read step_change's "off" from label_probe.json only: check-env --labels says it either
+    way, with the held-out errors it was chosen by."""
+    from shaped_es.guides import label_check
+
+    eps = [0.1 * k for k in range(10)]
+    errors = {"plain": 0.8, "change": 0.1} if on else {"plain": 0.45, "change": 0.4}
+    tag = "+clip1" if on else ""
+    res = ProbeResult("world", 1.0 if on else None, {"both" + tag: eps, "world" + tag: eps}, 100, 0.1, "the default",
+                      eps, step_change=on, step_change_errors=errors)
+    monkeypatch.setattr(label_check, "probe", lambda *a, **k: res)
+    details = label_check.check_labels("PointVel-v0")["details"]
+    line = next(d for d in details if "each step's change" in d)
+    if on:
+        assert line.startswith("M_phi also sees") and "0.10 against 0.80" in line
+        assert "clipped to the mean step" in line
+    else:
+        assert line.startswith("M_phi does not see") and "0.45, 0.40 with it" in line and "at least 0.3" in line

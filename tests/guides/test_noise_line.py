@@ -34,7 +34,8 @@ def test_clone_noise_switches_on_at_noise_from_and_the_run_says_so_once(tmp_path
     assert len(lines) == 1
     first = min(g for g in made if g >= 3)
     assert lines[0].startswith(f"shaped-es: r: generation {first + 1}: the mean's clone is fitted")
-    assert "noise_from 3" in lines[0] and "shaping.mean_clone.noise 0.5" in lines[0]
+    assert "noise_from 3 (counted from 0: the progress line's generation 4" in lines[0]
+    assert "shaping.mean_clone.noise 0.5" in lines[0]
 
 
 def test_a_noise_ramp_grows_the_clones_noise_linearly_and_the_line_says_so(tmp_path, capsys):
@@ -48,7 +49,7 @@ def test_a_noise_ramp_grows_the_clones_noise_linearly_and_the_line_says_so(tmp_p
     assert {g: noise[g] for g in noise if g >= 3} == pytest.approx({g: want[g] for g in noise if g >= 3})
     assert 3 in noise or 4 in noise
     line = next(ln for ln in err.splitlines() if "fitted under the search's parameter noise" in ln)
-    assert "noise_from 3, growing to it over noise_ramp 2 generations" in line
+    assert "slept), growing to it over noise_ramp 2 generations" in line
 
 
 def test_noise_scale_is_zero_before_noise_from_then_ramps():

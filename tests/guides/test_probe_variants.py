@@ -15,3 +15,15 @@ def test_chunk_variants_follow_the_one_step_ones_and_name_their_settings():
                                                   "world+chunk4+clip2"]
     assert variant_text("both+chunk4+clip2") == "frame=both, targets=chunk (4 steps), query_clip=2"
     assert variant_text("world") == "frame=world, query_clip=none"
+
+
+
+def test_a_second_order_bodys_variants_all_ask_for_the_mean_pace():
+    """Where M_phi sees each step's change and the user set no clip, every variant clips the query to the mean
+    training step (1) and no longer clip is tried; a clip the user set stands; elsewhere the probe chooses."""
+    from shaped_es.guides.probe_variants import STEP_CHANGE_CLIP, long_variants, probed_clip
+
+    assert probed_clip(None, True) == STEP_CHANGE_CLIP == 1.0 and probed_clip(None, False) is None
+    assert probed_clip(3.0, True) == probed_clip(3.0, False) == 3.0
+    assert variants(probed_clip(None, True)) == [("both", 1.0, None), ("world", 1.0, None)]
+    assert long_variants(probed_clip(None, True), 4.0) == []

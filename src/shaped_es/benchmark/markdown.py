@@ -13,8 +13,10 @@ import os
 from pathlib import Path
 
 from shaped_es.benchmark.grouping import method_settings, plain, report_env
+from shaped_es.benchmark.numbers import interval as _interval, num as _num, ratio_text
 from shaped_es.benchmark.shaping_summary import probe_choices, shaping_lines
 from shaped_es.benchmark.summary import LATE_EVALUATIONS, load_runs, summarize
+from shaped_es.benchmark.verdict import verdict_lines
 from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
 from shaped_es.report.figures import plot_mphi_losses, plot_performance_profile, plot_reward_bands
@@ -29,14 +31,6 @@ FIG4, FIG5, PROFILE = "fig4_test_reward.png", "fig5_mphi_loss.png", "profile_fin
 REPORT_MARK = "<!-- a report page written by shaped-es: report and benchmark redraw it -->"
 
 
-def _num(v, digits: int = 2) -> str:
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "–"
-    if isinstance(v, float) and digits == 0:
-        return f"{v:,.0f}"
-    return f"{v:.{digits}f}" if isinstance(v, float) else str(v)
-
-
 def _reward(s: dict) -> str:
     mean, ci = s["final_test_reward_mean"], s["final_test_reward_ci"]
     if ci is None:
@@ -49,16 +43,6 @@ def _late(s: dict) -> str:
     if "late_test_reward_iqm" not in s:
         return "–"
     return f"{_num(s['late_test_reward_iqm'])} {_interval(s['late_test_reward_iqm_ci'])}"
-
-
-def _interval(ci, digits: int = 2) -> str:
-    return f"[{_num(ci[0], digits)}, {_num(ci[1], digits)}]" if ci else "–"
-
-
-def ratio_text(d: dict) -> str:
-    """``0.50x [0.31, 0.78]``: a ``ratio_of_means`` result (``n/a`` without a ratio); the report's cells and the
-    benchmark's verdict lines."""
-    return f"{_num(d['ratio'])}x {_interval(d['ci'])}" if d.get("ratio") is not None else "n/a"
 
 
 def _censored(d: dict, digits: int = 1) -> str:
@@ -126,6 +110,10 @@ def render_markdown(summary: dict, figures: dict[str, str | None], runs: dict[st
             f"over seeds for means and curves, percentile bootstrap ({summary['bootstrap']['resamples']} "
             "resamples, each method's seeds resampled on their own) for the IQM and the probability of "
             "improvement.", ""]
+    verdict = verdict_lines(summary)
+    if verdict:  # what the benchmark printed as it ended (a new user's crane looked for it here)
+        out += ["## Verdict in brief", "", "Each method against Vanilla-ES (else the first method), as the benchmark "
+                "printed it as it ended; the tables below hold the numbers.", "", *[f"- {v}" for v in verdict], ""]
     out += ["## Fig. 4: test reward vs generation, env steps, CPU time and wall time", "",
             "Mean across seeds of the test reward (ES: the generation's tested policy over the test episodes, the "
             "search's mean or its best member by the run's rollout.test_policy; "

@@ -8,7 +8,7 @@ bootstrap intervals), the late test reward's IQM, and for a shaped method the ca
 
 from __future__ import annotations
 
-from shaped_es.benchmark.markdown import ratio_text
+from shaped_es.benchmark.numbers import ratio_text
 from shaped_es.benchmark.summary import FALLBACK_SOURCE
 
 BASELINE = "vanilla"  # what each other method is set against (the first method where it did not run)
@@ -28,21 +28,20 @@ def verdict_lines(summary: dict, where: str | None = None) -> list[str]:
     for name, m in methods.items():
         if name == ref:
             continue
-        parts = [f"{name} vs {ref}: {m['successes']}/{m['seeds']} vs {r['successes']}/{r['seeds']} seeds reached "
-                 f"{thr:g}"]
+        reached = f"{m['successes']}/{m['seeds']} vs {r['successes']}/{r['seeds']} seeds reached {thr:g}"
         late = (f"late test reward IQM {m['late_test_reward_iqm']:.2f} vs {r['late_test_reward_iqm']:.2f}"
                 if m.get("late_test_reward_iqm") is not None and r.get("late_test_reward_iqm") is not None else None)
         ratios = (summary.get("ratios_to_threshold") or {}).get(name, {}).get(ref, {})
         # fewer than half the runs of either side reached it: the ratios to it compare mostly whole runs' lengths
         # (two new users' bodies, 2/10 and 0/10: "wall time to it 1.52x" read as a price where shaped ended at
-        # twice Vanilla-ES's reward); the late reward leads instead
+        # twice Vanilla-ES's reward); the late reward leads instead, the line's first number (a new user's crane
+        # read "1/10 vs 0/10 seeds reached" first and took it for the verdict)
         few = 2 * m["successes"] < m["seeds"] and 2 * r["successes"] < r["seeds"]
+        parts = [f"{name} vs {ref}: " + (f"{late}; {reached}" if few and late else reached)]
         if few:
             parts.append(("neither reached it" if not (m["successes"] or r["successes"]) else
                           "too few runs reached it for ratios to it to tell")
                          + (f" ({_lower_bar(where, thr)})" if where else ""))
-            if late:
-                parts.append(late)
         elif m["successes"] or r["successes"]:
             if ratios.get("generations"):
                 parts.append(f"generations to it {ratio_text(ratios['generations'])}")

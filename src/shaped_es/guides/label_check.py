@@ -10,6 +10,7 @@ import numpy as np
 
 from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, probe_seeds, zero_labels
 from shaped_es.guides.probe_choice import beats, paired
+from shaped_es.guides.probe_step_change import PLAIN_FAILS, RATIO
 from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
 from shaped_es.guides.rival import probe_shooting
@@ -256,7 +257,15 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         details.append("M_phi also sees each step's change from the last (shaping.inverse_dynamics.step_change"
                        + (f": held-out actions' unexplained share {e['change']:.2f} against {e['plain']:.2f} "
                           f"without it, as on a body whose step is mostly the velocity it had" if
-                          {"plain", "change"} <= set(e) else "") + ")")
+                          {"plain", "change"} <= set(e) else "") + "; the query is clipped to the mean step "
+                       "unless query_clip is set: a pace the body can brake from)")
+    elif {"plain", "change"} <= set(res.step_change_errors):  # auto chose off: say so (a new user's crane read
+        # off only from the JSON)
+        e = res.step_change_errors
+        details.append(f"M_phi does not see each step's change from the last (shaping.inverse_dynamics.step_change "
+                       f"auto: held-out actions' unexplained share {e['plain']:.2f}, {e['change']:.2f} with it; on "
+                       f"only where it is at least {PLAIN_FAILS:g} and at most {RATIO:g}x that with it, as on a "
+                       f"body whose step is mostly the velocity it had)")
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 1, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")

@@ -44,7 +44,9 @@ def noise_line(cfg: MeanCloneConfig) -> str:
     """What a run says at its first clone fitted under the noise (after ``shaped-es: RUN: generation G: ``)."""
     ramp = f", growing to it over noise_ramp {cfg.noise_ramp} generations" if cfg.noise_ramp > 0 else ""
     return (f"the mean's clone is fitted under the search's parameter noise from here on (shaping.mean_clone.noise "
-            f"{cfg.noise:g} x the search's step, from generation noise_from {cfg.noise_from}{ramp}; metrics.csv "
+            f"{cfg.noise:g} x the search's step, from shaping.mean_clone.noise_from {cfg.noise_from} (counted from "
+            f"0: the progress line's generation {cfg.noise_from + 1}, or the first shaped one after it where shaping "
+            f"slept){ramp}; metrics.csv "
             f"clone_noise): the mean moves to where its population does well too; its test reward can dip for 10-25 "
             f"generations first (docs/benchmarks/noise_from_v29)")
 
