@@ -926,4 +926,5 @@ def test_check_labels_says_whether_m_phi_sees_each_steps_change(monkeypatch, on)
         assert line.startswith("M_phi also sees") and "0.10 against 0.80" in line
         assert "clipped to the mean step" in line
     else:
-        assert line.startswith("M_phi does not see") and "0.45, 0.40 with it" in line and "at least 0.3" in line
+        assert line.startswith("M_phi does not see") and "0.45 without it, 0.40 with it" in line
+        assert "the first is at least 0.3 and the second at most 0.5x the first" in line
