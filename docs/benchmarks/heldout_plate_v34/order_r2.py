@@ -5,7 +5,7 @@ collect), 2 x 16 episodes to fit, 16 held out; 1000 Adam steps as a probe's.
     python order_r2.py ENV_ID [ENV_ID ...]"""
 import sys
 import numpy as np, gymnasium as gym
-sys.path.insert(0, ".")
+sys.path[:0] = [".", "../heldout_crane_v34", "../heldout_attitude_forklift_v33/attitude"]
 import attitude, crane, plate  # noqa: F401
 import shaped_es.envs  # noqa: F401
 exec(open("/work/main/docs/benchmarks/heldout_attitude_forklift_v33/diag/fit.py").read().split("def r2(")[0]
