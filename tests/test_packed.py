@@ -15,12 +15,8 @@ from shaped_es.data import (
 )
 from shaped_es.policies import MLPSpec
 from shaped_es.rollout import RolloutTask, _Recorder, run_task
-from shaped_es.shaping.trajectories import (
-    _packed_table,
-    _to_table,
-    read_shard,
-    write_shard,
-)
+from shaped_es.shaping.shard_table import packed_table, to_table
+from shaped_es.shaping.trajectories import read_shard, write_shard
 
 FIELDS = [f.name for f in dataclasses.fields(Transitions)]
 
@@ -118,8 +114,8 @@ def test_nonempty_drops_members_without_rows():
 def test_a_block_writes_the_shard_the_member_list_writes(tmp_path):
     ref = _per_member_build(_fixed_recorder([True] * 4, seed=3))
     block = pack(ref)
-    assert _packed_table(block).equals(_to_table(ref))
-    assert _packed_table(block).schema.metadata == _to_table(ref).schema.metadata
+    assert packed_table(block).equals(to_table(ref))
+    assert packed_table(block).schema.metadata == to_table(ref).schema.metadata
     a = read_shard(write_shard(tmp_path / "list", ref))
     b = read_shard(write_shard(tmp_path / "block", block))
     for x, y in zip(a, b):

@@ -64,7 +64,8 @@ def test_the_printed_lines():
 
 
 def test_a_benchmark_prints_its_estimate_first(tmp_path):
-    from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
+    from shaped_es.benchmark.runner import run_benchmark
+    from shaped_es.benchmark.spec import BenchmarkSpec
 
     said = []
     spec = BenchmarkSpec(env="CartPole-v1", methods=("vanilla",), seeds=(0,), generations=2,
@@ -78,7 +79,8 @@ def test_a_benchmark_prints_its_estimate_first(tmp_path):
 
 
 def test_estimate_only_writes_nothing(tmp_path):
-    from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
+    from shaped_es.benchmark.runner import run_benchmark
+    from shaped_es.benchmark.spec import BenchmarkSpec
 
     said = []
     spec = BenchmarkSpec(env="CartPole-v1", methods=("vanilla", "cmaes"), seeds=(0, 1), generations=3,
@@ -86,7 +88,8 @@ def test_estimate_only_writes_nothing(tmp_path):
     res = run_benchmark(spec, tmp_path / "b", log=said.append, estimate_only=True)
     assert set(res["estimate_s"]) == {"vanilla", "cmaes"} and all(v > 0 for v in res["estimate_s"].values())
     assert len(said) == 3 and said[0].startswith("[benchmark] estimate: vanilla: 2 runs, 6 generations at ")
-    assert said[1].startswith("[benchmark] estimate: cmaes: 2 runs") and said[2].startswith("[benchmark] estimate: total")
+    assert said[1].startswith("[benchmark] estimate: cmaes: 2 runs")
+    assert said[2].startswith("[benchmark] estimate: total")
     assert not (tmp_path / "b").exists()
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from shaped_es.benchmark.cli_commands import add_benchmark_parser
-from shaped_es.benchmark.runner import BenchmarkSpec, run_configs
+from shaped_es.benchmark.spec import BenchmarkSpec, run_configs
 from shaped_es.cli.commands import add_report_parser
 from shaped_es.config import ConfigError
 from shaped_es.rundir.store import StoreError
@@ -236,8 +236,8 @@ def test_a_runs_line_says_what_its_labels_did(tmp_path):
     assert _outcome(shaped, run("paid", [0, 1, 0])) == (", last test reward 2.50, 475 not reached; candidates "
                                                         "accepted 1 of 3 judged")
     # the threshold benchmark uses (given, else the env's), where a test reward met it: generations done
-    assert _outcome(shaped, tmp_path / "paid", 1.5) == (", last test reward 2.50, 1.5 reached at generation 2; candidates "
-                                                        "accepted 1 of 3 judged")
+    assert _outcome(shaped, tmp_path / "paid", 1.5) == (", last test reward 2.50, 1.5 reached at generation 2; "
+                                                        "candidates accepted 1 of 3 judged")
     assert _outcome(SimpleNamespace(method="vanilla"), tmp_path / "missing") == ""
     slept = tmp_path / "slept"  # three generations slept through price the awake ones: about what shaping cost
     slept.mkdir()

@@ -10,7 +10,7 @@ import shutil
 import pytest
 
 from shaped_es.benchmark.cli_commands import add_benchmark_parser
-from shaped_es.benchmark.runner import method_digest
+from shaped_es.benchmark.plan import method_digest
 from shaped_es.config import build_config
 from shaped_es.rundir.store import RunStore, StoreError
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from shaped_es.benchmark.runner import BenchmarkSpec, run_configs
+from shaped_es.benchmark.spec import BenchmarkSpec, run_configs
 from shaped_es.cli.commands import main
 from shaped_es.config import ConfigError
 

@@ -157,7 +157,8 @@ def test_a_never_winning_streak_lost_by_a_median_of_more_than_the_spread_sleeps_
     assert [p.judge(False, -5.0, spread=1.0) for _ in range(3)] == [False, False, True] and p.asleep_left == 4
     # one heavy first loss, then close calls (the Reacher's seed 13): the patience decides
     r = LabelBudget(patience=8, max_sleep=8, heavy=1.0)
-    assert [r.judge(False, g, spread=1.0) for g in (-1.5, -0.1, -0.2, -0.1, -0.1, -0.1, -0.2, -0.2)] == [False] * 7 + [True]
+    gains = (-1.5, -0.1, -0.2, -0.1, -0.1, -0.1, -0.2, -0.2)
+    assert [r.judge(False, g, spread=1.0) for g in gains] == [False] * 7 + [True]
     for kw, spread in (({"heavy": 0.0}, 1.0), ({"heavy": 1.0}, 0.0)):  # off; a flat population
         c = LabelBudget(patience=8, max_sleep=8, **kw)
         assert not any(c.judge(False, -9.0, spread=spread) for _ in range(7))
@@ -429,14 +430,14 @@ def test_no_babblers_once_the_budget_has_slept_and_resume_stays_exact(tmp_path, 
     and M_phi has its first generations' data, so a wake-up trial runs without the babblers (on the swimmer,
     3 of a 30-generation run's awake generations). The budget's state is checkpointed: a crash at the wake-up
     resumes to the same rows."""
-    from shaped_es.guides import shaped
+    from shaped_es.guides import shaped_rollouts
 
     cfg = {**CFG, "generations": 16,
            "shaping": {**CFG["shaping"], "history": 5,
                        "inverse_dynamics": {**CFG["shaping"]["inverse_dynamics"], "babble": 3,
                                             "babble_generations": 100}}}
     drawn = []  # the generations whose babblers were drawn
-    real = shaped.babbling_policies
+    real = shaped_rollouts.babbling_policies
 
     def spy(settings, seed, generation, num_params):
         out = real(settings, seed, generation, num_params)
@@ -444,7 +445,7 @@ def test_no_babblers_once_the_budget_has_slept_and_resume_stays_exact(tmp_path, 
             drawn.append(generation)
         return out
 
-    monkeypatch.setattr(shaped, "babbling_policies", spy)
+    monkeypatch.setattr(shaped_rollouts, "babbling_policies", spy)
     full = train(tmp_path / "full", cfg).read_metrics()
     awake = [r["shaping_awake"] == "1" for r in full]
     first_sleep = awake.index(False)

@@ -237,7 +237,8 @@ def grid_variants(methods: list[str], grid: list[str], sample: int | None = None
 
 
 def cmd_benchmark(a: argparse.Namespace) -> int:
-    from shaped_es.benchmark.runner import BenchmarkSpec, run_benchmark
+    from shaped_es.benchmark.runner import run_benchmark
+    from shaped_es.benchmark.spec import BenchmarkSpec
     from shaped_es.config import ConfigError, RunConfig, parse_set, read_yaml
 
     seeds = seed_list(a.seeds, a.first_seed)

@@ -186,7 +186,7 @@ def duration(s: float) -> str:
 
 
 def benchmark_estimate(plan: dict[str, tuple[str, RunConfig]], runs_dir: Path, label_of) -> dict[str, dict]:
-    """:func:`estimate` of a benchmark's plan (``runner.plan_runs``); ``label_of(run name)``: its method
+    """:func:`estimate` of a benchmark's plan (``plan.plan_runs``); ``label_of(run name)``: its method
     label. Finished runs cost nothing; a reused run only its generations left."""
     from shaped_es.run_loop import run_finished
 

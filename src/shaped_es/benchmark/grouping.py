@@ -31,7 +31,7 @@ LABEL_KEYS = 3  # differing settings named in a group's label at most (all of th
 
 
 def split_run_name(name: str) -> tuple[str, int] | None:
-    """``(method, seed)`` of a benchmark's run directory name ``METHOD_sSEED`` (``runner.run_name``); None for
+    """``(method, seed)`` of a benchmark's run directory name ``METHOD_sSEED`` (``spec.run_name``); None for
     any other name."""
     m = re.fullmatch(r"(.+)_s(\d+)", name)
     return (m.group(1), int(m.group(2))) if m else None

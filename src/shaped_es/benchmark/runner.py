@@ -8,223 +8,32 @@ Layout::
     DIR/figures/                       Fig. 4, the performance profile (profile_final_reward.png) and
                                        Fig. 5 when the shaped runs log M_phi losses
 
-A rerun skips runs whose newest checkpoint reached ``generations`` and resumes unfinished ones (the
-trainer and PPO restore their newest checkpoint). Settings are compared per run, on the fields that run's
-method uses (:func:`method_digest`: ``ppo.*`` only matter to PPO, ``shaping.*`` only to ``shaped``, ...),
-so a rerun with changed settings of one method reuses every other method's runs. A run whose own
-settings changed is started afresh if it has no checkpoint yet; one with finished generations is
-refused, before any run starts, in one line naming those runs (delete them to redo them with the new
-settings). Every config is validated (``preflight.check_run``) before anything is written. Runs go seed
-by seed, every method within a seed, so a partial benchmark compares methods on the same seeds.
-Ablations (the paper's commented-out sparse-waypoint figure, and alpha / eta): ``sparse_waypoints``
-multiplies the env's ``waypoint_spacing`` by 10 (planner resolution / 10). Variants
-(``--variant lean=shaped,shaping.cloning.steps=5``) are named settings of a method, compared as methods
-of their own (``DIR/runs/lean_s0/``).
+What a benchmark runs (its settings, its runs' configs, ablations and variants) is ``spec.py``'s; what a rerun
+does with each run directory, ``plan.py``'s. A rerun skips runs whose newest checkpoint reached
+``generations`` and resumes unfinished ones (the trainer and PPO restore their newest checkpoint); a run whose
+own settings changed is started afresh if it has no checkpoint yet and refused, before any run starts, if it
+has finished generations. Every config is validated (``preflight.check_run``) before anything is written.
+Runs go seed by seed, every method within a seed, so a partial benchmark compares methods on the same seeds.
 """
 
 from __future__ import annotations
 
-import inspect
 import json
 import sys
 import time
-import warnings
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict
 from pathlib import Path
 
 import yaml
 
-from shaped_es.config import ConfigError, RunConfig, build_config, merge
+from shaped_es.benchmark.plan import plan_runs
+from shaped_es.benchmark.spec import BenchmarkSpec, run_configs, run_name
+from shaped_es.config import RunConfig
 from shaped_es.methods import METHODS, resolve
 from shaped_es.run_loop import run_finished
-from shaped_es.rundir.meta import RUNTIME_FIELDS
 from shaped_es.rundir.run_files import replace_run_dir
 from shaped_es.rundir.atomic import clean_stale_temporaries
-from shaped_es.rundir.store import RunStore, StoreError, StoreWarning, atomic_write_text
-
-SPARSE_FACTOR = 10.0  # paper: global planner resolution / 10 -> waypoints 10x further apart
-SPACING_KEY = "waypoint_spacing"
-
-
-@dataclass(frozen=True)
-class BenchmarkSpec:
-    env: str  # Gymnasium id of every run
-    methods: tuple[str, ...]  # methods to compare, run in this order within a seed
-    seeds: tuple[int, ...]  # root seeds; one run per (method, seed)
-    generations: int  # generations per run (PPO: iterations of the matched env-step budget)
-    base: dict = field(default_factory=dict)  # config fields from a YAML file (lowest precedence)
-    overrides: dict = field(default_factory=dict)  # dotted overrides (--preset, --set, --executor, ...)
-    sparse_waypoints: bool = False  # ablation: waypoint_spacing x SPARSE_FACTOR
-    alpha: float | None = None  # ablation: es.alpha (Guided-ES isotropic share)
-    eta: float | None = None  # ablation: shaping.eta (surrogate normalization)
-    threshold: float | None = None  # success threshold of the report (None: the env's default)
-    # named variants usable in ``methods``: label -> {"method": base method, dotted overrides...}
-    variants: dict = field(default_factory=dict)
-
-    def method_of(self, label: str) -> str:
-        return self.variants[label]["method"] if label in self.variants else label
-
-    def __post_init__(self):
-        for label, v in self.variants.items():
-            if label in METHODS or not label or "/" in label or not isinstance(v, dict) \
-                    or v.get("method") not in METHODS:
-                raise ConfigError(f"--variant {label!r}: needs a new name (not a method) and a base method "
-                                  f"from {', '.join(METHODS)}")
-        unknown = [m for m in self.methods if self.method_of(m) not in METHODS]
-        if unknown or not self.methods:
-            raise ConfigError(f"--methods: unknown {unknown or 'empty list'}; choose from {', '.join(METHODS)}")
-        if len(set(self.methods)) != len(self.methods):
-            raise ConfigError(f"--methods: repeated method in {','.join(self.methods)}")
-        if not self.seeds or len(set(self.seeds)) != len(self.seeds) or min(self.seeds) < 0:
-            raise ConfigError("--seeds: need one or more distinct non-negative seeds")
-        if self.generations <= 0:
-            raise ConfigError(f"--generations must be positive, got {self.generations}")
-
-
-def run_name(method: str, seed: int) -> str:
-    return f"{method}_s{seed}"
-
-
-def sparse_waypoint_kwargs(env_id: str, env_kwargs: dict) -> dict:
-    """``env_kwargs`` with the env's effective ``waypoint_spacing`` multiplied by ``SPARSE_FACTOR``."""
-    if SPACING_KEY in env_kwargs:
-        spacing = env_kwargs[SPACING_KEY]
-    else:
-        spacing = _effective_spacing(env_id, env_kwargs)
-    if not isinstance(spacing, (int, float)) or spacing <= 0:
-        raise ConfigError(f"--sparse-waypoints: env {env_id} does not support a '{SPACING_KEY}' setting "
-                          f"(built-in: CarNav-v0)")
-    return {**env_kwargs, SPACING_KEY: float(spacing) * SPARSE_FACTOR}
-
-
-def _effective_spacing(env_id: str, env_kwargs: dict):
-    """The spacing the env uses with these kwargs: an attribute of the env or of its config object, else
-    the constructor's default; None if the env has no such setting."""
-    import shaped_es  # noqa: F401 - registers the built-in envs
-    from shaped_es.rollout import close_env, make_env
-
-    env = make_env(env_id, env_kwargs)
-    try:
-        u = env.unwrapped
-        for holder in (u, *vars(u).values()):  # the env, or a config object/dict it holds
-            v = holder.get(SPACING_KEY) if isinstance(holder, dict) else getattr(holder, SPACING_KEY, None)
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                return v
-        p = inspect.signature(type(u).__init__).parameters.get(SPACING_KEY)
-        return None if p is None or p.default is inspect.Parameter.empty else p.default
-    finally:
-        close_env(env)
-
-
-def run_configs(spec: BenchmarkSpec) -> dict[str, RunConfig]:
-    """One validated config per run, keyed by run name, in run order (seed-major)."""
-    common = merge(spec.base, {**spec.overrides, "env": spec.env, "generations": spec.generations})
-    if spec.alpha is not None:
-        common = merge(common, {"es.alpha": spec.alpha})
-    if spec.eta is not None:
-        common = merge(common, {"shaping.eta": spec.eta})
-    if spec.sparse_waypoints:
-        common["env_kwargs"] = sparse_waypoint_kwargs(spec.env, dict(common.get("env_kwargs") or {}))
-    def one(label: str, seed: int) -> RunConfig:
-        extra = {k: v for k, v in spec.variants.get(label, {}).items() if k != "method"}
-        return build_config(merge(merge(common, extra), {"method": spec.method_of(label), "seed": seed}))
-
-    return {run_name(m, s): one(m, s) for s in spec.seeds for m in spec.methods}
-
-
-def _first_difference(a: RunConfig, b: RunConfig) -> str:
-    da, db = _flat(_relevant(a)), _flat(_relevant(b))
-    diff = sorted(k for k in set(da) | set(db) if da.get(k) != db.get(k))
-    return ", ".join(diff[:3]) or "?"
-
-
-def _flat(d: dict, prefix: str = "") -> dict:
-    out = {}
-    for k, v in d.items():
-        out.update(_flat(v, f"{prefix}{k}.") if isinstance(v, dict) and v else {f"{prefix}{k}": v})
-    return out
-
-
-# ``es`` fields a method never reads (trainer.build_strategy / build_guide, ppo_settings.horizon);
-# anything not listed here counts, so a new field is compared until it is known to be irrelevant.
-def _relevant(cfg: RunConfig) -> dict:
-    """The config as JSON with the sections and ``es`` fields ``cfg.method`` never reads (``Method.reads``)
-    reset to their defaults (``ppo`` reads only ``es.pairs``, for its env-step budget)."""
-    d = cfg.model_dump(mode="json")
-    defaults = RunConfig().model_dump(mode="json")
-    reads = METHODS[cfg.method].reads
-    for section in ("es", "shaping", "ppo"):
-        if section not in reads:
-            d[section] = {k: (v if f"{section}.{k}" in reads else defaults[section][k])
-                          for k, v in d[section].items()}
-    return d
-
-
-def method_digest(cfg: RunConfig) -> str:
-    """Hash of the settings that determine this run's results given its method."""
-    from shaped_es.rundir.meta import config_digest
-
-    return f"{cfg.method}:{config_digest(build_config(_relevant(cfg)))}"
-
-
-def _reuse(old: RunConfig, new: RunConfig) -> RunConfig:
-    """``old`` (the run's own config: its checkpoints were made with it) with this invocation's
-    execution settings (generations, executor, workers, ...)."""
-    d = old.model_dump(mode="json")
-    nd = new.model_dump(mode="json")
-    return build_config({**d, **{k: nd[k] for k in RUNTIME_FIELDS if k in nd}})
-
-
-def plan_runs(cfgs: dict[str, RunConfig], runs_dir: Path) -> dict[str, tuple[str, RunConfig]]:
-    """Per run: ``("new" | "restart" | "reuse", config to run with)``; refuses (``StoreError``, one line
-    naming every such run) runs with finished generations whose own settings changed."""
-    plan, changed, other_env = {}, [], []  # other_env: the envs of changed runs made on another env
-    for name, cfg in cfgs.items():
-        store = RunStore(runs_dir / name)
-        if not store.exists():
-            plan[name] = ("new", cfg)
-            continue
-        old = store.read_config()
-        if old.method == cfg.method and method_digest(old) == method_digest(cfg):
-            plan[name] = ("reuse", _reuse(old, cfg))
-        elif not store.checkpoints():
-            plan[name] = ("restart", cfg)  # nothing done yet (e.g. a run that failed to start)
-        else:
-            changed.append((name, _first_difference(old, cfg)))
-            other_env += [old.env] if old.env != cfg.env else []
-    if changed and len(other_env) == len(changed):  # a folder of another env's study, not changed settings
-        envs = ", ".join(sorted(set(other_env)))
-        env = next(iter(cfgs.values())).env
-        raise StoreError(f"{runs_dir.parent} holds a benchmark of another env ({envs}), not {env}: a benchmark "
-                         f"folder is one env's; use another --out")
-    if changed:
-        names = ", ".join(n for n, _ in changed)
-        fields = ", ".join(sorted({f for _, d in changed for f in d.split(", ")})[:3])
-        others = "the other runs are reused: " if plan else ""
-        raise StoreError(f"runs {names} in {runs_dir} hold a different config ({fields}) with finished "
-                         f"generations; {others}delete those to redo them with these settings, or use another "
-                         f"--out")
-    if cfgs:
-        warn_env_edited(runs_dir, [n for n, (act, _) in plan.items() if act == "reuse"], next(iter(cfgs.values())).env)
-    return plan
-
-
-def warn_env_edited(runs_dir: Path, names: list[str], env_id: str) -> None:
-    """One warning line naming the reused runs made on an earlier version of the env's module (its source hash
-    in their ``run.json`` differs: ``rundir/env_source.py``): a rerun reuses them as they are."""
-    from shaped_es.rundir.env_source import fingerprint
-
-    now = fingerprint(env_id)  # hashed once, compared with each run's
-    if now is None:
-        return
-    edited = [n for n in names if RunStore(runs_dir / n).env_changed(env_id, now)]
-    if not edited:
-        return
-    file = Path(now["file"]).name
-    shown = ", ".join(edited[:4]) + (f" and {len(edited) - 4} more" if len(edited) > 4 else "")
-    warnings.warn(f"{file} changed since runs {shown} in {runs_dir} were made: they are reused as they are (their "
-                  f"results are the earlier env's); delete them, or use another --out, to redo them on the env as "
-                  f"it is now", StoreWarning, stacklevel=2)
+from shaped_es.rundir.store import RunStore, StoreError, atomic_write_text
 
 
 def run_one(cfg: RunConfig, root: Path, progress: bool = False, action: str | None = None) -> str:

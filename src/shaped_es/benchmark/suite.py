@@ -33,7 +33,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from shaped_es.benchmark.runner import BenchmarkSpec, check_own_folder, run_benchmark, run_name
+from shaped_es.benchmark.runner import check_own_folder, run_benchmark
+from shaped_es.benchmark.spec import BenchmarkSpec, run_name
 from shaped_es.config import ConfigError
 from shaped_es.rundir.atomic import clean_stale_temporaries
 from shaped_es.rundir.store import StoreError, atomic_write_text

@@ -3,11 +3,11 @@ beside the first generations' populations.
 
 Inverse-dynamics models learn from exploratory data (Jordan & Rumelhart 1992; Agrawal et al. 2016):
 ``b`` policies with weights ~ N(0, babble_sigma^2), whose saturated tanh outputs drive the agent through
-actions the first, near-still populations never take. The shaped guide (``shaped.py``) evaluates them
-as extra members after the mechanism's own; their steps are M_phi's data and the clone's states, their
-returns steer no ES step. The guide stops asking for them once its label budget has slept (the run judged
-its labels as losing: a wake-up trial runs without them). Stateless: drawn from the run's seed and the
-generation, so a resumed run draws the same.
+actions the first, near-still populations never take. The shaped guide (``shaped.py``; its rollout hooks,
+``shaped_rollouts.py``) evaluates them as extra members after the mechanism's own; their steps are M_phi's
+data and the clone's states, their returns steer no ES step. The guide stops asking for them once its label
+budget has slept (the run judged its labels as losing: a wake-up trial runs without them). Stateless: drawn
+from the run's seed and the generation, so a resumed run draws the same.
 """
 
 from __future__ import annotations

@@ -47,17 +47,21 @@ Where the shaping work runs (``shaping.placement``; both give the same numbers, 
   population's parameters ``P x n`` stay below ``MASTER_MAX_PARAMS`` (the batched cloning then fits in a
   few hundred MB), ``workers`` on ``ray`` / ``mpi`` or beyond that size.
 
-The generations' recorded steps as the guide reads them (in memory, or from the store) and the rows the
-cloning draws from them live in ``guides/shaped_data.py`` (``GenerationData``, a base class of the guide);
-the shaping thread's work, the writer thread's writes and their pruning after a checkpoint in
-``guides/shaped_background.py`` (``BackgroundWork``, another base class); the label budget's verdicts and the
-back-off note in ``guides/shaped_verdicts.py`` (``LabelVerdicts``, a third).
+This file holds the guide's state (its constructor) and its generation hooks ``begin_generation`` and
+``after_tell``; the rest of the guide lives in its base classes, one file each. The rollout hooks (which
+members run beyond the population and whose steps are recorded: ``extra_members``, ``record_mask``, ...) in
+``guides/shaped_rollouts.py`` (``RolloutHooks``); the generations' recorded steps as the guide reads them (in
+memory, or from the store) and the rows the cloning draws from them in ``guides/shaped_data.py``
+(``GenerationData``); the shaping thread's work, the writer thread's writes and their pruning after a
+checkpoint in ``guides/shaped_background.py`` (``BackgroundWork``); the mechanism's judgement and clone (the
+shaped part of ``after_tell``), the label budget's verdicts and the back-off note in
+``guides/shaped_verdicts.py`` (``LabelVerdicts``); the checkpoint's ``state_dict`` / ``load_state_dict`` in
+``guides/shaped_checkpoint.py`` (``GuideCheckpoint``).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import sys
 import threading
 import time
@@ -69,27 +73,26 @@ import numpy as np
 from shaped_es.config import RunConfig
 from shaped_es.data import PackedTransitions, join_packed
 from shaped_es.guides import NoGuide
-from shaped_es.guides.shaped_tasks import rollout_and_store
 from shaped_es.methods import MECHANISMS, resolve
 from shaped_es.policies import MLPSpec
-from shaped_es.rollout import EnvProbe, mean_returns
+from shaped_es.rollout import EnvProbe
 from shaped_es.shaping import kernels
 from shaped_es.shaping.cloning import CloningConfig, warm_up_cloning
 from shaped_es.shaping.shared_rows import SharedRows
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.settings import MeanCloneConfig
 from shaped_es.shaping.trajectories import delete_generations, run_root, write_shard
-from shaped_es.guides.babble import babbling_policies
 from shaped_es.guides.label_budget import LabelBudget
-from shaped_es.guides.label_check import candidate_line, probe_line, source_line
+from shaped_es.guides.label_check import probe_line, source_line
 from shaped_es.guides.probe_file import FILE as PROBE_FILE, load_or_probe, start_stats
-from shaped_es.guides.mphi_parts import DamagedPart
 from shaped_es.guides.mphi_track import MphiTrack
-from shaped_es.guides.mechanisms.mean_clone import noise_line, noise_scale
+from shaped_es.guides.mechanisms.mean_clone import noise_scale
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
 from shaped_es.guides.rival import names as rival_names, probe_shooting, rivals
 from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # noqa: F401 (FIT_TEST_ROWS)
+from shaped_es.guides.shaped_checkpoint import GuideCheckpoint
+from shaped_es.guides.shaped_rollouts import RolloutHooks
 from shaped_es.guides.shaped_verdicts import LabelVerdicts
 from shaped_es.guides.shaped_data import GenerationData, _Block
 from shaped_es.guides.shaped_setup import (check_obs_norm, from_section, label_source, mphi_config, placement,
@@ -101,7 +104,8 @@ COMMON_KEYS = ("time_cloning_s", "clone_cpu_time_s", "time_store_write_s", "shap
 DIAGNOSE_KEYS = ("clone_return_gain", "clone_improved_fraction")  # only with shaping.diagnose_returns
 
 
-class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
+# NoGuide last: the parts' hooks (record_mask, state_dict, ...) override its defaults
+class ShapedGuide(RolloutHooks, GenerationData, BackgroundWork, LabelVerdicts, GuideCheckpoint, NoGuide):
     record = True
 
     def __init__(self, cfg: RunConfig, spec: MLPSpec, store, probe: EnvProbe | None = None, executor=None):
@@ -197,11 +201,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         if self.placement == "master" and self.clone_cfg.batch_size <= 0:  # full-data cloning runs in torch
             warm_up_cloning()  # torch's first optimizer imports torch._dynamo (~1-7 s): not on the clock
 
-    @property
-    def expert(self) -> bool:
-        """The rollouts record the env controller's actions (``shaping.labels = controller``)."""
-        return self.labels.records_expert
-
     def metric_keys(self) -> tuple[str, ...]:
         """The metrics columns this run's guide fills (M_phi's only with M_phi labels; the reference
         label metrics only with ``shaping.reference_run``)."""
@@ -222,48 +221,6 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
         """es.obs_norm: the observation statistics the run starts from, the label probe's data's
         (``probe_file.start_stats``; None: no probe, or off)."""
         return None if self._probe_res is None else start_stats(self._probe_res, self.spec.obs_dim)
-
-    def record_mask(self, population: int, extra: int) -> np.ndarray:
-        """Which members' steps the rollouts keep (the mechanism's choice; every babbler),
-        ``(population + extra,)``."""
-        if not self.awake:
-            return np.zeros(population + extra, bool)
-        mask = self.mechanism.record_mask(population, extra)
-        if self._babblers:
-            mask[population + extra - self._babblers:] = True
-        return mask
-
-    def extra_members(self, generation: int) -> np.ndarray | None:
-        """Policies ``(k, n)`` evaluated beside the population (None: none): the mechanism's, then the
-        babbling policies of the first generations (``guides/babble.py``; M_phi's data only); none while
-        the guide sleeps, and none once it has slept (the budget judged the labels as losing; M_phi has its
-        first generations' data: a wake-up trial runs without babblers; the budget's state is checkpointed,
-        so a resumed run draws the same)."""
-        if not self.awake:
-            self._babblers = 0
-            return None
-        mech = self.mechanism.extra_members(generation)
-        bab = None if self.mphi is None or self.budget.sleeps else babbling_policies(
-            self.sh.inverse_dynamics, self.cfg.seed, generation, self.spec.num_params)  # (b, n)
-        self._babblers = 0 if bab is None else bab.shape[0]
-        if bab is None:
-            return mech
-        return bab if mech is None else np.concatenate([np.asarray(mech, np.float32), bab])  # (k + b, n)
-
-    def extra_episodes(self) -> int:
-        """Episodes the mechanism's extra members run beyond the population's."""
-        return self.mechanism.extra_episodes if self.awake else 0
-
-    def unjudged_extras(self) -> int:
-        """The babblers (the last extras): M_phi's data only, never judged, so the population's episodes."""
-        return self._babblers
-
-    def rollout_fn(self):
-        if self.placement == "workers":  # each worker writes its chunk's shard before it returns
-            return functools.partial(rollout_and_store, traj_root=self.traj_root)
-        # master: the transitions come back with the returns and the master writes one shard in its
-        # writer thread while it clones (worker-side writes put ~10 ms on the rollouts' critical path)
-        return None
 
     def _write(self, packed: PackedTransitions) -> float:
         """The writer thread's job for one generation's block (master placement): its shard."""
@@ -296,7 +253,7 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
                                             name="shaping", daemon=True)
             self._thread.start()
 
-    # -- the labels' use: the mechanism (guides/mechanisms/) ----------------------------------------------
+    # -- the labels' use: the mechanism (guides/mechanisms/; its judgement and clone: shaped_verdicts.py) --
     def after_tell(self, generation, params, results, old_mean, strategy, map_tasks, ready=None) -> dict:
         """``ready(mask)`` (the trainer's ``clone_overlap``; None: off): called once the mechanism's
         judgement is made and the strategy final, before its clone, with the next generation's population
@@ -334,88 +291,9 @@ class ShapedGuide(NoGuide, GenerationData, BackgroundWork, LabelVerdicts):
             self._trim_cache(generation)
             return out
         out["shaping_active"] = 1
-        P = params.shape[0]
-        fitness = mean_returns([r for r in results if r.members[0] < P])  # (P,) the population's
-        # the mechanism's extras (k_i, E + x); the babblers come last, in tasks of their own, and are not judged
-        k = sum(len(r.members) for r in results if r.members[0] >= P)
-        extra = [np.asarray(r.returns) for r in results if P <= r.members[0] < P + k - self._babblers]
-        extra_returns = np.concatenate(extra) if extra else np.zeros((0, self.cfg.rollout.episodes))
-        verdict: list[bool] = []  # the label budget's, once judged: True = asleep from the next generation
-        ready_s = [0.0]  # time spent starting the next rollouts (not cloning)
-
-        def judged(metrics: dict) -> None:  # the judgement is made and the strategy final; the clone follows
-            if verdict:
-                return
-            verdict.append(self._verdict(metrics, fitness))
-            if ready is not None and self.placement == "master":
-                t = time.perf_counter()
-                ready(self._next_population_mask(P))
-                ready_s[0] += time.perf_counter() - t
-
-        self.search_sigma = strategy.search_scale()
-        t0 = time.perf_counter()
-        out.update(self.mechanism.after_tell(generation, params, fitness, extra_returns, results, old_mean,
-                                             strategy, map_tasks, judged=judged))
-        out["time_cloning_s"] = time.perf_counter() - t0 - ready_s[0]
-        if self.mechanism.free_judgement:
-            won = bool(out.get("candidate_accepted"))
-            n = self.cfg.rollout.episodes + self.mean_clone_cfg.extra_episodes  # the paired episodes both ran
-            judged_at = ((float(out["candidate_return"]), float(out["mean_return"]), float(np.max(fitness)),
-                          float(out["candidate_gain"]), n)
-                         if {"candidate_return", "mean_return", "candidate_gain"} <= set(out) else None)  # judged on
-            print(f"shaped-es: {self.run_name}: generation 1: {candidate_line(self._probe_res, won, judged_at)}",
-                  file=sys.stderr)
-        if (out.get("clone_noise") or 0) > 0 and not self._noise_said:  # None: no clone this generation
-            self._noise_said = True
-            if self.progress:  # --quiet: not said (the same line in every run of a benchmark)
-                print(f"shaped-es: {self.run_name}: generation {generation + 1}: {noise_line(self.mean_clone_cfg)}",
-                      file=sys.stderr)
-        if not verdict:  # the mechanism never judged early: judged on its metrics now
-            verdict.append(self._verdict(out, fitness))
-        if verdict[0]:
-            self._sleep()
+        self._judge_and_clone(out, generation, params, results, old_mean, strategy, map_tasks, ready)
         self._trim_cache(generation)
         return out
-
-    # -- checkpoint ---------------------------------------------------------------------------------
-    def state_dict(self) -> dict[str, np.ndarray]:
-        self._join_writes()  # the checkpoint may only name shards and data parts that are durable
-        st = {f"mechanism/{k}": v for k, v in self.mechanism.state_dict().items()}
-        st |= {f"budget/{k}": v for k, v in self.budget.state_dict().items()}
-        st["silent"] = np.array(sorted(self._silent), np.int64)
-        if self.position_period is not None:  # found after the start: the resumed rollouts take it too
-            st["late_period"] = np.asarray(self.position_period, np.float64)
-        if self.track is not None:
-            self.track.save(st, "mphi/", "mphi_parts")
-            st["step_norm"] = self.step_norm
-        for r in self.rivals:
-            r.track.save(st, r.prefix, r.parts_key)
-        nxt = self._last_generation + 1
-        self._saved = (self._last_generation, [t.parts.oldest(default=nxt) for t in self._tracks])
-        return st
-
-    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        self.mechanism.load_state_dict({k[10:]: v for k, v in state.items() if k.startswith("mechanism/")})
-        self.budget.load_state_dict({k[7:]: v for k, v in state.items() if k.startswith("budget/")})
-        self._silent = {int(g) for g in np.asarray(state.get("silent", np.zeros(0)), np.int64).reshape(-1)}
-        if "late_period" in state:
-            self.position_period = np.asarray(state["late_period"], np.float64).reshape(-1)  # (d,)
-            self._wrap_warned = True
-        self._noise_said = None  # decided at the first generation after the checkpoint (after_tell)
-        self._cache.clear()
-        if self.track is None:
-            return
-        self.track.restore(state, "mphi/", "mphi_parts")  # the data set lives in RUN/mphi_data
-        self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
-        for r in self.rivals:  # a checkpoint from before a rival: it starts afresh
-            try:
-                r.track.restore(state, r.prefix, r.parts_key, optional=True)
-            except DamagedPart as exc:  # a damaged file: the checkpoint's message says what to do
-                raise ValueError(f"the {r.name} rival's model: {exc}") from None
-            except ValueError as exc:  # its shape comes from the config and the probe's choices, not the checkpoint
-                raise ValueError(f"the {r.name} rival's model: {exc} (the run that wrote it had another setup: "
-                                 f"its config or RUN/{PROBE_FILE}, which holds the shooting labels' horizon)") from None
-        self.labels.max_displacement = self.labels_max_displacement()
 
     def close(self) -> None:
         if self._thread is not None:

@@ -4,6 +4,7 @@
 - :mod:`.cloning`: behaviour cloning of a whole population at once, ``theta_i -> theta*_i`` (torch).
 - :mod:`.surrogate`: ``Delta = (Theta* - mu_{g+1}) / eta`` and its orthonormal basis ``U`` (NumPy).
 - :mod:`.trajectories`: the Parquet trajectory store, the paper's NFS (pyarrow).
+- :mod:`.shard_table`: one shard of it as an Arrow table (its columns; encoded, and read back with its checks).
 
 Import from the submodules: this package file imports nothing, so ``shaped_es.shaping.trajectories``
 (e.g. for its error type in the CLI) does not pull in torch. The layer imports only torch, numpy,

@@ -11,24 +11,8 @@ written under a ``run_{id}`` directory records that id, and a shard read there m
 On one machine the trainer writes one shard per generation (all 64 members, in a background thread);
 on a cluster each worker writes one shard for its chunk of members. Readers do not care which.
 
-========================================  ========================================================
-column                                    type
-========================================  ========================================================
-``generation``                            int32 (constant in a shard; also in the schema metadata)
-``member``                                int32 (ascending; the shard's members are in the metadata)
-``episode``, ``step``                     int32
-``state``                                 vector<obs_dim>
-``position``, ``waypoint``                vector<d>
-``action``                                vector<act_dim>
-``reward``                                float32
-``expert`` (optional)                     vector<act_dim>: the env controller's action at ``s_t``
-                                          (``shaping.labels = controller``)
-========================================  ========================================================
-
-A ``vector<w>`` column is ``fixed_size_binary[4 w]``: each row's ``w`` little-endian float32 values as one
-value (format 2, written since the shards went off the critical path: a plain column with no repetition
-levels, 3x cheaper to write and 5x cheaper to read than format 1's ``fixed_size_list<float32>[w]``, which
-readers still accept; read one as ``np.frombuffer(column.buffers()[1], "<f4").reshape(-1, w)``).
+A shard's columns and metadata, and their encoding to and from an Arrow table with every check on read, are
+``shaping/shard_table.py``'s; this module lays the shards out, writes, reads, lists and deletes them.
 
 ``ROOT`` is a local path or any URI ``pyarrow.fs.FileSystem.from_uri`` understands (``file://``,
 ``s3://``, ...). Writes are atomic: a temporary file in the same directory, then a rename, so a reader
@@ -54,24 +38,15 @@ import pyarrow as pa
 import pyarrow.fs as pafs
 import pyarrow.parquet as pq
 
-from shaped_es.data import COLUMNS, PackedTransitions, Transitions
+from shaped_es.data import PackedTransitions, Transitions
+from shaped_es.shaping.shard_table import TrajectoryStoreError, from_table, packed_table, to_table
 
-INT_COLUMNS = ("generation", "member", "episode", "step")
-VECTOR_COLUMNS = ("state", "position", "waypoint", "action")
-EXPERT = "expert"  # optional vector column (data.Transitions.expert)
-FORMAT_KEY, FORMAT_VERSION = b"shaped_es.trajectories", b"2"
-READABLE_VERSIONS = (b"1", b"2")  # 1: vectors as fixed_size_list<float32>
-RUN_KEY = b"run_id"
 _SHARD_RE = re.compile(r"^members_(\d{4,})-(\d{4,})\.parquet$")
 _TMP_RE = re.compile(r"^\.members_\d{4,}-\d{4,}\.parquet\.[A-Za-z0-9_]+\.tmp$")  # write_shard's, before its rename
 _GEN_RE = re.compile(r"^gen_(\d{6,})$")
 
 
 _RUN_DIR_RE = re.compile(r"^run_([0-9a-f]{16,64})$")
-
-
-class TrajectoryStoreError(RuntimeError):
-    """A trajectory shard is missing, corrupt or malformed, or cannot be written (message: one line)."""
 
 
 class TrajectoryStoreWarning(UserWarning):
@@ -117,96 +92,6 @@ def shard_path(root: str | os.PathLike, generation: int, first: int, last: int |
     return _join(root, f"gen_{generation:06d}", f"members_{first:04d}-{last:04d}.parquet")
 
 
-def _to_table(trs: Sequence[Transitions], stacked: Transitions | None = None,
-              run_id: bytes | None = None) -> pa.Table:
-    g = trs[0].generation
-    T = sum(len(t) for t in trs)
-    cols: dict[str, pa.Array] = {
-        "generation": pa.array(np.full(T, g, np.int32)),
-        "member": pa.array(np.concatenate([np.full(len(t), t.member, np.int32) for t in trs])),
-        "episode": pa.array(np.concatenate([np.asarray(t.episode, np.int32).reshape(len(t)) for t in trs])),
-        "step": pa.array(np.concatenate([np.asarray(t.step, np.int32).reshape(len(t)) for t in trs])),
-    }
-    for name in VECTOR_COLUMNS:
-        if stacked is not None and getattr(stacked, name).dtype == np.float32:  # already one array
-            a = getattr(stacked, name)  # (T, w)
-            if a.ndim == 2 and a.shape[0] == T and a.shape[1] > 0:
-                cols[name] = _vector_column(a)
-                continue
-        parts = [np.asarray(getattr(t, name), dtype=np.float32) for t in trs]
-        for t, a in zip(trs, parts):
-            if a.ndim != 2 or a.shape[0] != len(t) or a.shape[1] == 0 or a.shape[1] != parts[0].shape[1]:
-                raise TrajectoryStoreError(
-                    f"cannot store member {t.member} generation {t.generation}: column '{name}' has shape "
-                    f"{a.shape}, expected ({len(t)}, width > 0) (does the env provide info "
-                    f"'position'/'waypoint'?)")
-        cols[name] = _vector_column(np.concatenate(parts))  # (T, w)
-    cols["reward"] = pa.array(np.concatenate([np.asarray(t.reward, np.float32).reshape(len(t)) for t in trs]))
-    names = list(COLUMNS)
-    if all(t.expert is not None for t in trs):  # the optional column: every member has it, or none
-        cols[EXPERT] = _vector_column(np.concatenate([np.asarray(t.expert, np.float32).reshape(len(t), -1)
-                                                      for t in trs]))  # (T, act)
-        names.append(EXPERT)
-    members = ",".join(str(t.member) for t in trs)
-    meta = {FORMAT_KEY: FORMAT_VERSION, b"generation": str(g).encode(), b"members": members.encode()}
-    if run_id is not None:
-        meta[RUN_KEY] = run_id
-    return pa.table({c: cols[c] for c in names}).replace_schema_metadata(meta)
-
-
-def _packed_table(block: PackedTransitions, run_id: bytes | None = None) -> pa.Table:
-    """The table :func:`_to_table` makes of ``block.unpack()``, from the block's arrays directly (no
-    per-member concatenation)."""
-    r, T = block.rows, len(block)
-    members = block.members.tolist()
-    cols: dict[str, pa.Array] = {
-        "generation": pa.array(np.full(T, r.generation, np.int32)),
-        "member": pa.array(np.repeat(block.members.astype(np.int32), block.lengths())),  # (T,)
-        "episode": pa.array(np.asarray(r.episode, np.int32).reshape(T)),
-        "step": pa.array(np.asarray(r.step, np.int32).reshape(T)),
-    }
-    for name in VECTOR_COLUMNS:
-        a = np.asarray(getattr(r, name), dtype=np.float32)
-        if a.ndim != 2 or a.shape[0] != T or a.shape[1] == 0:
-            raise TrajectoryStoreError(
-                f"cannot store members {members[0]}-{members[-1]} generation {r.generation}: column '{name}' "
-                f"has shape {a.shape}, expected ({T}, width > 0) (does the env provide info "
-                f"'position'/'waypoint'?)")
-        cols[name] = _vector_column(a)  # (T, w)
-    cols["reward"] = pa.array(np.asarray(r.reward, np.float32).reshape(T))
-    names = list(COLUMNS)
-    if r.expert is not None:
-        cols[EXPERT] = _vector_column(np.asarray(r.expert, np.float32).reshape(T, -1))  # (T, act)
-        names.append(EXPERT)
-    meta = {FORMAT_KEY: FORMAT_VERSION, b"generation": str(r.generation).encode(),
-            b"members": ",".join(map(str, members)).encode()}
-    if run_id is not None:
-        meta[RUN_KEY] = run_id
-    return pa.table({c: cols[c] for c in names}).replace_schema_metadata(meta)
-
-
-def _vector_column(a: np.ndarray) -> pa.Array:
-    """``(T, w)`` float32 -> a ``fixed_size_binary[4 w]`` column of T values (one copy at most)."""
-    a = np.ascontiguousarray(a, dtype="<f4")  # (T, w)
-    return pa.FixedSizeBinaryArray.from_buffers(pa.binary(4 * a.shape[1]), a.shape[0], [None, pa.py_buffer(a)])
-
-
-def _vector_values(col: pa.Array, name: str, bad) -> np.ndarray:
-    """A vector column (format 2's ``fixed_size_binary[4 w]``, or format 1's ``fixed_size_list<float32>[w]``)
-    -> ``(T, w)`` float32 (a view of the column's buffer where it can be)."""
-    t = col.type
-    if pa.types.is_fixed_size_binary(t) and t.byte_width % 4 == 0 and t.byte_width > 0:
-        w = t.byte_width // 4
-        flat = np.frombuffer(col.buffers()[1], dtype="<f4", count=(col.offset + len(col)) * w)
-        return flat[col.offset * w :].reshape(len(col), w).astype(np.float32, copy=False)  # (T, w)
-    if pa.types.is_fixed_size_list(t) and t.value_type == pa.float32():
-        flat = col.flatten()  # (T*w,) respects slicing offsets
-        if flat.null_count:
-            raise bad(f"column '{name}' has null elements")
-        return flat.to_numpy(zero_copy_only=False).reshape(len(col), t.list_size)  # (T, w)
-    raise bad(f"column '{name}' has type {t}, expected fixed_size_binary (float32 vectors)")
-
-
 def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Transitions] | PackedTransitions,
                 stacked: Transitions | None = None) -> str:
     """Write the transitions of one or more members of one generation atomically, as one shard (members
@@ -220,7 +105,7 @@ def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Tra
             raise TrajectoryStoreError("cannot write an empty shard (no members)")
         if (np.diff(block.members) <= 0).any():
             raise TrajectoryStoreError("a shard holds distinct members of one generation, ascending")
-        table = _packed_table(block, _owner(root))
+        table = packed_table(block, _owner(root))
         generation, first, last = block.generation, int(block.members[0]), int(block.members[-1])
     else:
         given = [transitions] if isinstance(transitions, Transitions) else list(transitions)
@@ -231,7 +116,7 @@ def write_shard(root: str | os.PathLike, transitions: Transitions | Sequence[Tra
             raise TrajectoryStoreError("cannot write an empty shard (no members)")
         if len({t.generation for t in trs}) > 1 or len({t.member for t in trs}) < len(trs):
             raise TrajectoryStoreError("a shard holds distinct members of one generation")
-        table = _to_table(trs, stacked, _owner(root))
+        table = to_table(trs, stacked, _owner(root))
         generation, first, last = trs[0].generation, trs[0].member, trs[-1].member
     dest = shard_path(root, generation, first, last)
     fs, path = _resolve(dest)
@@ -286,61 +171,11 @@ def read_shard(path: str | os.PathLike) -> list[Transitions]:
     except FileNotFoundError:
         raise TrajectoryStoreError(f"trajectory shard not found: {path}") from None
     except (OSError, pa.ArrowException, ValueError) as exc:
-        raise TrajectoryStoreError(f"corrupt trajectory shard {path}: {_first_line(exc).rstrip('.')}{_damaged_hint(path)}") \
-            from None
-    return _from_table(table, os.fspath(path))
-
-
-def _from_table(table: pa.Table, where: str) -> list[Transitions]:
-    def bad(why: str) -> TrajectoryStoreError:
-        return TrajectoryStoreError(f"malformed trajectory shard {where}: {why}")
-
-    meta = table.schema.metadata or {}
-    if meta.get(FORMAT_KEY) not in READABLE_VERSIONS:
-        raise bad(f"not a shaped-es trajectory shard (format {meta.get(FORMAT_KEY)!r})")
+        raise TrajectoryStoreError(f"corrupt trajectory shard {path}: {_first_line(exc).rstrip('.')}"
+                                   f"{_damaged_hint(path)}") from None
+    where = os.fspath(path)
     owner = _owner(os.path.dirname(os.path.dirname(where.rstrip("/"))))  # ROOT of ROOT/gen_N/members_*
-    if owner is not None and meta.get(RUN_KEY) != owner:
-        theirs = meta.get(RUN_KEY)
-        theirs = f"run {theirs.decode(errors='replace')}" if theirs else "no run (it has no run id)"
-        raise TrajectoryStoreError(f"trajectory shard {where} belongs to {theirs}, not to run {owner.decode()} "
-                                   f"whose directory holds it (copied from another run?)")
-    try:
-        generation = int(meta[b"generation"])
-        members = [int(m) for m in meta[b"members"].decode().split(",")]
-    except (KeyError, ValueError, UnicodeDecodeError):
-        raise bad("schema metadata lacks generation/members") from None
-    missing = [c for c in COLUMNS if c not in table.column_names]
-    if missing:
-        raise bad(f"missing columns {missing}")
-    out: dict[str, np.ndarray] = {}
-    optional = [EXPERT] if EXPERT in table.column_names else []
-    for c in (*COLUMNS, *optional):
-        col = table.column(c).combine_chunks()
-        if col.null_count:
-            raise bad(f"column '{c}' has nulls")
-        if c in VECTOR_COLUMNS or c == EXPERT:
-            out[c] = _vector_values(col, c, bad)  # (T, w)
-        else:
-            want = pa.float32() if c == "reward" else pa.int32()
-            if col.type != want:
-                raise bad(f"column '{c}' has type {col.type}, expected {want}")
-            out[c] = col.to_numpy(zero_copy_only=False)
-    if (out["generation"] != generation).any():
-        raise bad("generation column disagrees with the shard's metadata")
-    if out["position"].shape[1] != out["waypoint"].shape[1]:
-        raise bad("position and waypoint widths differ")
-    col_m = out["member"]
-    if (np.diff(col_m) < 0).any() or not set(np.unique(col_m).tolist()) <= set(members) \
-            or sorted(set(members)) != members:
-        raise bad("member column disagrees with the shard's metadata")
-    lo = np.searchsorted(col_m, members, side="left")  # (k,) first row of each member
-    hi = np.searchsorted(col_m, members, side="right")
-    if optional and out[EXPERT].shape[1] != out["action"].shape[1]:
-        raise bad("expert and action widths differ")
-    return [Transitions(generation=generation, member=m,
-                        **{f: out[f][a:b] for f in ("episode", "step", "state", "position", "waypoint",
-                                                   "action", "reward", *optional)})
-            for m, a, b in zip(members, lo, hi)]
+    return from_table(table, where, owner)
 
 
 def _listdir(fs: pafs.FileSystem, path: str) -> list[pafs.FileInfo]:
