@@ -18,12 +18,16 @@ def test_chunk_variants_follow_the_one_step_ones_and_name_their_settings():
 
 
 
-def test_a_second_order_bodys_variants_all_ask_for_the_mean_pace():
-    """Where M_phi sees each step's change and the user set no clip, every variant clips the query to the mean
-    training step (1) and no longer clip is tried; a clip the user set stands; elsewhere the probe chooses."""
-    from shaped_es.guides.probe_variants import STEP_CHANGE_CLIP, long_variants, probed_clip
 
-    assert probed_clip(None, True) == STEP_CHANGE_CLIP == 1.0 and probed_clip(None, False) is None
-    assert probed_clip(3.0, True) == probed_clip(3.0, False) == 3.0
-    assert variants(probed_clip(None, True)) == [("both", 1.0, None), ("world", 1.0, None)]
-    assert long_variants(probed_clip(None, True), 4.0) == []
+def test_a_second_order_bodys_incumbent_asks_for_the_mean_pace():
+    """Where M_phi sees each step's change and the user set no clip, the incumbent clips the query to the mean
+    training step (1) and the query as asked is its rival; a clip the user set stands; elsewhere none, then 2."""
+    from shaped_es.guides.probe_variants import STEP_CHANGE_CLIP, clips, long_variants
+
+    assert clips(None, True) == [STEP_CHANGE_CLIP, None] and STEP_CHANGE_CLIP == 1.0
+    assert clips(None) == [None, 2.0] and clips(3.0, True) == clips(3.0) == [3.0]
+    assert variants(None, 0, step_change=True) == [("both", 1.0, None), ("both", None, None), ("world", 1.0, None),
+                                                   ("world", None, None)]
+    assert [variant_name(*v) for v in variants(None, 4, ("world",), True)] == [
+        "world+clip1", "world", "world+chunk4+clip1", "world+chunk4"]
+    assert long_variants(None, 4.0) == [("both", 4.0, None), ("world", 4.0, None)]  # the longer clip either way

@@ -39,7 +39,8 @@ class InverseDynamicsSettings(_Strict):
         "waypoint's direction (x toward w_t - p_t; defined at rest), both (world and motion frames "
         "concatenated: the model uses whichever explains the action), or auto: world for 1-D waypoint "
         "spaces; for 2-D and more, both unless the label probe before generation 0 finds another frame and "
-        "query_clip (none or 2; 1 alone where M_phi sees each step's change) whose simulated candidate "
+        "query_clip (none or 2; 1, the default there, or none where M_phi sees each step's change) whose "
+        "simulated candidate "
         "(the initial mean cloned toward its labels) "
         "clearly drives the body better, or zero action driving it better than both's labels "
         "(RUN/label_probe.json; shaped-es check-env ID --labels)")
@@ -122,11 +123,11 @@ class InverseDynamicsSettings(_Strict):
     probe_clip_long: Float | None = Field(
         4.0, gt=0, description="with frame auto and no query_clip set, the label probe also tries every variant "
         "with the query clipped to this many times the mean training displacement (a third clip beside none and "
-        "2; none where M_phi sees each step's change; its simulated candidates have seed streams of their own); "
+        "2, or 1 where M_phi sees each step's change; its simulated candidates have seed streams of their own); "
         "the run takes such a variant where it wins "
         "the frame's choice, the labels chosen without it do not drive the body better, and its own labels drive "
         "the body better than zero action (a torque arm's labels do not: a longer query there only asks them for "
-        "a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: clips none and 2 only")
+        "a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: clips none and 2 (or 1) only")
     shoot_long_nearest: Bool = Field(
         True, description="where the label probe can judge and chose the longest probed horizon (32), the probed "
         "horizon nearest it (16) runs beside it as a second shooting rival (variant 4): a long hold's early jump can "
@@ -143,8 +144,9 @@ class InverseDynamicsSettings(_Strict):
     servo_damping: Float = Field(3.0, ge=0, description="the servo's damping c: the predicted no-action step "
                                  "f(s, 0) (the body's velocity) taken from the waypoint error")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
-                                     "times the mean training displacement (None: raw, as the paper; with frame auto the label probe "
-                                     "chooses, and clips to 1 where M_phi sees each step's change)")
+                                     "times the mean training displacement (None: raw, as the paper; with frame "
+                                     "auto the label probe chooses; where M_phi sees each step's change it clips "
+                                     "to 1 unless the query as asked clearly pays)")
     targets: Literal["one_step", "hindsight", "matched", "chunk"] = Field(
         _MPHI.targets, description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
         "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "

@@ -257,8 +257,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         details.append("M_phi also sees each step's change from the last (shaping.inverse_dynamics.step_change"
                        + (f": held-out actions' unexplained share {e['change']:.2f} against {e['plain']:.2f} "
                           f"without it, as on a body whose step is mostly the velocity it had" if
-                          {"plain", "change"} <= set(e) else "") + "; the query is clipped to the mean step "
-                       "unless query_clip is set: a pace the body can brake from)")
+                          {"plain", "change"} <= set(e) else "") + "; the probe's default clips the query to "
+                       "the mean step: a pace the body can brake from)")
     elif {"plain", "change"} <= set(res.step_change_errors):  # auto chose off: say so (a new user's crane read
         # off only from the JSON)
         e = res.step_change_errors

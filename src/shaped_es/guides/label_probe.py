@@ -101,7 +101,7 @@ from shaped_es.guides.probe_pace import SAY_AFTER_S, Pace  # noqa: F401 - SAY_AF
 from shaped_es.guides.probe_result import ProbeResult, not_passed
 from shaped_es.guides.probe_rollouts import (  # noqa: F401 - EPISODES, PROBE_KEY, query: re-exported
     BABBLERS, EPISODES, GENERATIONS, MEMBERS, PROBE_KEY, collect, drive, probe_seeds, query, zero_labels)
-from shaped_es.guides.probe_variants import long_variants, probe_frames, probed_clip, variant_name, variants
+from shaped_es.guides.probe_variants import long_variants, probe_frames, variant_name, variants
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.labels import MphiLabels
 from shaped_es.shaping.settings import InverseDynamicsConfig
@@ -135,9 +135,9 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     # M_phi the probe fits and the run's (forward models ignore it)
     step_change, change_errors = probe_step_change.decide(mp, spec, pos_dim, data, mphi_cfg)
     mphi_cfg = replace(mphi_cfg, step_change=step_change)
-    clip = probed_clip(mp.query_clip, step_change)  # a second-order body: every variant asks for the mean pace
-    base = variants(clip, chunk_len, frames)
-    vs = base + long_variants(clip, mp.probe_clip_long, chunk_len, frames)
+    # a second-order body: the incumbent asks for the mean pace (probe_variants.clips)
+    base = variants(mp.query_clip, chunk_len, frames, step_change)
+    vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len, frames)
     flat = [t for g in data for t in g]  # the probe's recorded steps, a member per entry
     stats = probe_stats(cfg, flat)  # es.obs_norm: generation 0's statistics, its candidates' normalizer (None: off)
     sources = []  # each variant's label source, in order (their simulated candidates run in lock-step below)
