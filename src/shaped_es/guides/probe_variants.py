@@ -56,9 +56,9 @@ def clips(user_clip: float | None, step_change: bool = False) -> list[float | No
     the body makes, step after step, until it overshoots a goal it was to hold; clipped to the mean step it asks
     for a pace, which brakes where the waypoint is near. On a new user's spacecraft attitude body the simulated
     candidates of the two differ by less than the probe can tell while the runs differ by 20 generations (10/10 at
-    its threshold in 10.5 generations against 3/10), so the clip is the incumbent; on a new user's joint-space arm
-    forced to see the change, the unclipped candidates beat it clearly (30.5 against 10.6) and the runs that kept
-    the clip were slower: there the test replaces it (docs/benchmarks/second_order_clip_v34)."""
+    its threshold in 9.6 generations against 3/10), so the clip is the incumbent; on a new user's joint-space arm
+    forced to see the change, the clip alone left the runs no way out (4/10 at its threshold), and beside the query
+    as asked its test replaced it on 4 of 10 seeds (9/10; docs/benchmarks/second_order_clip_v34)."""
     if user_clip is not None:
         return [user_clip]
     return [STEP_CHANGE_CLIP, None] if step_change else [None, CLIP]
