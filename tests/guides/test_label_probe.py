@@ -931,3 +931,16 @@ def test_check_labels_says_whether_m_phi_sees_each_steps_change(monkeypatch, on)
     else:
         assert line.startswith("M_phi does not see") and "0.45 without it, 0.40 with it" in line
         assert "the first is at least 0.3 and the second at most 0.5x the first" in line
+
+
+def test_the_probe_line_says_why_a_second_order_bodys_default_clips():
+    """A new user saw "query_clip=1 (the default choice)" in a run and found the reason only in check-env: the run's
+    line says M_phi sees each step's change, and stays short."""
+    eps = [0.1 * k for k in range(10)]
+    res = ProbeResult("both", 1.0, {"both+clip1": eps, "both": eps}, 100, 0.1, "the default", eps,
+                      {"both+clip1": eps, "both": eps}, step_change=True)
+    line = probe_line(res, "attitude:Attitude-v0")
+    assert line.startswith("labels: frame=both, query_clip=1 (the default choice; M_phi sees each step's change, so "
+                           "the default clips to the mean step)")
+    assert len(f"shaped-es: attitude_s0: {line}") <= LINE_MAX
+    assert "step's change" not in probe_line(ProbeResult("both", None, {"both": eps}, 100, 0.1, "the default", eps))

@@ -29,6 +29,8 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
                                                                          if res.query_clip else "") else []))
     why = ("the default choice" if name == default else f"beat the default, {differs}"
            if res.reason.startswith("its") else f"the default's labels, {differs}, lost to zero action")
+    if res.step_change:  # why the default clips to 1 (a new user saw query_clip=1 and no reason for it)
+        why += "; M_phi sees each step's change, so the default clips to the mean step"
     own, what = (res.clones, "its candidate") if res.clones.get(name) else (res.returns, "labels")
     zero, own = res.zero_action, own.get(name)
     score = ""
