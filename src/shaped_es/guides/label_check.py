@@ -267,7 +267,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         details.append(f"M_phi does not see each step's change from the last (shaping.inverse_dynamics.step_change "
                        f"auto: held-out actions' unexplained share {e['plain']:.2f} without it, {e['change']:.2f} with "
                        f"it; on only where the first is at least {PLAIN_FAILS:g} and the second at most {RATIO:g}x "
-                       f"the first)")
+                       f"the first" + ("; above 1: worse than always predicting the mean action" if
+                                       max(e["plain"], e["change"]) > 1 else "") + ")")
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 1, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")
