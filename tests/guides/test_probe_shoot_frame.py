@@ -9,7 +9,7 @@ import pytest
 
 from helpers import egocentric_car
 from shaped_es.data import Transitions
-from shaped_es.guides import probe_shoot_frame
+from shaped_es.guides import clone_probe, probe_shoot_frame
 from shaped_es.shaping.forward_shoot import ForwardChunk
 from shaped_es.shaping.settings import InverseDynamicsConfig
 
@@ -66,7 +66,7 @@ def test_a_configured_waypoint_frame_on_a_1d_waypoint_space_is_refused_before_th
                                                    (1.3, 1.1, "world"),  # the waypoint frame no clearly better
                                                    (0.6, 0.1, "world")])  # the world frame's model explains some
 def test_the_waypoint_frame_only_where_the_world_frames_model_explains_nothing(monkeypatch, world, waypoint, want):
-    monkeypatch.setattr(probe_shoot_frame, "fit_on", lambda model, data: model)
+    monkeypatch.setattr(clone_probe, "fit_on", lambda model, data: model)  # cross_fitted fits with it
     monkeypatch.setattr(ForwardChunk, "unexplained", lambda m, trs: world if m.frame == "world" else waypoint)
     frame, errors = probe_shoot_frame.choose(2, 2, 2, _data(egocentric_car), CFG, 4)
     assert (frame, errors) == (want, {"world": world, "waypoint": waypoint})

@@ -40,10 +40,8 @@ class InverseDynamicsSettings(_Strict):
         "concatenated: the model uses whichever explains the action), or auto: world for 1-D waypoint "
         "spaces; for 2-D and more, both unless the label probe before generation 0 finds another frame and "
         "query_clip (none or 2; 1, the default there, or none where M_phi sees each step's change) whose "
-        "simulated candidate "
-        "(the initial mean cloned toward its labels) "
-        "clearly drives the body better, or zero action driving it better than both's labels "
-        "(RUN/label_probe.json; shaped-es check-env ID --labels)")
+        "simulated candidate (the initial mean cloned toward its labels) clearly drives the body better, or "
+        "zero action driving it better than both's labels (RUN/label_probe.json; shaped-es check-env ID --labels)")
     rival_frame: Literal["none", "world", "motion", "waypoint", "both"] = Field(
         "waypoint", description="mechanism candidate, labels mphi: a second M_phi in this frame trains on the same "
         "steps, and the mean's clone toward its labels is a second candidate each generation, judged like the "
@@ -124,10 +122,10 @@ class InverseDynamicsSettings(_Strict):
         4.0, gt=0, description="with frame auto and no query_clip set, the label probe also tries every variant "
         "with the query clipped to this many times the mean training displacement (a third clip beside none and "
         "2, or 1 where M_phi sees each step's change; its simulated candidates have seed streams of their own); "
-        "the run takes such a variant where it wins "
-        "the frame's choice, the labels chosen without it do not drive the body better, and its own labels drive "
-        "the body better than zero action (a torque arm's labels do not: a longer query there only asks them for "
-        "a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: clips none and 2 (or 1) only")
+        "the run takes such a variant where it wins the frame's choice, the labels chosen without it do not drive "
+        "the body better, and its own labels drive the body better than zero action (a torque arm's labels do not: "
+        "a longer query there only asks them for a larger wrong move). docs/benchmarks/probe_clip_long_v16; null: "
+        "clips none and 2 (or 1) only")
     shoot_long_nearest: Bool = Field(
         True, description="where the label probe can judge and chose the longest probed horizon (32), the probed "
         "horizon nearest it (16) runs beside it as a second shooting rival (variant 4): a long hold's early jump can "

@@ -162,6 +162,19 @@ def fit_on(model, data):
     return model
 
 
+def cross_fitted(make, data, error) -> float | None:
+    """The label probe's held-out error of a kind of model: ``make()`` fitted (:func:`fit_on`) on each of its data
+    generations (``data``: a list of members' steps per generation) in turn and scored by ``error(model, steps)``
+    on the other generations' steps, averaged; None where any fit cannot be scored (``error`` None)."""
+    scores = []
+    for k in range(len(data)):  # cross-fitted: each generation's model scored on the others' steps
+        e = error(fit_on(make(), data[k:k + 1]), [t for j, g in enumerate(data) if j != k for t in g])
+        if e is None:
+            return None
+        scores.append(e)
+    return float(np.mean(scores))
+
+
 def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, horizon: int | None = None,
                  frame: str = "world"):
     """The shooting labels (``shaping/forward_shoot.py``) trained on the label probe's data (``data``: its

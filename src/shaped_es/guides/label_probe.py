@@ -121,12 +121,13 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     mp = cfg.shaping.inverse_dynamics
     chunk_len = mp.probe_chunk if mphi_cfg.targets == "one_step" else 0
     frames = probe_frames(pos_dim)
-    base = variants(mp.query_clip, chunk_len, frames)
-    vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len, frames)
+    # the variants' count for the progress lines: the same whichever clips the step change decides below
+    n_vs = len(variants(mp.query_clip, chunk_len, frames)) + len(long_variants(mp.query_clip, mp.probe_clip_long,
+                                                                               chunk_len, frames))
     n_shoot = len(dict.fromkeys((mp.shoot_horizon, *mp.shoot_probe_horizons))) if mp.rival_shoot else 0
     per = (MEMBERS + BABBLERS) * cfg.rollout.episodes  # episodes a probe data generation
     data, steps = collect(cfg, spec, x0, executor, lambda g, n: pace.after_data(
-        n, (g + 1) * per, len(vs) + 1, len(vs) + n_shoot, (GENERATIONS - 1 - g) * per))
+        n, (g + 1) * per, n_vs + 1, n_vs + n_shoot, (GENERATIONS - 1 - g) * per))
     seeds = probe_seeds(cfg)
     returns: dict[str, list[float]] = {}
     clones: dict[str, list[float]] = {}  # the simulated candidate's returns (guides/clone_probe.py)

@@ -50,17 +50,19 @@ def parse(raw: bytes) -> ProbeResult:
         (d.get("obs_stats") is None or _stats_ok(d["obs_stats"]), "obs_stats"),
         (d.get("shoot_frame") in (None, "world", "waypoint"), "shoot_frame"),
         (d.get("step_change") is None or isinstance(d.get("step_change"), bool), "step_change"),
-        (isinstance(d.get("step_change_errors", {}), dict) and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) for v in d.get("step_change_errors", {}).values()),
-         "step_change_errors"),
-        (isinstance(d.get("shoot_frame_errors", {}), dict) and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) for v in d.get("shoot_frame_errors", {}).values()),
-         "shoot_frame_errors"),
+        (_errors_ok(d.get("step_change_errors", {})), "step_change_errors"),
+        (_errors_ok(d.get("shoot_frame_errors", {})), "shoot_frame_errors"),
     ]
     bad = next((name for ok, name in checks if not ok), None)
     if bad is not None:
         raise ValueError(f"bad {bad}")
     return ProbeResult(**d)
+
+
+def _errors_ok(errors) -> bool:
+    """A probe's table of held-out errors (``shoot_frame_errors``, ``step_change_errors``): name -> a number."""
+    return isinstance(errors, dict) and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                            for v in errors.values())
 
 
 def seconds_in(root: Path) -> float:

@@ -22,10 +22,8 @@ frames' candidates would double the probe's shooting rollouts.
 
 from __future__ import annotations
 
-import numpy as np
-
 from shaped_es.data import Transitions
-from shaped_es.guides.clone_probe import fit_on
+from shaped_es.guides.clone_probe import cross_fitted
 from shaped_es.shaping.forward_shoot import shoot_model
 
 WORLD_FAILS = 0.9  # the world frame's held-out error at which its model explains nothing (at most a tenth)
@@ -43,14 +41,11 @@ def choose(obs_dim: int, pos_dim: int, act_dim: int, data: list[list[Transitions
         return "world", {}
     errors: dict[str, float] = {}
     for frame in ("world", "waypoint"):
-        scores = []
-        for k in range(len(data)):  # cross-fitted: each generation's model scored on the others' steps
-            m = fit_on(shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon, frame=frame), data[k:k + 1])
-            e = m.unexplained([t for j, g in enumerate(data) if j != k for t in g])
-            if e is None:
-                return "world", {}
-            scores.append(e)
-        errors[frame] = float(np.mean(scores))
+        e = cross_fitted(lambda: shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon, frame=frame), data,
+                         lambda m, trs: m.unexplained(trs))
+        if e is None:
+            return "world", {}
+        errors[frame] = e
     fails = errors["world"] >= WORLD_FAILS and errors["waypoint"] <= RATIO * errors["world"]
     return ("waypoint" if fails else "world"), errors
 

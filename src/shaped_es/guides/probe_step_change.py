@@ -20,7 +20,7 @@ from dataclasses import replace
 import numpy as np
 
 from shaped_es.data import Transitions
-from shaped_es.guides.clone_probe import fit_on
+from shaped_es.guides.clone_probe import cross_fitted
 from shaped_es.shaping.inverse_dynamics import InverseDynamics
 from shaped_es.shaping.mphi_inputs import target_pairs
 
@@ -52,14 +52,11 @@ def choose(obs_dim: int, pos_dim: int, act_dim: int, data: list[list[Transitions
     errors: dict[str, float] = {}
     for name, flag in (("plain", False), ("change", True)):
         cfg = replace(mphi_cfg, frame="world", targets="one_step", step_change=flag)
-        scores = []
-        for k in range(len(data)):  # cross-fitted: each generation's model scored on the others' steps
-            m = fit_on(InverseDynamics(obs_dim, pos_dim, act_dim, cfg), data[k:k + 1])
-            e = unexplained(m, [t for j, g in enumerate(data) if j != k for t in g])
-            if e is None or m.iterations == 0:
-                return False, {}
-            scores.append(e)
-        errors[name] = float(np.mean(scores))
+        e = cross_fitted(lambda: InverseDynamics(obs_dim, pos_dim, act_dim, cfg), data,
+                         lambda m, trs: unexplained(m, trs) if m.iterations else None)  # an untrained fit: no score
+        if e is None:
+            return False, {}
+        errors[name] = e
     return bool(errors["plain"] >= PLAIN_FAILS and errors["change"] <= RATIO * errors["plain"]), errors
 
 
