@@ -56,10 +56,10 @@ def test_its_labels_turn_the_car_toward_the_waypoint(fitted):
 
 def test_the_aim_in_the_waypoint_frame_is_straight_ahead_at_the_waypoints_distance(fitted):
     tr = egocentric_car(n_eps=2, T=5, seed=3)
-    got = ShootLabels(fitted["waypoint"][0], 0.0, "min").inputs(tr)
+    got = ShootLabels(fitted["waypoint"][0], 0.0, "min").inputs(tr)[:, :2]  # the aim (its last column: the held-goal flag)
     dist = np.linalg.norm(tr.waypoint - tr.position, axis=1)
     np.testing.assert_allclose(got, np.stack([dist, np.zeros_like(dist)], 1), atol=1e-5)
-    world = ShootLabels(fitted["world"][0], 0.0, "min").inputs(tr)  # the world frame's: w - p as it is
+    world = ShootLabels(fitted["world"][0], 0.0, "min").inputs(tr)[:, :2]  # the world frame's: w - p as it is
     np.testing.assert_allclose(world, tr.waypoint - tr.position, atol=1e-6)
 
 

@@ -183,4 +183,5 @@ def shoot_labels(cfg: RunConfig, spec: MLPSpec, data, pos_dim: int, mphi_cfg, ho
     h = horizon or cfg.shaping.inverse_dynamics.shoot_horizon
     kind = cfg.shaping.inverse_dynamics.shoot_model
     m = fit_on(shoot_model(spec.obs_dim, pos_dim, spec.act_dim, mphi_cfg, h, kind=kind, frame=frame), data)
-    return ShootLabels(m, cfg.shaping.inverse_dynamics.shoot_ahead, cfg.shaping.inverse_dynamics.shoot_cost)
+    mp = cfg.shaping.inverse_dynamics
+    return ShootLabels(m, mp.shoot_ahead, mp.shoot_cost, mp.shoot_hold)

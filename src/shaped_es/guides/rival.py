@@ -116,12 +116,12 @@ def shoot_on(cfg) -> bool:
 
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
                 seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR, ahead: float = 0.0,
-                cost: str = "min", kind: str = "chunk", frame: str = "world") -> MphiTrack:
+                cost: str = "min", kind: str = "chunk", frame: str = "world", hold: bool = True) -> MphiTrack:
     """The shooting labels' forward model (M_phi's training settings, its own seed; ``kind``, ``frame``:
     ``shoot_model``'s), labels and data parts."""
     model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
                         seed=seeding.derive_seed(seed, seeding.SHAPING, key), kind=kind, frame=frame)
-    return MphiTrack(model, ShootLabels(model, ahead, cost), Path(root) / folder)
+    return MphiTrack(model, ShootLabels(model, ahead, cost, hold), Path(root) / folder)
 
 
 def probe_shooting(res, mp) -> dict:
@@ -176,7 +176,7 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
 
         def track(horizon: int, key: int, folder: str) -> MphiTrack:
             return shoot_track(obs_dim, pos_dim, act_dim, mphi_cfg, horizon, root, cfg.seed, key, folder, ahead, cost,
-                               kind, sf)
+                               kind, sf, cfg.shaping.inverse_dynamics.shoot_hold)
         out.append(Rival(SHOOT, shoot_name(h, cost, sf) if both else "shooting", track(h, SHOOT_KEY, SHOOT_DIR), "shoot/",
                          "shoot/parts"))
         if both:

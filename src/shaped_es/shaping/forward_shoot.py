@@ -51,7 +51,7 @@ from shaped_es.data import Transitions
 from shaped_es.shaping.forward_servo import ForwardLabels, ForwardServo
 from shaped_es.shaping.lean_mlp import FlatAdam, LeanMLP
 from shaped_es.shaping.inverse_dynamics import RunningNorm
-from shaped_es.shaping.mphi_inputs import episode_end, waypoint_before
+from shaped_es.shaping.mphi_inputs import episode_end, waypoint_before, waypoint_held
 from shaped_es.shaping.forward_rollout import ForwardRollout
 from shaped_es.shaping.frames import rotate, waypoint_angle
 from shaped_es.shaping.settings import SHOOT_COSTS, SHOOT_FRAMES, SHOOT_MODELS
@@ -144,26 +144,34 @@ class ShootLabels(ForwardLabels):
     max_rows = 4096  # ... of this many rows drawn from the mean's DAgger set (guides/mechanisms/candidate.py)
     ROWS = 4096  # states per model pass (K x ROWS rows: a few MB, cache-sized)
 
-    def __init__(self, model: ForwardChunk, ahead: float = 0.0, cost: str = "min"):
+    def __init__(self, model: ForwardChunk, ahead: float = 0.0, cost: str = "min", hold: bool = True):
         if cost not in SHOOT_COSTS:
             raise ValueError(f"shooting cost must be one of {SHOOT_COSTS}, got {cost!r}")
-        self.model, self.ahead, self.cost = model, float(ahead), cost
+        self.model, self.ahead, self.cost, self.hold = model, float(ahead), cost, bool(hold)
         self.candidates = candidate_actions(model.ctrl_dim)  # (K, act)
 
     def inputs(self, tr: Transitions) -> np.ndarray:
+        """``(T, d + 1)``: the aim ``w_t - p_t`` (past the waypoint with ``ahead``) in the model's frame, and 1 where
+        the waypoint is a goal the body reached and held (:func:`waypoint_held`), else 0."""
         err = np.asarray(tr.waypoint, np.float64) - tr.position  # (T, d) world frame
+        before = waypoint_before(tr)  # (T, d)
+        held = waypoint_held(tr, before) if self.hold else np.zeros(len(tr), bool)  # (T,)
         if self.ahead:
-            err += self.ahead * (tr.waypoint - waypoint_before(tr))  # (T, d) the waypoint path's last step
+            past = self.ahead * (tr.waypoint - before)  # (T, d) the waypoint path's last step
+            err += np.where(held[:, None], 0.0, past)  # never past a goal reached and held
         if self.model.frame == "waypoint":
             err = rotate(err, waypoint_angle(tr))  # (T, d) the aim in the model's frame
-        return err.astype(np.float32)
+        return np.concatenate([err, held[:, None]], axis=1).astype(np.float32)  # (T, d + 1)
 
     def __call__(self, states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         m, A = self.model, self.candidates
         lead = states.shape[:-1]
         s = np.asarray(states, np.float32).reshape(-1, m.obs_dim)  # (N, obs)
+        q = np.asarray(inputs, np.float64)
+        q = q.reshape(-1, q.shape[-1])  # (N, d) the aim, or (N, d + 1) with the held-goal flag (inputs())
+        hold = q[:, m.pos_dim] > 0.5 if q.shape[1] > m.pos_dim else np.zeros(len(q), bool)  # (N,)
         # the waypoint error in the model's scaled output units, float32 like its outputs
-        err = (np.asarray(inputs, np.float64).reshape(-1, m.pos_dim) / (m.step_scale or 1.0)).astype(np.float32)
+        err = (q[:, : m.pos_dim] / (m.step_scale or 1.0)).astype(np.float32)  # (N, d)
         K, n = A.shape[0], s.shape[0]
         out = np.empty((n, m.ctrl_dim), np.float32)
         for i in range(0, n, self.ROWS):
@@ -178,8 +186,11 @@ class ShootLabels(ForwardLabels):
                 f = f.reshape(K, b, m.horizon, m.pos_dim)  # (K b, h d) -> (K, b, h, d)
             f -= ei[None, :, None, :]
             d2 = np.einsum("kbhd,kbhd->kbh", f, f)  # (K, b, h) squared distances to the aim
-            # min: the nearest pass (squared); mean: the path's mean distance (a body that must not fly past)
-            miss = d2.min(axis=-1) if self.cost == "min" else np.sqrt(d2).mean(axis=-1)  # (K, b)
+            # min: the nearest pass (squared); mean: the path's mean distance (a body that must not fly past), also
+            # wherever the aim is a goal to hold: a path through it that flies on does not hold it
+            miss = np.sqrt(d2).mean(axis=-1)  # (K, b)
+            if self.cost == "min":
+                miss = np.where(hold[None, i : i + b], miss, d2.min(axis=-1))  # (K, b)
             out[i : i + b] = A[miss.argmin(axis=0)]
         return out.reshape(*lead, m.ctrl_dim)
 

@@ -51,6 +51,27 @@ def waypoint_before(tr: Transitions) -> np.ndarray:
     return np.where(start[since][:, None], tr.position[since], tr.waypoint[np.maximum(since - 1, 0)])
 
 
+def waypoint_held(tr: Transitions, before: np.ndarray | None = None) -> np.ndarray:
+    """``(T,)`` bool: the row's waypoint is a goal the body reached and that stayed -- its episode's last waypoint,
+    unchanged from the row to the episode's end, with the body within half the waypoint path's last step
+    (``|w_t - waypoint_before|``, :func:`waypoint_before`; ``before`` if already computed) of it at the row or a
+    later one. A waypoint that is consumed when reached would have changed there; one that stays is the point to
+    hold, which an aim past it (the shooting labels' pure-pursuit look ahead) would overshoot. Known in hindsight
+    only: the labels of recorded rows read it."""
+    T = len(tr)
+    if T == 0:
+        return np.zeros(0, bool)
+    before = waypoint_before(tr) if before is None else before
+    radius = 0.5 * np.linalg.norm(tr.waypoint - before, axis=1)  # (T,)
+    near = np.linalg.norm(tr.waypoint - tr.position, axis=1) <= radius  # (T,)
+    brk = np.append(_run_breaks(tr) | np.any(tr.waypoint[1:] != tr.waypoint[:-1], axis=1), True)  # (T,) last of a stretch
+    end = episode_end(tr)  # (T,)
+    last = np.flatnonzero(brk)  # (S,) last row of each stretch of one waypoint
+    stretch_end = last[np.searchsorted(last, np.arange(T))]  # (T,) the last row of the row's stretch
+    next_near = np.minimum.accumulate(np.where(near, np.arange(T), T)[::-1])[::-1]  # (T,) first near row >= t
+    return (next_near <= stretch_end) & (stretch_end == end)
+
+
 def target_pairs(tr: Transitions, frame: str, targets: str = "one_step", horizon: int = 8,
                  rng: np.random.Generator | None = None, step_change: bool = False
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
