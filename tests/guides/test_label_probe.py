@@ -22,8 +22,9 @@ from shaped_es.shaping.frames import last_step
 from shaped_es.shaping.mphi_inputs import mixed_query, query_displacement
 from shaped_es.trainer import Trainer
 
-LINE_MAX = 300  # characters of the run's printed probe line, for a built-in env's id and a short run name (300: "its
-# candidate", "the probe's best", a new user read the chosen frame's candidate as the run's)
+LINE_MAX = 330  # characters of the run's printed probe line, for a built-in env's id and a short run name (300: "its
+# candidate", "the probe's best", a new user read the chosen frame's candidate as the run's; 330: a dropped shooting
+# rival's "which another candidate beats, so the probe can judge", where "another is" read as cryptic)
 POINT = {"env": "PointVel-v0", "method": "shaped", "generations": 2, "seed": 1, "executor": "inline",
          "es": {"pairs": 4}, "rollout": {"episodes": 1, "test_episodes": 1}, "tensorboard": False}
 
@@ -52,7 +53,9 @@ def test_the_probe_line_is_short_and_keeps_the_key_facts():
                     "-0.19 vs zero action -1.20; rivals: waypoint frame, servo, shooting (4 steps); see "
                     "label_probe.json, shaped-es check-env CarNav-v0 --labels")
     dropped = f"shaped-es: {probe_line(replace(res, shoot_on=False), 'CarNav-v0', rivals[:2])}"
-    assert "; shooting rival dropped (4 steps, not above zero action; another is); rivals: " in dropped
+    # "; another is" read as cryptic (a new user): the line says what another candidate above zero action means
+    assert ("; shooting rival dropped (4 steps, not above zero action, which another candidate beats, so the probe "
+            "can judge); rivals: ") in dropped
     assert len(dropped) <= LINE_MAX
     # the default kept; the default's labels lost to zero action (no clones: the labels' own return)
     kept = probe_line(replace(res, query_clip=None, reason="the default: ..."), "CarNav-v0", rivals)
@@ -402,7 +405,8 @@ def test_the_probe_takes_the_horizon_whose_candidate_drives_clearly_better(monke
     res = label_probe.probe(cfg, spec, 2, mphi_config(cfg, 2))
     assert res.shoot_horizon == 4 and res.shoot_on is False  # the default's, judged against zero action
     assert "(actions held 4 steps: no longer horizon is clearly better: 8 steps" in horizon_text(res)
-    assert "; shooting rival dropped (4 steps, not above zero action; another is)" in probe_line(res)
+    assert ("; shooting rival dropped (4 steps, not above zero action, which another candidate beats, so the probe "
+            "can judge)") in probe_line(res)
     seen.clear()
     one = build_config({**POINT, "shaping": {"inverse_dynamics": {"shoot_probe_horizons": [], "shoot_horizon": 8}}})
     res = label_probe.probe(one, spec, 2, mphi_config(one, 2))
@@ -814,7 +818,8 @@ def test_a_passed_over_variant_neither_judges_nor_drops_the_shooting_rival():
     dropped = replace(before, shoot_on=False)
     assert _drop_text(dropped) == (": the simulated candidate of frame=both, targets=chunk (4 steps), query_clip=none "
                                    "beats zero action (1.60), so the probe can judge")
-    assert "(8 steps, not above zero action; another is)" in probe_line(dropped)
+    assert "(8 steps, not above zero action, which another candidate beats, so the probe can judge)" in probe_line(
+        dropped)
     assert _drop_text(replace(res, shoot_on=False)) == ""  # only the passed-over variant was above zero action
     raw = json.dumps({k: v for k, v in res.__dict__.items() if k != "candidate_params"}).encode()
     assert probe_file.parse(raw).passed == ["+chunk"]
@@ -870,7 +875,7 @@ def test_a_1d_waypoint_space_is_probed_in_the_world_frame_alone(tmp_path, capsys
 def test_a_long_probe_says_how_far_it_is_and_a_short_one_stays_quiet():
     """A new user's simulator (10 ms a step) ran a probe of 6 minutes that printed nothing before generation 0;
     the probe now estimates its rest from its data's pace and says so, then each DAgger round; a probe
-    estimated under ``SAY_AFTER_S`` (the built-in envs') prints nothing more."""
+    estimated under ``SAY_AFTER_S`` (most built-in envs') prints nothing more."""
     import time
 
     lines = []
@@ -927,7 +932,9 @@ def test_check_labels_says_whether_m_phi_sees_each_steps_change(monkeypatch, on)
     line = next(d for d in details if "each step's change" in d)
     if on:
         assert line.startswith("M_phi also sees") and "0.10 against 0.80" in line
-        assert "clips the query to the mean step" in line
+        assert ("0.80 without it (on where the share without it is at least 0.3 and the share with it at most 0.5x "
+                "that)") in line  # the rule too
+        assert "clips the query to the mean training step" in line
     else:
         assert line.startswith("M_phi does not see") and "0.45 without it, 0.40 with it" in line
         assert "the first is at least 0.3 and the second at most 0.5x the first)" in line  # shares below 1: no note
@@ -946,6 +953,44 @@ def test_the_probe_line_says_why_a_second_order_bodys_default_clips():
                       {"both+clip1": eps, "both": eps}, step_change=True)
     line = probe_line(res, "attitude:Attitude-v0")
     assert line.startswith("labels: frame=both, query_clip=1 (the default choice; M_phi sees each step's change, so "
-                           "the default clips to the mean step)")
+                           "the default clips to the mean training step)")
     assert len(f"shaped-es: attitude_s0: {line}") <= LINE_MAX
     assert "step's change" not in probe_line(ProbeResult("both", None, {"both": eps}, 100, 0.1, "the default", eps))
+
+
+def test_check_envs_pick_line_says_why_the_default_clips_and_that_the_closest_was_passed_over(monkeypatch):
+    """A new user read check-env's pick line three lines before the step-change line that says why clip 1 is the
+    default, read "its own" as ambiguous, and saw world+clip4 named closest while generation 1's candidate was
+    world's: the pick line says the default's clip where it names the default, and that the closest was passed
+    over."""
+    from dataclasses import replace
+    from shaped_es.guides import label_check
+    from shaped_es.guides.label_check import pick_reason
+
+    def eps(m):
+        return [m + 0.01 * (k - 4.5) for k in range(10)]
+
+    def arr(d):
+        return {k: np.array(v) for k, v in d.items()}
+    zero = eps(-40.0)  # a wide return spread: the closest's gain is below 5% of it
+    returns = {"both": eps(-1.0), "world": eps(-1.0), "world+clip4": eps(-1.0)}
+    clones = {"both": eps(-13.02), "world": eps(-12.422), "world+clip4": eps(-12.419)}
+    _, reason = choose(arr(returns), "both", np.array(zero), arr(clones))
+    assert reason.startswith("the default: no variant's simulated candidate clearly beats the default's (closest: "
+                             "frame=world, query_clip=4's -12.42 against -13.02, a gain below 5%")
+    res = ProbeResult("both", None, returns, 100, 0.1, reason, zero, clones, passed=["+chunk", "+clip4"])
+    monkeypatch.setattr(label_check, "probe", lambda *a, **k: res)
+    picked = label_check.check_labels("PointVel-v0")["chosen"]["reason"]
+    assert ("; passed over, as the choice has no query clip of 4: a run's first candidate is chosen without it), "
+            "and zero action") in picked
+    assert pick_reason(replace(res, passed=[])) == reason  # a probe from before, or nothing passed over
+    # a second-order body: the default's clip of 1 said where the default is named
+    one = {"both+clip1": eps(-1.0), "both": eps(-1.0)}
+    _, reason = choose(arr(one), "both+clip1", np.array(zero), arr({"both+clip1": eps(-13.0), "both": eps(-13.0)}))
+    res = ProbeResult("both", 1.0, one, 100, 0.1, reason, zero, step_change=True)
+    why = "M_phi sees each step's change, so clip 1, the mean training step"
+    assert pick_reason(res).startswith(f"the default ({why}): no variant's simulated candidate clearly beats the "
+                                       "default's, and zero action")
+    won = replace(res, reason="its simulated candidate (...) beats the default's (frame=both, query_clip=1) by 2.00")
+    assert f"beats the default's (frame=both, query_clip=1; {why}) by 2.00" in pick_reason(won)
+    assert pick_reason(res, clip_set=True) == reason  # the user's clip of 1: not the step change's

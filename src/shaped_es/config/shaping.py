@@ -125,7 +125,7 @@ class InverseDynamicsSettings(_Strict):
         "probe_horizon32_v20")
     probe_clip_long: Float | None = Field(
         4.0, gt=0, description="with frame auto and no query_clip set, the label probe also tries every variant "
-        "with the query clipped to this many times the mean training displacement (a third clip beside none and "
+        "with the query clipped to this many times the mean training step (a third clip beside none and "
         "2, or 1 where M_phi sees each step's change; its simulated candidates have seed streams of their own); "
         "the run takes such a variant where it wins the frame's choice, the labels chosen without it do not drive "
         "the body better, and its own labels drive the body better than zero action (a torque arm's labels do not: "
@@ -147,9 +147,10 @@ class InverseDynamicsSettings(_Strict):
     servo_damping: Float = Field(3.0, ge=0, description="the servo's damping c: the predicted no-action step "
                                  "f(s, 0) (the body's velocity) taken from the waypoint error")
     query_clip: Float | None = Field(None, gt=0, description="clip |waypoint - position| to this many "
-                                     "times the mean training displacement (None: raw, as the paper; with frame "
-                                     "auto the label probe chooses; where M_phi sees each step's change it clips "
-                                     "to 1 unless the query as asked clearly pays)")
+                                     "times the mean training step (the mean length of the displacements M_phi "
+                                     "has trained on, a running mean over the run; None: raw, as the paper; "
+                                     "with frame auto the label probe chooses; where M_phi sees each step's "
+                                     "change it clips to 1 unless the query as asked clearly pays)")
     targets: Literal["one_step", "hindsight", "matched", "chunk"] = Field(
         _MPHI.targets, description="training displacements: p_{t+1} - p_t (paper), p_{t+h} - p_t with h ~ "
         "U{1..horizon} (hindsight relabelling), or the smallest h <= horizon reaching the state's query "

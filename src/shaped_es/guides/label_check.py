@@ -11,7 +11,7 @@ import numpy as np
 from shaped_es.guides.label_probe import EPISODES, ProbeResult, drive, probe, probe_seeds, zero_labels
 from shaped_es.guides.probe_choice import beats, paired
 from shaped_es.guides.probe_step_change import PLAIN_FAILS, RATIO
-from shaped_es.guides.probe_variants import clip_text, variant_name, variant_text
+from shaped_es.guides.probe_variants import STEP_CHANGE_CLIP, clip_text, variant_name, variant_text
 from shaped_es.guides.probe_file import FILE
 from shaped_es.guides.rival import probe_shooting
 
@@ -30,7 +30,7 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
     why = ("the default choice" if name == default else f"beat the default, {differs}"
            if res.reason.startswith("its") else f"the default's labels, {differs}, lost to zero action")
     if res.step_change:  # why the default clips to 1 (a new user saw query_clip=1 and no reason for it)
-        why += "; M_phi sees each step's change, so the default clips to the mean step"
+        why += "; M_phi sees each step's change, so the default clips to the mean training step"
     own, what = (res.clones, "its candidate") if res.clones.get(name) else (res.returns, "labels")
     zero, own = res.zero_action, own.get(name)
     score = ""
@@ -45,7 +45,9 @@ def probe_line(res: ProbeResult, env: str = "ENV", rivals: list[str] = (), judge
         if best:
             score += f"; the probe's best: {best}, " + ("judged at generation 1" if judged else
                                               "not judged (shaping.mean_clone.probe_candidate=false)")
-    lost = "" if res.shoot_on else ", not above zero action" + ("; another is" if _drop_text(res) else "")
+    # "; another is" read as cryptic (a new user): say which beats zero action and what that allows
+    lost = "" if res.shoot_on else ", not above zero action" + (
+        ", which another candidate beats, so the probe can judge" if _drop_text(res) else "")
     shoot = (f"; shooting rival {'kept' if res.shoot_on else 'dropped'}{f' ({h} steps{lost})' if h else ''}"
              if res.shoot and not any(n.startswith("shooting") for n in rivals) else "")
     if kept_below_zero(res) and any(n.startswith("shooting") for n in rivals):
@@ -185,6 +187,36 @@ def candidate_what(res: ProbeResult) -> str:
     return what + (f", {np.mean(vals):.2f} on the probe's episodes" if vals else "")
 
 
+EXTENSION_TEXT = {"+chunk": "chunk targets"}  # a passed-over extension's words; a clip's: "query clip of 4"
+
+
+def pick_reason(res: ProbeResult, clip_set: bool = False) -> str:
+    """The probe's reason as check-env's pick line gives it (``clip_set``: the user set ``query_clip``). Where M_phi
+    sees each step's change and the default clips to 1, it says so where the default is first named (a new user met
+    the reason three lines below); where the closest variant carries an extension passed over (``res.passed``), it
+    says so (a new user saw world+clip4 named closest and generation 1's candidate another, world)."""
+    reason, default = res.reason, next(iter(res.returns), "")
+    if res.step_change and not clip_set and default.endswith(f"+clip{STEP_CHANGE_CLIP:g}"):
+        why = "M_phi sees each step's change, so clip 1, the mean training step"
+        reason = (f"the default ({why}):{reason[len('the default:'):]}" if reason.startswith("the default:")
+                  else reason.replace(f"({variant_text(default)})", f"({variant_text(default)}; {why})", 1))
+    for name in res.clones:
+        tags = [t for t in res.passed if t in name]
+        start = reason.find(f"(closest: {variant_text(name)}'s ")
+        if not tags or start < 0:
+            continue
+        depth, end = 0, start  # the closest's parenthesis, its own parentheses inside
+        for end in range(start, len(reason)):
+            depth += {"(": 1, ")": -1}.get(reason[end], 0)
+            if depth == 0:
+                break
+        lacks = " and no ".join(EXTENSION_TEXT.get(t, f"query clip of {t[5:]}") for t in tags)
+        reason = (reason[:end] + f"; passed over, as the choice has no {lacks}: a run's first candidate is "
+                  "chosen without it" + reason[end:])
+        break
+    return reason
+
+
 def _candidate_returns(res: ProbeResult, name: str) -> list[float]:
     """A simulated candidate's per-episode returns by its name (a variant's, or ``shoot:H``; the file keeps a
     single probed horizon's as ``shoot``); ``[]`` where the probe kept none."""
@@ -258,9 +290,10 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         e = res.step_change_errors
         details.append("M_phi also sees each step's change from the last (shaping.inverse_dynamics.step_change"
                        + (f": held-out actions' unexplained share {e['change']:.2f} against {e['plain']:.2f} "
-                          f"without it, as on a body whose step is mostly the velocity it had" if
+                          f"without it (on where the share without it is at least {PLAIN_FAILS:g} and the share with "
+                          f"it at most {RATIO:g}x that), as on a body whose step is mostly the velocity it had" if
                           {"plain", "change"} <= set(e) else "") + "; the probe's default clips the query to "
-                       "the mean step: a pace the body can brake from)")
+                       "the mean training step: a pace the body can brake from)")
     elif {"plain", "change"} <= set(res.step_change_errors):  # auto chose off: say so (a new user's crane read
         # off only from the JSON)
         e = res.step_change_errors
@@ -273,7 +306,8 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         details.append(f"a run judges the best simulated candidate beside generation 1, as its first candidate "
                        f"({candidate_what(res)}); a win makes it the mean")
     out["zero_action_ended_early"] = early  # of the EPISODES (None: no step limit to end before)
-    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk, "reason": res.reason},
+    out |= {"chosen": {"frame": res.frame, "query_clip": res.query_clip, "chunk": res.chunk,
+                       "reason": pick_reason(res, cfg.shaping.inverse_dynamics.query_clip is not None)},
             "returns": res.returns, "clones": res.clones, "shoot": res.shoot, "shoot_on": res.shoot_on,
             "shoot_horizon": res.shoot_horizon, "shoot_tried": res.shoot_tried, "shoot_frame": res.shoot_frame,
             "shoot_frame_errors": res.shoot_frame_errors, "step_change": res.step_change,

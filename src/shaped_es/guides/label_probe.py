@@ -136,7 +136,7 @@ def probe(cfg: RunConfig, spec: MLPSpec, pos_dim: int, mphi_cfg: InverseDynamics
     # M_phi the probe fits and the run's (forward models ignore it)
     step_change, change_errors = probe_step_change.decide(mp, spec, pos_dim, data, mphi_cfg)
     mphi_cfg = replace(mphi_cfg, step_change=step_change)
-    # a second-order body: the incumbent asks for the mean pace (probe_variants.clips)
+    # a second-order body: the incumbent clips the query to the mean training step (probe_variants.clips)
     base = variants(mp.query_clip, chunk_len, frames, step_change)
     vs = base + long_variants(mp.query_clip, mp.probe_clip_long, chunk_len, frames)
     flat = [t for g in data for t in g]  # the probe's recorded steps, a member per entry

@@ -122,13 +122,15 @@ def choose(returns: dict[str, np.ndarray], incumbent: str, zero: np.ndarray,
         closest = _closest(clones, incumbent, scale)
     worse, by = beats(zero, returns[incumbent])
     if not worse:
-        return incumbent, (f"the default: no variant's simulated candidate clearly beats its own{closest}, and zero "
-                           f"action does not beat its labels (driving the body step by step) by 2 paired standard errors")
+        # "the default's", not "its own": a new user read "its own" as the variant's
+        return incumbent, (f"the default: no variant's simulated candidate clearly beats the default's{closest}, "
+                           f"and zero action does not beat its labels (driving the body step by step) by 2 paired "
+                           f"standard errors")
     best, best_gain = best_beating(returns, incumbent)
     if best == incumbent:
-        return best, (f"the default: no variant's simulated candidate clearly beats its own{closest}; zero action beats "
-                      f"its labels by {by:.2f} return, and no variant beats the default's labels by 2 paired "
-                      f"standard errors")
+        return best, (f"the default: no variant's simulated candidate clearly beats the default's{closest}; zero "
+                      f"action beats its labels by {by:.2f} return, and no variant beats the default's labels by 2 "
+                      f"paired standard errors")
     return best, (f"zero action beats the default's labels ({variant_text(incumbent)}) by {by:.2f} return; "
                   f"{variant_text(best)} beats the default's labels by {best_gain:.2f} (> 2 paired standard errors)")
 

@@ -16,7 +16,9 @@ SAY_AFTER_S = 20.0  # a probe estimated to take longer than this says how far it
 class Pace:
     """Progress lines of a long probe: after its data, an estimate of the rest (from the data's own pace and
     episode length); after each DAgger round of the simulated candidates, how far it is. Silent where the
-    estimate is below :data:`SAY_AFTER_S` (the built-in envs' 1-10 s probes print nothing more)."""
+    estimate is below :data:`SAY_AFTER_S`, as for most of the built-in envs' 1-10 s probes; the estimate counts
+    start-up, so it runs high, and such a probe can still print (a new user's CarNav-v0 probe on a busy machine,
+    process executor: "at most about 24 s more", 3.7 s in all)."""
 
     def __init__(self, say, t0: float):
         self.say, self.t0, self.on = say, t0, False

@@ -1,15 +1,15 @@
 """What the label probe (``guides/label_probe.py``) tries, and the names it gives each try.
 
 A variant is ``(frame, query_clip, chunk)``: M_phi's displacement frame, the query's clip (times the mean
-training displacement; None: as asked) and the chunk length of its targets (None: one-step). The incumbent
-(``both``, one-step targets, the query as asked, or clipped to the mean step where M_phi sees each step's change:
-:func:`clips`; ``world`` on a line, where a frame has no heading to turn by) comes first; its name is the default
-every rule in ``guides/probe_choice.py`` compares against.
+training step, the mean length of M_phi's training displacements; None: as asked) and the chunk length of its
+targets (None: one-step). The incumbent (``both``, one-step targets, the query as asked, or clipped to the mean
+training step where M_phi sees each step's change: :func:`clips`; ``world`` on a line, where a frame has no heading
+to turn by) comes first; its name is the default every rule in ``guides/probe_choice.py`` compares against.
 """
 
 from __future__ import annotations
 
-CLIP = 2.0  # the clipped variants' query_clip (times the mean training displacement)
+CLIP = 2.0  # the clipped variants' query_clip (times the mean training step)
 # where M_phi sees each step's change (``step_change``, the probe's finding of a second-order body) and the user set
 # no clip, the incumbent's query_clip: the mean training step, the pace the probe's own data moved at (:func:`clips`)
 STEP_CHANGE_CLIP = 1.0
@@ -53,8 +53,8 @@ def clips(user_clip: float | None, step_change: bool = False) -> list[float | No
     where M_phi sees each step's change, :data:`STEP_CHANGE_CLIP` first, then the query as asked.
 
     A second-order body's query asks for a change of pace: unclipped, a waypoint ahead asks for the largest change
-    the body makes, step after step, until it overshoots a goal it was to hold; clipped to the mean step it asks
-    for a pace, which brakes where the waypoint is near. On a new user's spacecraft attitude body the simulated
+    the body makes, step after step, until it overshoots a goal it was to hold; clipped to the mean training step it
+    asks for a pace, which brakes where the waypoint is near. On a new user's spacecraft attitude body the simulated
     candidates of the two differ by less than the probe can tell while the runs differ by 20 generations (10/10 at
     its threshold in 9.6 generations against 3/10), so the clip is the incumbent; on a new user's joint-space arm
     forced to see the change, the clip alone left the runs no way out (4/10 at its threshold), and beside the query

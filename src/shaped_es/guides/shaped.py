@@ -124,7 +124,7 @@ class ShapedGuide(RolloutHooks, GenerationData, BackgroundWork, LabelVerdicts, G
         if wraps and not Path(store.metrics_path).exists():  # a new run: before the probe
             print(f"shaped-es: {self.run_name}: {wraps}", file=sys.stderr)
             write_wrap_file(store.root, period, self._wrap_declared)
-        self.query_clip = mp.query_clip  # times the mean training displacement (None: the query as asked)
+        self.query_clip = mp.query_clip  # times the mean training step (None: the query as asked)
         self.startup = (0, 0.0)  # env steps and seconds spent before generation 0 (the label probe)
         # the compiled shaping kernels: loaded from Numba's cache (~0.1 s), or compiled once per install
         # (~10-30 s), not on the clock: before the label probe, which uses them and whose seconds count

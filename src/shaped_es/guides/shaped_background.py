@@ -91,7 +91,7 @@ class BackgroundWork:
 
     def labels_max_displacement(self) -> float | None:
         """M_phi's query clip (``inverse_dynamics.query_clip``, or the label probe's, times the mean
-        training displacement)."""
+        training step: ``step_norm``, a running mean of the displacement norms of every row M_phi trained on)."""
         qc = self.query_clip
         return None if qc is None or self.step_norm[0] == 0 else float(qc * self.step_norm[1])
 
