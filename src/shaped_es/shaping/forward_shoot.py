@@ -25,6 +25,12 @@ one candidate plan per action, the first step of the best plan as the label:
   controller 9.0); the points, the unicycle and the rover within 0.1 either way
   (``docs/benchmarks/shoot_ahead_v10``). On a timed path the step is one step of the schedule.
 
+- a goal to hold (``hold``, ``shoot_hold``): where the row's waypoint is a goal the body reached and that stayed
+  (``mphi_inputs.waypoint_held``: known in hindsight), the aim is the goal itself, not past it, and the paths are
+  scored by their mean distance to it whatever ``cost``: a path through a goal is a swing past it. With the
+  simulator as its model, held actions over 16 steps drive a new user's crane to 111.6 so (its controller 119.2),
+  21.9 aimed past the goal by their nearest pass (``docs/benchmarks/held_goal_v35``).
+
 - the frame (``frame``): the world's, or the waypoint's (x toward ``w_t``, y to its left; ``frames.py``), in
   which the model predicts the paths and the aim is read. A body that observes itself only relative to itself (a
   car's heading error and lidar, a trailer's goal in its own frame) has no world heading in its state, so its
