@@ -150,13 +150,13 @@ def test_a_goal_reached_and_held_is_the_aim_itself_others_are_aimed_past(model):
     # the goal (2, 0): rows 2-4 (reached at row 3, within half its 1-long last step); (1, 0) changed after it was
     # near; episode 1's last waypoint was never near; episode 2's (2, 0) row is its last but never near
     np.testing.assert_array_equal(held, [0, 0, 1, 1, 1, 0, 0, 0, 0, 0, 0])
-    past = ShootLabels(model, ahead=1.0).inputs(tr)
+    past = ShootLabels(model, ahead=1.0, hold=True).inputs(tr)
     np.testing.assert_array_equal(past[:, 2], held)  # the flag the labels read
     past = past[:, :2]
     np.testing.assert_allclose(past[2:5], tr.waypoint[2:5] - tr.position[2:5])  # at the held goal
     np.testing.assert_allclose(past[0], [1 + 1 - 0, 0])  # (1, 0) + its last step from the start (0, 0)
     np.testing.assert_allclose(past[6], [3 + 3 - 0.2, 0])  # never reached: aimed past as before
-    off = ShootLabels(model, ahead=1.0, hold=False).inputs(tr)  # shoot_hold false: every waypoint aimed past
+    off = ShootLabels(model, ahead=1.0).inputs(tr)  # shoot_hold false (the default): every waypoint aimed past
     assert not off[:, 2].any()
     np.testing.assert_allclose(off[3, :2], [2 + 1 - 1.9, 0])
 

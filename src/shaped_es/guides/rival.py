@@ -116,7 +116,7 @@ def shoot_on(cfg) -> bool:
 
 def shoot_track(obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, horizon: int, root: Path,
                 seed: int, key: int = SHOOT_KEY, folder: str = SHOOT_DIR, ahead: float = 0.0,
-                cost: str = "min", kind: str = "chunk", frame: str = "world", hold: bool = True) -> MphiTrack:
+                cost: str = "min", kind: str = "chunk", frame: str = "world", hold: bool = False) -> MphiTrack:
     """The shooting labels' forward model (M_phi's training settings, its own seed; ``kind``, ``frame``:
     ``shoot_model``'s), labels and data parts."""
     model = shoot_model(obs_dim, pos_dim, act_dim, mphi_cfg, horizon,
