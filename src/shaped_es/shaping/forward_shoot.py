@@ -161,7 +161,7 @@ class ShootLabels(ForwardLabels):
         """``(T, d + 1)``: the aim ``w_t - p_t`` (past the waypoint with ``ahead``) in the model's frame, and 1 where
         the waypoint is a goal the body reached and held (:func:`waypoint_held`), else 0."""
         err = np.asarray(tr.waypoint, np.float64) - tr.position  # (T, d) world frame
-        before = waypoint_before(tr)  # (T, d)
+        before = waypoint_before(tr) if self.ahead or self.hold else None  # (T, d)
         held = waypoint_held(tr, before) if self.hold else np.zeros(len(tr), bool)  # (T,)
         if self.ahead:
             past = self.ahead * (tr.waypoint - before)  # (T, d) the waypoint path's last step
@@ -195,9 +195,13 @@ class ShootLabels(ForwardLabels):
             d2 = np.einsum("kbhd,kbhd->kbh", f, f)  # (K, b, h) squared distances to the aim
             # min: the nearest pass (squared); mean: the path's mean distance (a body that must not fly past), also
             # wherever the aim is a goal to hold: a path through it that flies on does not hold it
-            miss = np.sqrt(d2).mean(axis=-1)  # (K, b)
-            if self.cost == "min":
-                miss = np.where(hold[None, i : i + b], miss, d2.min(axis=-1))  # (K, b)
+            held = hold[i : i + b]  # (b,)
+            if self.cost == "mean" or held.all():
+                miss = np.sqrt(d2).mean(axis=-1)  # (K, b)
+            else:
+                miss = d2.min(axis=-1)  # (K, b)
+                if held.any():  # the mean distance only where needed: this is the labels' hot loop
+                    miss[:, held] = np.sqrt(d2[:, held]).mean(axis=-1)
             out[i : i + b] = A[miss.argmin(axis=0)]
         return out.reshape(*lead, m.ctrl_dim)
 

@@ -25,14 +25,17 @@ def _run_breaks(tr: Transitions) -> np.ndarray:
     return ~((tr.episode[1:] == tr.episode[:-1]) & (tr.step[1:] == tr.step[:-1] + 1))
 
 
+def _run_last(brk: np.ndarray) -> np.ndarray:
+    """``brk`` ``(T-1,)``: row ``t+1`` begins a new run -> row index ``(T,)`` of the last row of each row's run."""
+    last = np.flatnonzero(np.append(brk, True))  # (runs,) last row of each run
+    return last[np.searchsorted(last, np.arange(len(brk) + 1))]  # (T,)
+
+
 def episode_end(tr: Transitions) -> np.ndarray:
     """Row index ``(T,)`` of the last step of each row's episode (rows are contiguous per episode)."""
-    T = len(tr)
-    if T == 0:
+    if len(tr) == 0:
         return np.zeros(0, np.int64)
-    brk = _run_breaks(tr)  # (T-1,) new run
-    last = np.flatnonzero(np.append(brk, True))  # (runs,) last row of each contiguous run
-    return last[np.searchsorted(last, np.arange(T))]  # (T,)
+    return _run_last(_run_breaks(tr))  # (T,)
 
 
 def waypoint_before(tr: Transitions) -> np.ndarray:
@@ -64,10 +67,9 @@ def waypoint_held(tr: Transitions, before: np.ndarray | None = None) -> np.ndarr
     before = waypoint_before(tr) if before is None else before
     radius = 0.5 * np.linalg.norm(tr.waypoint - before, axis=1)  # (T,)
     near = np.linalg.norm(tr.waypoint - tr.position, axis=1) <= radius  # (T,)
-    brk = np.append(_run_breaks(tr) | np.any(tr.waypoint[1:] != tr.waypoint[:-1], axis=1), True)  # (T,) last of a stretch
-    end = episode_end(tr)  # (T,)
-    last = np.flatnonzero(brk)  # (S,) last row of each stretch of one waypoint
-    stretch_end = last[np.searchsorted(last, np.arange(T))]  # (T,) the last row of the row's stretch
+    brk = _run_breaks(tr)  # (T-1,) a new episode run
+    end = _run_last(brk)  # (T,) the episode's last row
+    stretch_end = _run_last(brk | np.any(tr.waypoint[1:] != tr.waypoint[:-1], axis=1))  # (T,) ... of one waypoint
     next_near = np.minimum.accumulate(np.where(near, np.arange(T), T)[::-1])[::-1]  # (T,) first near row >= t
     return (next_near <= stretch_end) & (stretch_end == end)
 
