@@ -15,13 +15,14 @@ def _run(acc, rival, gain, awake):
 
 
 def test_counts_by_variant_backoff_and_runs_without_acceptance():
-    runs = [_run([nan, 1, 0, 1, 1, 1, 1], [nan, 2, 0, 0, 1, 3, 4], [nan, 2.0, -1.0, 1.0, 3.0, 0.0, 1.0], [1] * 7),
+    runs = [_run([nan, 1, 0, 1, 1, 1, 1, 1], [nan, 2, 0, 0, 1, 3, 4, 8], [nan, 2.0, -1.0, 1.0, 3.0, 0.0, 1.0, 0.5],
+                 [1] * 8),
             _run([nan, 0, 0, nan, nan], [nan, 1, 2, nan, nan], [nan, -4.0, -2.0, nan, nan], [1, 1, 1, 0, 0])]
     s = shaping_summary(runs)
-    assert (s["candidates_judged"], s["candidates_accepted"]) == (8, 5)
+    assert (s["candidates_judged"], s["candidates_accepted"]) == (9, 6)
     assert s["accepted_by_variant"] == {"own": 1, "rival_frame": 1, "servo": 1, "shoot": 1, "shoot_base": 1,
-                                        "probe": 0}
-    assert s["mean_gain"] == np.mean([2.0, -1.0, 1.0, 3.0, 0.0, 1.0, -4.0, -2.0])
+                                        "probe": 0, "shoot_hold": 1}
+    assert s["mean_gain"] == np.mean([2.0, -1.0, 1.0, 3.0, 0.0, 1.0, 0.5, -4.0, -2.0])
     assert s["generations_backed_off_mean"] == 1.0 and s["runs_without_acceptance"] == 1
     assert shaping_summary([{"test_reward_mean": np.zeros(3)}]) is None  # vanilla: no candidates
 
@@ -31,7 +32,7 @@ def test_the_report_says_when_no_candidate_was_ever_accepted():
     methods = {"shaped": {"shaping": shaping_summary([lost, lost]), "wall_time_s": 15.0},
                "vanilla": {"wall_time_s": 10.0}}
     text = "\n".join(shaping_lines(methods, {k: v["wall_time_s"] for k, v in methods.items()}))
-    assert "| shaped | 6 | 0 (0 / 0 / \u2013 / \u2013 / \u2013 / \u2013) |" in text and "2/2 |" in text  # no rival ran
+    assert "| shaped | 6 | 0 (0 / 0 / \u2013 / \u2013 / \u2013 / \u2013 / \u2013) |" in text and "2/2 |" in text  # no rival ran
     assert "no candidate was accepted in any run" in text and "1.50x vanilla's wall time" in text
     assert shaping_lines({"vanilla": {"wall_time_s": 1.0}}) == []
 
@@ -42,9 +43,9 @@ def test_a_rival_dropped_in_some_runs_is_told_apart_from_one_that_never_won():
                                                                      "shoot_gain": np.array([nan, -1.0, 0.5])}
     b = _run([nan, 0, 0], [nan, 2, 0], [nan, -1.0, -1.0], [1, 1, 1]) | {"servo_gain": np.array([nan, -1.0, -2.0])}
     s = shaping_summary([a, b])
-    assert s["runs_with_rival"] == {"rival_frame": 0, "servo": 2, "shoot": 1, "shoot_base": 0}
+    assert s["runs_with_rival"] == {"rival_frame": 0, "servo": 2, "shoot": 1, "shoot_base": 0, "shoot_hold": 0}
     text = "\n".join(shaping_lines({"shaped": {"shaping": s}}))
-    assert "| shaped | 4 | 1 (0 / 0 / \u2013 / 1 / 0 (ran in 1/2 runs) / \u2013) |" in text
+    assert "| shaped | 4 | 1 (0 / 0 / \u2013 / 1 / 0 (ran in 1/2 runs) / \u2013 / \u2013) |" in text
 
 
 def test_generation_0s_probe_candidate_is_counted_apart_from_the_labels():
@@ -55,7 +56,7 @@ def test_generation_0s_probe_candidate_is_counted_apart_from_the_labels():
                                                                           [1, 1, 1])]
     s = shaping_summary(runs)
     assert s["accepted_by_variant"] == {"own": 1, "rival_frame": 0, "servo": 0, "shoot": 1, "shoot_base": 0,
-                                        "probe": 2}
+                                        "probe": 2, "shoot_hold": 0}
     assert "| shaped | 6 | 4 (2 / 1 / " in "\n".join(shaping_lines({"shaped": {"shaping": s}}))
 
 

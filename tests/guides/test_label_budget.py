@@ -274,18 +274,21 @@ def test_rows_summary():
             {"candidate_accepted": "", "candidate_gain": "", "shaping_awake": "0"}]
     assert rows_summary(rows) == {"candidates_judged": 2, "candidates_accepted": 1, "mean_gain": -1.0,
                                   "accepted_then_fell": 0, "generations_backed_off": 1, "accepted_rival": None,
-                                  "accepted_servo": None, "accepted_shoot": None, "accepted_shoot_base": None}
+                                  "accepted_servo": None, "accepted_shoot": None, "accepted_shoot_base": None,
+                                  "accepted_shoot_hold": None}
     # with the rivals: the accepted whose row was each variant's (candidate_rival: 0 own, 1 frame, 2 servo,
-    # 3 shooting, 4 shooting at 4 steps beside a longer horizon)
+    # 3 shooting, 4 shooting at 4 steps beside a longer horizon, 8 the held-goal shooting)
     rivals = [{"candidate_accepted": a, "candidate_gain": "1", "shaping_awake": "1", "candidate_rival": v,
-               "rival_gain": "0", "servo_gain": "0", "shoot_gain": "0", "shoot_base_gain": "0"}
+               "rival_gain": "0", "servo_gain": "0", "shoot_gain": "0", "shoot_base_gain": "0",
+               "shoot_hold_gain": "0"}
               for a, v in (("1", "5"), ("1", "2"), ("1", "1"), ("0", "2"), ("1", "2"), ("1", "0"), ("1", "3"),
-                           ("0", "3"), ("1", "4"), ("0", "5"))]  # 5: the label probe's candidate at generation 0
+                           ("0", "3"), ("1", "4"), ("0", "5"), ("1", "8"), ("0", "8"))]  # 5: the label probe's candidate at generation 0
     for i, r in enumerate(rivals):  # revert_paired: the row after a jump says whether it was undone
         r["jump_reverted"] = "" if i == 0 else "1" if i == 3 else "0"
     got = rows_summary(rivals)
     assert (got["candidates_accepted"], got["accepted_rival"], got["accepted_servo"], got["accepted_shoot"],
-            got["accepted_shoot_base"], got["accepted_probe"], got["jumps_reverted"]) == (7, 1, 2, 1, 1, 1, 1)
+            got["accepted_shoot_base"], got["accepted_shoot_hold"], got["accepted_probe"], got["jumps_reverted"]
+            ) == (8, 1, 2, 1, 1, 1, 1, 1)
     pops = ["1.0", "2.0", "1.5", "3.0", "2.5", "2.0"]  # train_reward_mean; accepted at rows 1, 3 and 5
     seq = [{"candidate_accepted": str(i % 2), "candidate_gain": "0", "shaping_awake": "1", "train_reward_mean": p}
            for i, p in enumerate(pops)]

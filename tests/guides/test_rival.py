@@ -10,7 +10,8 @@ import pytest
 from helpers import new_run, run_until_crash, strip_time, train
 from shaped_es.config import RunConfig
 from shaped_es.guides.mechanisms.candidate import MeanCandidate
-from shaped_es.guides.rival import FRAME, SERVO, SHOOT, names, rival_frame, rivals, servo_on, shoot_on
+from shaped_es.guides.rival import (FRAME, HOLD_NAME, SERVO, SHOOT, SHOOT_HOLD, names, owned, rival_frame, rivals,
+                                    servo_on, shoot_on)
 from shaped_es.shaping.member_rows import MemberRows
 from shaped_es.shaping.settings import InverseDynamicsConfig
 from shaped_es.shaping.settings import MeanCloneConfig
@@ -86,6 +87,49 @@ def test_rival_candidate_is_judged_and_the_run_resumes_exactly(tmp_path, monkeyp
     assert strip_time(store.read_metrics()) == strip_time(full)
 
 
+def test_the_held_goal_rival_labels_on_the_shooting_rivals_model_and_owns_nothing(tmp_path):
+    idc = InverseDynamicsConfig()
+    hold = RunConfig.model_validate(_rival(mp={"rival_hold": True}))
+    out = rivals(hold, "both", 5, 3, 5, idc, tmp_path)
+    assert [r.variant for r in out] == [FRAME, SERVO, SHOOT, SHOOT_HOLD]
+    shoot, held = out[2], out[3]
+    assert held.track is shoot.track and held.labels is not shoot.labels  # one model, two label sources
+    assert held.labels.hold and not shoot.labels.hold and held.labels.model is shoot.track.mphi
+    assert held.shares and owned(out) == out[:3] and names(out)[3] == HOLD_NAME
+    assert SHOOT_HOLD not in [r.variant for r in rivals(hold, "both", 5, 3, 5, idc, tmp_path, False)]  # dropped
+    both = RunConfig.model_validate(_rival(mp={"rival_hold": True, "shoot_hold": True}))  # the labels hold already
+    assert [r.variant for r in rivals(both, "both", 5, 3, 5, idc, tmp_path)] == [FRAME, SERVO, SHOOT]
+    # idle (no clone, no candidate) where no row's waypoint is a goal held: its labels would be the shooting ones
+    flat = MemberRows.from_lists([np.zeros((4, 5))], [np.zeros((4, 4))])  # (T, d + 1): the flag column last
+    flagged = MemberRows.from_lists([np.zeros((4, 5))], [np.eye(4)])  # row 3 flagged
+    assert held.idle(flat) and not held.idle(flagged) and not shoot.idle(flat)
+
+
+def _flag_every_third(tr, before=None):
+    return np.arange(len(tr)) % 3 == 0  # (T,) a goal held at every third row, whatever the body did
+
+
+def test_the_held_goal_rival_is_judged_where_goals_are_held_and_the_run_resumes_exactly(tmp_path, monkeypatch):
+    from shaped_es.shaping import forward_shoot
+
+    cfg = _rival(mp={"rival_hold": True})
+    monkeypatch.setattr(forward_shoot, "waypoint_held", _flag_every_third)
+    full = train(tmp_path / "full", cfg).read_metrics()
+    judged = [r for r in full if r["candidate_accepted"] != ""]
+    assert judged and all(r["shoot_hold_gain"] != "" and r["shoot_gain"] != "" for r in judged[1:])
+    assert judged[-1]["shoot_hold_gain"] != judged[-1]["shoot_gain"]  # another candidate, not a copy
+    c, store = new_run(tmp_path / "crashed", cfg)
+    run_until_crash(monkeypatch, c, store, 3)
+    Trainer(c, store, progress=False).run()
+    assert strip_time(store.read_metrics()) == strip_time(full)
+    # no goal held anywhere: no held-goal candidate, and the run is the run without the rival, cell for cell
+    monkeypatch.setattr(forward_shoot, "waypoint_held", lambda tr, before=None: np.zeros(len(tr), bool))
+    none = strip_time(train(tmp_path / "none", cfg).read_metrics())
+    assert all(r["shoot_hold_gain"] == "" for r in none)
+    plain = strip_time(train(tmp_path / "plain", _rival()).read_metrics())
+    assert [{k: v for k, v in r.items() if k != "shoot_hold_gain"} for r in none] == plain
+
+
 def test_master_and_worker_placement_give_the_same_rival_run(tmp_path):
     a, b = (strip_time(train(tmp_path / p, _rival(placement=p)).read_metrics()) for p in ("master", "workers"))
     assert a == b
@@ -101,7 +145,8 @@ class _Host:
         self.mean_clone_cfg = MeanCloneConfig(accept="mean", scales=(1.0,), extra_episodes=0, keep_step=False,
                                               revert_paired=0.0)  # the rows alone: no undo row after a jump
         self.labels = _Labels()
-        self.rivals = [type("R", (), {"ready": True, "labels": f"rival labels {v}", "variant": v})()
+        self.rivals = [type("R", (), {"ready": True, "labels": f"rival labels {v}", "variant": v,
+                                      "idle": lambda self, rows: False})()
                        for v in (FRAME, SERVO)]
         self.spec = type("S", (), {"num_params": n})()
         self.cfg = type("C", (), {"rollout": type("R", (), {"episodes": 1})()})()  # one common episode
@@ -148,6 +193,34 @@ def test_the_rival_row_wins_and_becomes_the_mean(monkeypatch):
     out = mech.after_tell(2, None, np.arange(P, dtype=float), np.array([[2.0], [1.0], [9.0], [1.0]]), [],
                           mu1, es, None)
     assert out["candidate_accepted"] == 1 and out["candidate_rival"] == SERVO and out["servo_gain"] == 8.0
+
+
+@pytest.mark.parametrize("pick_all", [False, True])
+def test_pick_all_tests_the_candidate_best_over_every_episode(monkeypatch, pick_all):
+    """The own clone is lucky on the common episode and loses the extra ones; the frame rival's wins them all: the
+    default picks (and so tests, and rejects) the own clone; ``pick_all`` the rival's, which passes."""
+    from dataclasses import replace
+
+    from shaped_es.guides.mechanisms import candidate as cand_mod
+
+    n, P = 4, 4
+    es = GuidedES(np.zeros(n), sigma=0.1, pairs=P // 2, seed=0)
+    host = _Host(n)
+    host.mean_clone_cfg = replace(host.mean_clone_cfg, pick_all=pick_all)
+    mech = MeanCandidate(host)
+    d = {None: np.ones(n), "rival labels 1": -2.0 * np.ones(n), "rival labels 2": 3.0 * np.ones(n)}
+    monkeypatch.setattr(cand_mod, "clone_mean", lambda host, g, mu, cfg, labels=None, key=0, rows=None: (
+        mu + d[labels], {"label_std": 0.1}))
+    es.ask()
+    es.tell(np.arange(P, dtype=float))
+    mech.after_tell(0, None, np.zeros(P), np.zeros((0, 1)), [], np.zeros(n), es, None)
+    es.ask()
+    es.tell(np.arange(P, dtype=float))
+    # (4, 3): the common episode, then two extra ones; rows: own, frame, servo, the mean
+    ret = np.array([[5.0, 0.0, 0.0], [3.0, 4.0, 4.0], [2.0, 1.0, 1.0], [1.0, 1.0, 1.0]])
+    out = mech.after_tell(1, None, np.arange(P, dtype=float), ret, [], np.array(es.mean), es, None)
+    assert out["candidate_rival"] == (FRAME if pick_all else 0)
+    assert out["candidate_accepted"] == int(pick_all)
 
 
 def test_a_checkpoint_of_the_single_rival_format_loads():

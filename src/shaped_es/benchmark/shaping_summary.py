@@ -1,8 +1,9 @@
 """What shaping did in a method's runs, for a benchmark's ``summary.json`` and ``report.md``: the candidates
 judged and accepted (and which label variant's row each accepted one was: ``candidate_rival`` 0 the run's
 own labels, 1 the rival frame's, 2 the servo's, 3 the shooting labels', 4 and 6 the shooting labels at a
-second and third horizon (counted together as ``shoot_base``); ``guides/rival.py``; 5 the label probe's candidate,
-judged at generation 0: blank there in runs from before that value), their mean gain over the mean, the
+second and third horizon (counted together as ``shoot_base``), 8 their held-goal version (``shoot_hold``);
+``guides/rival.py``; 5 the label probe's candidate, judged at generation 0: blank there in runs from before that
+value), their mean gain over the mean, the
 generations shaping slept (``shaping_awake`` = 0), and the runs in which no candidate was ever accepted
 (those runs are the ES strategy's, at shaping's price). None for a method without candidate columns."""
 
@@ -13,9 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base", 5: "probe", 6: "shoot_base"}
+VARIANTS = {0: "own", 1: "rival_frame", 2: "servo", 3: "shoot", 4: "shoot_base", 5: "probe", 6: "shoot_base",
+            8: "shoot_hold"}
 GAINS = {"rival_frame": "rival_gain", "servo": "servo_gain", "shoot": "shoot_gain",  # a rival's column: it ran
-         "shoot_base": "shoot_base_gain"}
+         "shoot_base": "shoot_base_gain", "shoot_hold": "shoot_hold_gain"}
 
 
 def _finite(m: dict, col: str) -> np.ndarray:
@@ -103,13 +105,13 @@ def shaping_lines(methods: dict[str, dict], wall: dict[str, float] | None = None
            "Candidates judged and accepted, pooled over seeds (accepted: the label probe's candidate at generation 0 "
            "/ by the run's own labels / the rival "
            "frame's / the servo's / the shooting labels' / the shooting labels' at their other horizons where the probe "
-           "cannot judge or beside a longer chosen one), the mean gain of the judged candidate over the mean (return, on every "
+           "cannot judge or beside a longer chosen one / their held-goal version, `rival_hold`), the mean gain of the judged candidate over the mean (return, on every "
            "episode both ran; over every judged candidate, the lost ones too, so it is often negative in runs the "
            "accepted ones carried), generations backed off (shaping asleep) per run, and runs where no candidate "
            "was ever accepted: those runs are the ES strategy's alone, at shaping's price. A rival's count is "
            "\u2013 where it ran in no run (off, or dropped by the label probe: the shooting labels where their "
            "simulated candidate is not above zero action while another simulated candidate is), and says in how many runs it ran where not all.", "",
-           "| method | judged | accepted (probe / own / frame / servo / shoot / shoot base) | mean gain | backed off per run "
+           "| method | judged | accepted (probe / own / frame / servo / shoot / shoot base / held goal) | mean gain | backed off per run "
            "| runs with none accepted |",
            "|---|---|---|---|---|---|"]
     for k, s in rows.items():

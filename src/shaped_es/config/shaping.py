@@ -71,6 +71,11 @@ class InverseDynamicsSettings(_Strict):
                              "but a quadrotor 8/10 against 10/10 at its threshold and the shooting candidates then also "
                              "win where M_phi's carry a body (10 seeds each; docs/benchmarks/held_goal_v35), so off "
                              "by default: try it on a body whose goal must be held and whose shooting labels carry it")
+    rival_hold: Bool = Field(False, description="with rival_shoot and shoot_hold off: the shooting labels' held-goal "
+                             "version (shoot_hold's aim and path score, the same forward model) is one more candidate "
+                             "each generation wherever the rows hold a goal the body reached and that stayed (none: "
+                             "no candidate, no cost), judged like the others, so the run, not the user, decides "
+                             "whether a goal to hold pays on this body (docs/benchmarks/held_rival_v36)")
     shoot_keep_best: Bool = Field(True, description="with frame auto, the label probe also keeps the shooting "
                                   "rival where its simulated candidate, though not above zero action, has the best "
                                   "mean return of every simulated candidate (a body whose zero action is a safe "
@@ -237,6 +242,10 @@ class MeanCloneSettings(_Strict):
                                  "many standard errors of it")
     accept_fresh: Bool = Field(_MEAN.accept_fresh, description="candidate, accept paired: the paired test runs on "
                                "the extra episodes only (the best candidate was picked on the common ones)")
+    pick_all: Bool = Field(_MEAN.pick_all, description="candidate: the candidate the acceptance test judges is the "
+                           "one with the best mean return over every episode the candidates ran (the common and "
+                           "extra ones), not over the common ones alone (two episodes: a lucky candidate there can "
+                           "be tested in place of one that would pass)")
     accept_flat: Bool = Field(_MEAN.accept_flat, description="candidate: where every member of the population "
                               "returned the same (the ES step has no signal: a plateau, a sparse reward nobody met "
                               "yet), a candidate whose mean gain over the mean on the paired episodes is positive wins")

@@ -291,9 +291,10 @@ def rows_summary(rows: list[dict]) -> dict | None:
     # (variant 2), the shooting labels' (variant 3); None: the run has no such rival
     head = rows[0]
     has = {1: "candidate_rival" in head and ("rival_gain" in head or "servo_gain" not in head),  # older runs:
-           2: "servo_gain" in head, 3: "shoot_gain" in head, 4: "shoot_base_gain" in head}  # candidate_rival
-    for key, v in (("accepted_rival", 1), ("accepted_servo", 2), ("accepted_shoot", 3),  # and no gain columns
-                   ("accepted_shoot_base", 4)):  # shoot_base: also the third horizon's (6), and
+           2: "servo_gain" in head, 3: "shoot_gain" in head, 4: "shoot_base_gain" in head,  # candidate_rival
+           8: "shoot_hold_gain" in head}  # and no gain columns
+    for key, v in (("accepted_rival", 1), ("accepted_servo", 2), ("accepted_shoot", 3),
+                   ("accepted_shoot_base", 4), ("accepted_shoot_hold", 8)):  # shoot_base: the third horizon's (6), and
         # a fourth's (7) in the runs of commit 2dd35906, measured and removed
         vs = (v, 6, 7) if v == 4 else (v,)
         out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1

@@ -11,7 +11,11 @@ make more candidates each generation; selection keeps whichever pays on this bod
   longer horizon than ``shoot_horizon`` and the ``shoot_horizon`` one's candidate also beat zero action, the
   shooting labels at ``shoot_horizon`` too, so the run's selection judges both (the probe judges the first
   generations' data only). Measured on the 15 seeds where it would run: no faster, at one more clone a
-  generation (``docs/benchmarks/shoot_horizon_v8``).
+  generation (``docs/benchmarks/shoot_horizon_v8``);
+- ``shaping.inverse_dynamics.rival_hold`` (variant 8): the shooting labels' held-goal version (``shoot_hold``'s
+  aim and path score) on the shooting rival's own model (no model of its own: :attr:`Rival.shares`), a candidate
+  only in generations whose rows hold a goal the body reached and that stayed (:meth:`Rival.idle`): the run
+  judges whether aiming at a goal to hold pays, where ``shoot_hold`` decides it for the whole run.
 
 Which displacement frame makes M_phi's labels pay depends on the body, and the label probe before
 generation 0 (``label_probe.py``) cannot always tell: forced by hand, the waypoint frame solves
@@ -56,17 +60,21 @@ SHOOT_THIRD_DIR = "mphi_data_shoot_third"
 FRAME, SERVO, SHOOT, SHOOT_BASE = 1, 2, 3, 4  # variant ids: the candidate_rival column's values (0: own labels;
 #                                              5: generation 0's probe candidate, mechanisms/candidate.PROBE)
 SHOOT_THIRD = 6  # the shooting labels at the third probed horizon (shoot_unjudged_all)
+SHOOT_HOLD = 8  # the shooting labels' held-goal version on the shooting rival's model (rival_hold; 7 was a fourth
+#                 horizon's in the runs of commit 2dd35906, measured and removed)
 
 
 @dataclass
 class Rival:
     """One rival label variant: its id, name, model track and checkpoint keys."""
 
-    variant: int  # FRAME, SERVO, SHOOT or SHOOT_BASE
+    variant: int  # FRAME, SERVO, SHOOT, SHOOT_BASE, SHOOT_THIRD or SHOOT_HOLD
     name: str  # for the run's lines: "waypoint frame", "servo", "shooting"
     track: MphiTrack
     prefix: str  # checkpoint keys of its model
     parts_key: str  # checkpoint key of its data parts
+    own_labels: object = None  # labels of its own on another rival's track (SHOOT_HOLD); None: the track's
+    shares: bool = False  # the track is another rival's: that one adds its data, trains and checkpoints it
 
     @property
     def ready(self) -> bool:
@@ -74,7 +82,12 @@ class Rival:
 
     @property
     def labels(self):
-        return self.track.labels
+        return self.track.labels if self.own_labels is None else self.own_labels
+
+    def idle(self, rows) -> bool:
+        """Whether its labels on ``rows`` (``MemberRows``) would be another rival's: the held-goal version where no
+        row holds a goal (its flag column all 0), whose clone would be the shooting rival's over again."""
+        return self.variant == SHOOT_HOLD and not any(len(q) and bool((q[:, -1] > 0.5).any()) for q in rows.queries)
 
 
 def rival_frame(cfg, frame: str, pos_dim: int) -> str | None:
@@ -185,6 +198,10 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if unjudged is not None and third is not None:
             out.append(Rival(SHOOT_THIRD, shoot_name(third, cost, sf), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
                              "shoot_third/", "shoot_third/parts"))
+        main = next(r for r in out if r.variant == SHOOT)
+        if cfg.shaping.inverse_dynamics.rival_hold and not cfg.shaping.inverse_dynamics.shoot_hold:
+            held = ShootLabels(main.track.mphi, ahead, cost, hold=True)  # the same model, a goal to hold held
+            out.append(Rival(SHOOT_HOLD, HOLD_NAME, main.track, "", "", own_labels=held, shares=True))
     return out
 
 
@@ -195,7 +212,15 @@ def shoot_name(horizon: int, cost: str = "min", frame: str = "world") -> str:
             f"{', waypoint frame' if frame == 'waypoint' else ''})")
 
 
+HOLD_NAME = "held-goal shooting"  # the held-goal rival's name in the run's lines
+
+
 def names(rivals: list[Rival]) -> list[str]:
     """The rivals' names for the probe's line, the shooting labels' with their horizon: ``shooting (8 steps)``."""
     return [shoot_name(r.track.mphi.horizon, r.track.labels.cost, r.track.mphi.frame)
             if r.name == "shooting" else r.name for r in rivals]
+
+
+def owned(rivals: list[Rival]) -> list[Rival]:
+    """The rivals that own their track (add its data, train and checkpoint it): not :data:`SHOOT_HOLD`'s view."""
+    return [r for r in rivals if not r.shares]

@@ -89,7 +89,7 @@ from shaped_es.guides.mphi_track import MphiTrack
 from shaped_es.guides.mechanisms.mean_clone import noise_scale
 from shaped_es.guides.mechanisms.paper import REFERENCE_METRICS
 from shaped_es.guides.reference import reference_actions
-from shaped_es.guides.rival import names as rival_names, probe_shooting, rivals
+from shaped_es.guides.rival import names as rival_names, owned, probe_shooting, rivals
 from shaped_es.guides.shaped_background import FIT_TEST_ROWS, BackgroundWork  # noqa: F401 (FIT_TEST_ROWS)
 from shaped_es.guides.shaped_checkpoint import GuideCheckpoint
 from shaped_es.guides.shaped_rollouts import RolloutHooks
@@ -181,7 +181,7 @@ class ShapedGuide(RolloutHooks, GenerationData, BackgroundWork, LabelVerdicts, G
         # M_phi's data set is saved once, as the rows each generation added (RUN/mphi_data, mphi_parts.py),
         # not in every checkpoint; a checkpoint names the parts that rebuild it (the rival's: its own)
         self.track = None if self.mphi is None else MphiTrack(self.mphi, self.labels, Path(store.root) / "mphi_data")
-        self._tracks = [t for t in (self.track, *(r.track for r in self.rivals)) if t is not None]
+        self._tracks = [t for t in (self.track, *(r.track for r in owned(self.rivals))) if t is not None]
         # generations of slack for the older checkpoints kept on disk (a fallback if the newest is lost)
         self._ckpt_margin = (cfg.keep_checkpoints - 1) * cfg.checkpoint_every
         # (generation, the oldest data part of each of _tracks) of the last state_dict

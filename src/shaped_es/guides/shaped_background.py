@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 from shaped_es.data import Transitions, concat_members
+from shaped_es.guides.rival import owned
 from shaped_es.shaping.trajectories import delete_generations, list_generations
 
 FIT_TEST_ROWS = 4096  # held-out fit measured on about this many rows
@@ -63,7 +64,7 @@ class BackgroundWork:
                 losses = self.mphi.train()
                 self._pending["mphi_train_loss"] = float(np.mean(losses)) if losses else None
                 self._pending["mphi_iterations"] = self.mphi.iterations
-                for r in self.rivals:  # the rival models on the same steps (each its own pairs)
+                for r in owned(self.rivals):  # the rival models on the same steps (each its own pairs)
                     write = r.track.add(generation, data, self._writer)[3]
                     self._writes.extend([write] if write is not None else [])
                     r.track.mphi.train()

@@ -16,6 +16,7 @@ import numpy as np
 
 from shaped_es.guides.mphi_parts import DamagedPart
 from shaped_es.guides.probe_file import FILE as PROBE_FILE
+from shaped_es.guides.rival import owned
 
 
 class GuideCheckpoint:
@@ -32,7 +33,7 @@ class GuideCheckpoint:
         if self.track is not None:
             self.track.save(st, "mphi/", "mphi_parts")
             st["step_norm"] = self.step_norm
-        for r in self.rivals:
+        for r in owned(self.rivals):  # a rival on another's track (rival.SHOOT_HOLD) has nothing of its own
             r.track.save(st, r.prefix, r.parts_key)
         nxt = self._last_generation + 1
         self._saved = (self._last_generation, [t.parts.oldest(default=nxt) for t in self._tracks])
@@ -51,7 +52,7 @@ class GuideCheckpoint:
             return
         self.track.restore(state, "mphi/", "mphi_parts")  # the data set lives in RUN/mphi_data
         self.step_norm = np.asarray(state["step_norm"], dtype=np.float64)
-        for r in self.rivals:  # a checkpoint from before a rival: it starts afresh
+        for r in owned(self.rivals):  # a checkpoint from before a rival: it starts afresh
             try:
                 r.track.restore(state, r.prefix, r.parts_key, optional=True)
             except DamagedPart as exc:  # a damaged file: the checkpoint's message says what to do

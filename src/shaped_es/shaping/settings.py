@@ -102,6 +102,8 @@ class MeanCloneConfig:
     #                             many standard errors of it
     accept_fresh: bool = False  # paired: the test runs on the extra episodes only (the pick of the best candidate saw
     #                              the common ones: winner's curse)
+    pick_all: bool = False  # candidate: the candidate tested is the one with the best mean return over every episode
+    #                         the candidates ran (the common and extra ones), not over the common ones alone
     accept_flat: bool = True  # candidate: where every member returned the same (no signal for the ES step), a candidate
     #                            whose mean paired gain is positive wins (a sparse reward's one success never passes
     #                            paired: x / n is exactly its own standard error)

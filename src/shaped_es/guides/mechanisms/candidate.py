@@ -45,7 +45,8 @@ from shaped_es.shaping.surrogate import cosine
 CLONE_METRICS = ("clone_loss_before", "clone_loss_after", "label_std", "clone_samples",
                  "clone_noise")  # the parameter noise the clone was fitted under (mean_clone.noise * es.sigma; 0 before noise_from)
 RIVAL_METRICS = ("candidate_rival",)  # with rival label variants (guides/rival.py): the winning row's variant
-GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain", 6: "shoot_third_gain"}  # per variant: its
+GAIN_METRIC = {1: "rival_gain", 2: "servo_gain", 3: "shoot_gain", 4: "shoot_base_gain", 6: "shoot_third_gain",
+               8: "shoot_hold_gain"}  # per variant: its
 #                                                              candidate's gain over the mean
 PROBE = 5  # candidate_rival at generation 0: the label probe's best simulated candidate (guides/probe_candidate.py)
 SUBSAMPLE_KEY = 1_000_025  # seed key of a costly rival's row subsample
@@ -175,7 +176,8 @@ class MeanCandidate(Mechanism):
             more = extra_returns[:, E:].mean(axis=1) if extra_returns.shape[1] > E else None  # (k,)
             k = self.extras.shape[0] - 1 - self.pending - undo_row  # this generation's new candidates (scales, rivals)
             f_cand, f_mean = common[:k], float(common[-1])  # (k,), the mean's
-            j = int(np.argmax(f_cand))
+            # the candidate tested: the best on the common episodes, or (pick_all) on every episode they ran
+            j = int(np.argmax(extra_returns[:k].mean(axis=1) if self.cfg.pick_all else f_cand))
             bar = float(np.max(fitness)) if self.cfg.accept in ("best", "best_paired") else f_mean
 
             def flat(i: int) -> bool:
@@ -284,6 +286,8 @@ class MeanCandidate(Mechanism):
                     continue
                 v, learner = rival.variant, self.rival_learners.get(rival.variant)
                 r = self.host.dagger_rows(generation, rival.labels)
+                if rival.idle(r):  # labels another rival's clone already has (no goal held in these rows)
+                    continue
                 if cap := getattr(rival.labels, "max_rows", 0):  # a label source that costs per row (the
                     rng = np.random.default_rng(seeding.derive_seed(  # shooting labels): a random share of the rows
                         self.host.cfg.seed, seeding.SHAPING, generation, rival_clone_key(v), SUBSAMPLE_KEY))
