@@ -58,3 +58,17 @@ def test_train_prints_one_warning_line(tmp_path, capsys):
     assert main(argv) == 0
     err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
     assert err == ["shaped-es: warning: --method vanilla ignores shaping.labels (only --method shaped / shaped_cmaes use it)"]
+
+
+@pytest.mark.parametrize("over,says", [({"shoot_hold": True}, "shoot_hold is on"),
+                                       ({"rival_shoot": False}, "rival_shoot is off"), ({}, None)])
+def test_a_setting_another_one_turns_off_warns(over, says):
+    """A new user's rival_hold was dropped without a word where shoot_hold was on."""
+    cfg = build_config({"method": "shaped", "shaping": {"inverse_dynamics": {"rival_hold": True, **over}}})
+    if says is None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            warn_ignored(cfg)
+        return
+    with pytest.warns(ConfigWarning, match=f"rival_hold is ignored: {says}"):
+        warn_ignored(cfg)

@@ -103,10 +103,28 @@ def warn_ignored(cfg: RunConfig) -> None:
         for key in _changed(values[section], defaults[section], f"{section}."):
             if not reads(cfg.method, key):
                 groups.setdefault(tuple(m for m in METHODS if reads(m, key)), []).append(key)
+    off = _overridden(cfg) if reads(cfg.method, "shaping") else []
+    if off:
+        warnings.warn("; ".join(off), ConfigWarning, stacklevel=2)
     if groups:
         parts = [f"{', '.join(keys)} (only --method {' / '.join(by)} {'uses' if len(by) == 1 else 'use'} "
                  f"{'it' if len(keys) == 1 else 'them'})" if by else ", ".join(keys) for by, keys in groups.items()]
         warnings.warn(f"--method {cfg.method} ignores {'; '.join(parts)}", ConfigWarning, stacklevel=2)
+
+
+def _overridden(cfg: RunConfig) -> list[str]:
+    """A sentence for each setting asked for that another setting turns off (a new user's ``rival_hold`` was
+    dropped without a word where ``shoot_hold`` was on)."""
+    mp = cfg.shaping.inverse_dynamics
+    if not mp.rival_hold:
+        return []
+    if mp.shoot_hold:
+        return ["shaping.inverse_dynamics.rival_hold is ignored: shoot_hold is on, so the shooting labels hold a goal "
+                "already (the held-goal candidate would be theirs)"]
+    if not mp.rival_shoot:
+        return ["shaping.inverse_dynamics.rival_hold is ignored: rival_shoot is off, and the held-goal labels are the "
+                "shooting labels' on their model"]
+    return []
 
 
 def _changed(values: dict, defaults: dict, prefix: str) -> list[str]:

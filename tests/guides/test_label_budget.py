@@ -527,3 +527,7 @@ def test_a_run_that_accepted_candidates_says_what_shaping_did_in_one_line():
     assert "undone" not in shaping_line({**s, "jumps_reverted": 0}, 60)
     assert shaping_line({**s, "candidates_accepted": 0}, 60) is None and shaping_line(None, 60) is None
     assert shaping_line({**s, "candidates_judged": 0, "candidates_accepted": 0}, 60) is None
+    # whose clone each accepted one was, where a rival or the probe's candidate won any (a new user could not tell)
+    rivals = {**s, "accepted_probe": 1, "accepted_shoot": 2, "accepted_shoot_hold": 0, "accepted_servo": None}
+    assert shaping_line(rivals, 60).startswith("shaping: 6 of 13 judged candidates accepted (own labels 3, the "
+                                               "probe's 1, shooting 2) (1 undone by the next generation), ")
