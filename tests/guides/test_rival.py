@@ -105,6 +105,18 @@ def test_the_held_goal_rival_labels_on_the_shooting_rivals_model_and_owns_nothin
     assert held.idle(flat) and not held.idle(flagged) and not shoot.idle(flat)
 
 
+def test_the_held_goal_candidates_episodes_are_not_recorded():
+    """Its episodes would be every model's data: one more candidate changed what all labels learned from (a
+    ReacherWay-v0 seed's rival gains parted from generation 3 on where it never won)."""
+    host = _Host(4)
+    host.rivals.append(type("R", (), {"ready": True, "labels": "held", "variant": SHOOT_HOLD, "records": False,
+                                      "idle": lambda self, rows: False})())
+    mech = MeanCandidate(host)
+    mech.rivals, mech.extras = [FRAME, SHOOT_HOLD, SERVO], np.zeros((5, 4), np.float32)  # own, 3 rivals, the mean
+    mask = mech.record_mask(6, 5)  # (6 + 5,): the population (every record_every-th), then the extras
+    assert mask[6:].tolist() == [True, True, False, True, True]
+
+
 def _flag_every_third(tr, before=None):
     return np.arange(len(tr)) % 3 == 0  # (T,) a goal held at every third row, whatever the body did
 

@@ -75,10 +75,10 @@ class InverseDynamicsSettings(_Strict):
                              "version (shoot_hold's aim and path score, the same forward model) is one more candidate "
                              "each generation wherever the rows hold a goal the body reached and that stayed (none: "
                              "no candidate, no cost), judged like the others, so the run, not the user, decides "
-                             "whether a goal to hold pays on this body. A new user's crane: 4/10 at its threshold "
-                             "against 1/10, late reward +14.0; a quadrotor 10/10 (shoot_hold: 8/10); but one more "
-                             "candidate is one more lucky pick on two episodes: an attitude body 9/10 against 10/10, "
-                             "ReacherWay-v0 8/10 against 9/10 (10 seeds each; docs/benchmarks/held_rival_v36), so off")
+                             "whether a goal to hold pays on this body; its episodes are not recorded (every model's "
+                             "data as without it). A new user's crane: late reward +14.6 [-7.6, +38.2]; a quadrotor "
+                             "10/10 in 0.92x (shoot_hold: 8/10); ReacherWay-v0 the default's runs; an attitude body "
+                             "1.11x [1.00, 1.28] (10 seeds each; docs/benchmarks/held_rival_v36), so off by default")
     shoot_keep_best: Bool = Field(True, description="with frame auto, the label probe also keeps the shooting "
                                   "rival where its simulated candidate, though not above zero action, has the best "
                                   "mean return of every simulated candidate (a body whose zero action is a safe "

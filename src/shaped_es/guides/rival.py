@@ -15,7 +15,9 @@ make more candidates each generation; selection keeps whichever pays on this bod
 - ``shaping.inverse_dynamics.rival_hold`` (variant 8): the shooting labels' held-goal version (``shoot_hold``'s
   aim and path score) on the shooting rival's own model (no model of its own: :attr:`Rival.shares`), a candidate
   only in generations whose rows hold a goal the body reached and that stayed (:meth:`Rival.idle`): the run
-  judges whether aiming at a goal to hold pays, where ``shoot_hold`` decides it for the whole run.
+  judges whether aiming at a goal to hold pays, where ``shoot_hold`` decides it for the whole run. Its episodes
+  are not recorded (:attr:`Rival.records`): recorded, they trained every model and moved seeds either way where it
+  never won (ReacherWay-v0 8/10 against 9/10; unrecorded, the default's runs: ``docs/benchmarks/held_rival_v36``).
 
 Which displacement frame makes M_phi's labels pay depends on the body, and the label probe before
 generation 0 (``label_probe.py``) cannot always tell: forced by hand, the waypoint frame solves
@@ -75,6 +77,9 @@ class Rival:
     parts_key: str  # checkpoint key of its data parts
     own_labels: object = None  # labels of its own on another rival's track (SHOOT_HOLD); None: the track's
     shares: bool = False  # the track is another rival's: that one adds its data, trains and checkpoints it
+    # its candidate's episodes are recorded as every candidate's are (data for M_phi and every rival); False: not
+    # (SHOOT_HOLD: an option's candidate leaves every model's data as without it, docs/benchmarks/held_rival_v36)
+    records: bool = True
 
     @property
     def ready(self) -> bool:
@@ -201,7 +206,7 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         main = next(r for r in out if r.variant == SHOOT)
         if cfg.shaping.inverse_dynamics.rival_hold and not cfg.shaping.inverse_dynamics.shoot_hold:
             held = ShootLabels(main.track.mphi, ahead, cost, hold=True)  # the same model, a goal to hold held
-            out.append(Rival(SHOOT_HOLD, HOLD_NAME, main.track, "", "", own_labels=held, shares=True))
+            out.append(Rival(SHOOT_HOLD, HOLD_NAME, main.track, "", "", own_labels=held, shares=True, records=False))
     return out
 
 

@@ -115,6 +115,7 @@ class MeanCandidate(Mechanism):
         self.undo_row = 0  # revert_paired: 1 where the row before the mean is ``undo`` (the ES step's mean)
         self.reverts = self.cfg.revert_margin > 0 or self.cfg.revert_paired > 0
         known = [r.variant for r in getattr(host, "rivals", [])]
+        self.unrecorded = {r.variant for r in getattr(host, "rivals", []) if not getattr(r, "records", True)}
         if known:
             self.metric_keys = self.metric_keys + RIVAL_METRICS + tuple(GAIN_METRIC[v] for v in known)
         if self.reverts:
@@ -136,6 +137,11 @@ class MeanCandidate(Mechanism):
             mask[population:population + 2] = False
         if self.undo_row and self.extras is not None:  # revert_paired's row: M_phi's data as without it
             mask[population + self.extras.shape[0] - 2] = False
+        if self.extras is not None:  # a rival whose candidate is not recorded (rival.Rival.records): data as without it
+            ns = len(self.cfg.scales)
+            for i, v in enumerate(self.rivals):
+                if v in self.unrecorded:
+                    mask[population + ns + i] = False
         return mask
 
     def extra_members(self, generation: int) -> np.ndarray | None:
