@@ -248,7 +248,7 @@ def shaping_line(summary: dict | None, generations: int) -> str | None:
               f"candidate_*, shaping_awake; shaped-es report RUN_DIR compares runs)")
 
 
-SOURCES = (("accepted_probe", "the probe's"), ("accepted_rival", "waypoint frame"), ("accepted_servo", "servo"),
+SOURCES = (("accepted_probe", "the probe's"), ("accepted_rival", "frame rival"), ("accepted_servo", "servo"),
            ("accepted_shoot", "shooting"), ("accepted_shoot_base", "shooting, other horizons"),
            ("accepted_shoot_hold", "held-goal shooting"))  # rows_summary's keys, and the names shaping_line gives them
 

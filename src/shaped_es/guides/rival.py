@@ -76,7 +76,6 @@ class Rival:
     prefix: str  # checkpoint keys of its model
     parts_key: str  # checkpoint key of its data parts
     own_labels: object = None  # labels of its own on another rival's track (SHOOT_HOLD); None: the track's
-    shares: bool = False  # the track is another rival's: that one adds its data, trains and checkpoints it
     # its candidate's episodes are recorded as every candidate's are (data for M_phi and every rival); False: not
     # (SHOOT_HOLD: an option's candidate leaves every model's data as without it, docs/benchmarks/held_rival_v36)
     records: bool = True
@@ -84,6 +83,12 @@ class Rival:
     @property
     def ready(self) -> bool:
         return self.track.ready
+
+    @property
+    def shares(self) -> bool:
+        """The track is another rival's (it has labels of its own on it): that one adds its data, trains and
+        checkpoints it."""
+        return self.own_labels is not None
 
     @property
     def labels(self):
@@ -203,10 +208,10 @@ def rivals(cfg, frame: str, obs_dim: int, pos_dim: int, act_dim: int, mphi_cfg, 
         if unjudged is not None and third is not None:
             out.append(Rival(SHOOT_THIRD, shoot_name(third, cost, sf), track(third, SHOOT_THIRD_KEY, SHOOT_THIRD_DIR),
                              "shoot_third/", "shoot_third/parts"))
-        main = next(r for r in out if r.variant == SHOOT)
         if cfg.shaping.inverse_dynamics.rival_hold and not cfg.shaping.inverse_dynamics.shoot_hold:
+            main = next(r for r in out if r.variant == SHOOT)
             held = ShootLabels(main.track.mphi, ahead, cost, hold=True)  # the same model, a goal to hold held
-            out.append(Rival(SHOOT_HOLD, HOLD_NAME, main.track, "", "", own_labels=held, shares=True, records=False))
+            out.append(Rival(SHOOT_HOLD, HOLD_NAME, main.track, "", "", own_labels=held, records=False))
     return out
 
 
