@@ -253,3 +253,22 @@ def test_a_runs_line_says_what_its_labels_did(tmp_path):
                                          "candidate_gain,check_env_steps\n0,1.0,1,1,1.0,60\n1,2.5,1,0,1.0,60\n")
     assert _outcome(shaped, checked) == (", last test reward 2.50, 475 not reached; candidates accepted 1 of 2 judged "
                                          "(1 more won and lost the check)")
+
+
+def test_a_runs_line_says_whose_candidates_won(tmp_path):
+    """A new user's benchmark (a boat, three arms) could not tell per run which rival's candidates were accepted:
+    only train's closing line said it, and a benchmark prints none."""
+    from types import SimpleNamespace
+
+    from shaped_es.benchmark.runner import _outcome
+
+    root = tmp_path / "rivals"
+    root.mkdir()
+    # rival codes: 0 the run's own labels, 3 the shooting labels', 5 the probe's candidate, 8 the held-goal one
+    (root / "metrics.csv").write_text(
+        "generation,test_reward_mean,shaping_awake,candidate_accepted,candidate_gain,candidate_rival,shoot_gain,"
+        "shoot_hold_gain\n0,1.0,1,1,1.0,5,,\n1,1.5,1,1,1.0,3,1.0,\n2,2.0,1,0,-1.0,0,-1.0,\n3,2.5,1,1,1.0,8,0.0,1.0\n"
+        "4,3.0,1,1,1.0,0,0.0,\n")
+    shaped = SimpleNamespace(method="shaped", env="CartPole-v1", env_kwargs={})
+    assert _outcome(shaped, root) == (", last test reward 3.00, 475 not reached; candidates accepted 4 of 5 judged "
+                                      "(own labels 1, the probe's 1, shooting 1, held-goal shooting 1)")

@@ -280,7 +280,10 @@ def test_the_controller_line_on_a_discrete_body():
 ])
 def test_the_new_warnings_say_what_they_saw(flaw, needle):
     assert any(needle in c.detail for c in check_env(f"CheckPoint-{flaw}-v0")), flaw
-    assert all(c.status == OK for c in check_env("CheckPoint-none-v0") if c.name in ("seeding", "scale", "waypoints"))
+    checks = check_env("CheckPoint-none-v0")
+    assert all(c.status == OK for c in checks if c.name in ("seeding", "scale", "waypoints"))
+    # the scale line names its largest component (a new user's boat read "within +-8.59" and could not tell which)
+    assert re.search(r"within \+-\S+ \(the largest: component \d+\)", next(c.detail for c in checks if c.name == "scale"))
 
 
 def test_a_run_warns_where_reset_ignores_its_seed():

@@ -106,10 +106,10 @@ def _longer(groups: dict[str, list[Path]], generations: int) -> list[tuple[str, 
 
 def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     """``, last test reward 8.67``, where it reached the threshold (:func:`_reached`), and
-    for a candidate run ``; candidates accepted 3 of 23 judged``, or ``; no candidate accepted ...`` where its
+    for a candidate run ``; candidates accepted 3 of 23 judged (own labels 1, shooting 2)``, or ``; no candidate accepted ...`` where its
     labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed neither
     until the report. ``""`` where the run has no rows."""
-    from shaped_es.guides.label_budget import never_accepted, rows_summary, run_cost
+    from shaped_es.guides.label_budget import by_source, never_accepted, rows_summary, run_cost
 
     try:
         rows = RunStore(root).read_metrics()
@@ -128,7 +128,8 @@ def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     if never:
         return out + f"; {never}"
     if summary and summary["candidates_judged"]:  # what shaping did, as the progress bar's "labels A/J"
-        out += f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
+        out += (f"; candidates accepted {summary['candidates_accepted']} of {summary['candidates_judged']} judged"
+                f"{by_source(summary)}")  # whose clones they were, as train's closing line says
         if summary.get("check_lost"):  # check_episodes: winners the check did not bear out
             out += f" ({summary['check_lost']} more won and lost the check)"
     return out

@@ -194,9 +194,9 @@ def _scale(runs: list[dict]) -> Check:
     Vanilla-ES to the digit, at -77 after 10 generations against -12.8 without the offset)."""
     obs = np.concatenate([np.stack(r["obs"]).reshape(len(r["obs"]), -1) for r in runs if r["obs"]])  # (T, obs)
     big = np.abs(obs).max(axis=0)  # (obs,)
-    if not (big >= SCALE_WARN).any():
-        return Check("scale", OK, f"observations within +-{big.max():.3g}")
     i = int(np.argmax(big))
+    if not (big >= SCALE_WARN).any():  # which component is the largest (a new user could not tell)
+        return Check("scale", OK, f"observations within +-{big[i]:.3g} (the largest: component {i})")
     return Check("scale", WARN, f"observation component {i} reaches {big[i]:.3g} ({int((big >= SCALE_WARN).sum())} "
                                 f"of {big.size} reach {SCALE_WARN:g}): the policy's tanh units saturate and no "
                                 f"method learns well; scale observations to about 1, or --set es.obs_norm=true")

@@ -241,7 +241,7 @@ def shaping_line(summary: dict | None, generations: int) -> str | None:
     undone = summary.get("jumps_reverted") or 0
     gain = summary.get("mean_gain")
     return (f"shaping: {summary['candidates_accepted']} of {summary['candidates_judged']} judged candidates accepted"
-            + _by_source(summary) + (f" ({undone} undone by the next generation)" if undone else "")
+            + by_source(summary) + (f" ({undone} undone by the next generation)" if undone else "")
             + (f", mean gain {gain:+.2f} over the mean's return (every judged one's, the lost too)"
                if gain is not None else "")
             + f"; backed off {summary['generations_backed_off']} of {generations} generations (metrics.csv "
@@ -253,7 +253,7 @@ SOURCES = (("accepted_probe", "the probe's"), ("accepted_rival", "frame rival"),
            ("accepted_shoot_hold", "held-goal shooting"))  # rows_summary's keys, and the names shaping_line gives them
 
 
-def _by_source(summary: dict) -> str:
+def by_source(summary: dict) -> str:
     """`` (own labels 2, shooting 1, held-goal shooting 3)``: whose clone the accepted candidates were, where one came
     from anything but the run's own labels (a new user could not tell from the printed lines whether an option's
     rival had won); empty otherwise."""
