@@ -78,7 +78,8 @@ class InverseDynamicsSettings(_Strict):
                              "whether a goal to hold pays on this body; its episodes are not recorded (every model's "
                              "data as without it). A new user's crane: late reward +14.6 [-7.6, +38.2]; a quadrotor "
                              "10/10 in 0.92x (shoot_hold: 8/10); ReacherWay-v0 the default's runs; an attitude body "
-                             "1.11x [1.00, 1.28] (10 seeds each; docs/benchmarks/held_rival_v36), so off by default")
+                             "1.11x [1.00, 1.28]; a joint arm's late reward -3.4 [-6.6, -0.5] (10 seeds each; "
+                             "docs/benchmarks/held_rival_v36), so off by default")
     shoot_keep_best: Bool = Field(True, description="with frame auto, the label probe also keeps the shooting "
                                   "rival where its simulated candidate, though not above zero action, has the best "
                                   "mean return of every simulated candidate (a body whose zero action is a safe "
