@@ -153,6 +153,8 @@ def test_the_readme_says_how_to_bring_an_own_env_and_its_example_passes_check_en
     assert main(["check-env", "readme_point:ReadmePoint-v0"]) == 0
     out = capsys.readouterr().out.strip().splitlines()
     assert out[-1] == "readme_point:ReadmePoint-v0 trains with: vanilla, guided, cmaes, shaped, shaped_cmaes, ppo"
+    # its optional controller (a new user's plane found the method only in the contract's section): check-env scores it
+    assert any(ln.startswith("ok    controller     waypoint_controller(obs, info)") for ln in out), out
     # --labels on the user's own env (no batched core: driven episode by episode through Gymnasium)
     assert main(["check-env", "readme_point:ReadmePoint-v0", "--labels"]) == 0
     out = capsys.readouterr().out.strip().splitlines()

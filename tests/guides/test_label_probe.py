@@ -942,7 +942,8 @@ def test_check_labels_says_whether_m_phi_sees_each_steps_change(monkeypatch, on)
     res.step_change_errors = {"plain": 1.9, "change": 1.2}
     if not on:
         line = next(d for d in label_check.check_labels("PointVel-v0")["details"] if "each step's change" in d)
-        assert line.endswith("; above 1: worse than always predicting the mean action)")
+        assert line.endswith("; above 1: worse than always predicting the mean action, on the probe's own steps: no "
+                         "verdict on the labels, whose simulated candidates above are what the run goes by)")
 
 
 def test_the_probe_line_says_why_a_second_order_bodys_default_clips():

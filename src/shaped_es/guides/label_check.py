@@ -300,7 +300,9 @@ def check_labels(env_id: str, env_kwargs: dict | None = None, seed: int = 0, obs
         details.append(f"M_phi does not see each step's change from the last (shaping.inverse_dynamics.step_change "
                        f"auto: held-out actions' unexplained share {e['plain']:.2f} without it, {e['change']:.2f} with "
                        f"it; on only where the first is at least {PLAIN_FAILS:g} and the second at most {RATIO:g}x "
-                       f"the first" + ("; above 1: worse than always predicting the mean action" if
+                       f"the first" + ("; above 1: worse than always predicting the mean action, on the "
+                                        "probe's own steps: no verdict on the labels, whose simulated candidates "
+                                        "above are what the run goes by" if
                                        max(e["plain"], e["change"]) > 1 else "") + ")")
     if res.candidate is not None:  # guides/probe_candidate.py
         details.append(f"a run judges the best simulated candidate beside generation 1, as its first candidate "
