@@ -283,7 +283,8 @@ def test_the_new_warnings_say_what_they_saw(flaw, needle):
     checks = check_env("CheckPoint-none-v0")
     assert all(c.status == OK for c in checks if c.name in ("seeding", "scale", "waypoints"))
     # the scale line names its largest component (a new user's boat read "within +-8.59" and could not tell which)
-    assert re.search(r"within \+-\S+ \(the largest: component \d+\)", next(c.detail for c in checks if c.name == "scale"))
+    scale = next(c.detail for c in checks if c.name == "scale")
+    assert re.search(r"within \+-\S+ \(the largest: component \d+\)", scale), scale
 
 
 def test_a_run_warns_where_reset_ignores_its_seed():

@@ -106,9 +106,9 @@ def _longer(groups: dict[str, list[Path]], generations: int) -> list[tuple[str, 
 
 def _outcome(cfg: RunConfig, root: Path, threshold: float | None = None) -> str:
     """``, last test reward 8.67``, where it reached the threshold (:func:`_reached`), and
-    for a candidate run ``; candidates accepted 3 of 23 judged (own labels 1, shooting 2)``, or ``; no candidate accepted ...`` where its
-    labels never paid (``train`` prints the long form at a run's end); new users' benchmarks showed neither
-    until the report. ``""`` where the run has no rows."""
+    for a candidate run ``; candidates accepted 3 of 23 judged (own labels 1, shooting 2)``, or ``; no
+    candidate accepted ...`` where its labels never paid (``train`` prints the long form at a run's end); new
+    users' benchmarks showed neither until the report. ``""`` where the run has no rows."""
     from shaped_es.guides.label_budget import by_source, never_accepted, rows_summary, run_cost
 
     try:
