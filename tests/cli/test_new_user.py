@@ -214,3 +214,19 @@ def test_a_misspelt_flag_is_one_line_naming_the_commands_help_and_the_closest_fl
     assert exc.value.code == 2
     assert capsys.readouterr().err.strip() == f"shaped-es: error: {line}"
     assert not (tmp_path / "r").exists()
+
+
+def test_resume_says_where_it_picks_up(tmp_path, capsys):
+    """A new user's resumed run showed only "gen 13/30", with metrics.csv a row shorter than the checkpoint: resume
+    says in one line how many generations its newest checkpoint holds (not under --quiet, nor when nothing runs)."""
+    run = str(tmp_path / "r")
+    assert main(["train", "--env", "CartPole-v1", *TINY, "--generations", "2", "--out", run, "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["resume", run, "--generations", "3"]) == 0
+    err = capsys.readouterr().err
+    assert (f"shaped-es: {run}: resuming from its newest checkpoint, 2 of 3 generations done (metrics.csv continues "
+            f"from there as an uninterrupted run's would)") in err
+    assert main(["resume", run, "--generations", "4", "--quiet"]) == 0
+    assert "resuming" not in capsys.readouterr().err
+    assert main(["resume", run]) == 0  # all done: nothing runs, and its own line says so
+    assert "resuming" not in capsys.readouterr().err

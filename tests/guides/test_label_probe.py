@@ -995,3 +995,18 @@ def test_check_envs_pick_line_says_why_the_default_clips_and_that_the_closest_wa
     won = replace(res, reason="its simulated candidate (...) beats the default's (frame=both, query_clip=1) by 2.00")
     assert f"beats the default's (frame=both, query_clip=1; {why}) by 2.00" in pick_reason(won)
     assert pick_reason(res, clip_set=True) == reason  # the user's clip of 1: not the step change's
+
+
+def test_the_line_against_zero_action_names_the_margin_and_the_bar_apart():
+    """A new user read "above it by more than 2 paired standard errors, 12.58" as the margin or the bar: both are
+    named now, and which side is decided by 2 paired standard errors of the per-episode differences."""
+    from shaped_es.guides.label_check import _against_zero
+
+    zero = [0.0, 1.0, 2.0, 3.0]
+    assert _against_zero([10.0, 11.5, 11.0, 13.5], zero) == (
+        "scores 11.50 against zero action's 1.50 (above it by 10.00, more than 2 paired standard errors: 0.71)")
+    assert _against_zero([-10.0, -8.5, -9.0, -6.5], zero).startswith(
+        "scores -8.50 against zero action's 1.50 (below it by 10.00, more than")
+    assert _against_zero([0.5, 0.0, 2.5, 3.0], zero) == (
+        "scores 1.50 against zero action's 1.50 (not clearly different: 0.00 apart, within 2 paired standard errors: "
+        "0.71)")

@@ -96,6 +96,11 @@ def cmd_resume(a: argparse.Namespace) -> int:
         if why is None and loaded and done >= cfg.generations:
             why = (f"{a.run_dir} has all its {done} generations done: nothing ran, its result is printed again "
                    f"(--generations N above {done} continues it)")
+        if why is None and loaded and done < cfg.generations and not a.quiet:  # where it picks up (a new user's
+            # resume showed only "gen 13/30", with metrics.csv one row shorter than the checkpoint)
+            print(f"shaped-es: {a.run_dir}: resuming from its newest checkpoint, {done} of {cfg.generations} "
+                  f"generations done (metrics.csv continues from there as an uninterrupted run's would)",
+                  file=sys.stderr)
         rc = _run(cfg, store, a)  # restores (and checks) the checkpoint even when nothing is left to run
         if why:
             print(f"shaped-es: {why}", file=sys.stderr)
