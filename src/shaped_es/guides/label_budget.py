@@ -248,16 +248,21 @@ def shaping_line(summary: dict | None, generations: int) -> str | None:
               f"candidate_*, shaping_awake; shaped-es report RUN_DIR compares runs)")
 
 
-SOURCES = (("accepted_probe", "the probe's"), ("accepted_rival", "frame rival"), ("accepted_servo", "servo"),
-           ("accepted_shoot", "shooting"), ("accepted_shoot_base", "shooting, other horizons"),
-           ("accepted_shoot_hold", "held-goal shooting"))  # rows_summary's keys, and the names shaping_line gives them
+# where an accepted candidate came from: rows_summary's key, the metrics.csv candidate_rival values it counts (5: the
+# label probe's candidate at generation 0, mechanisms/candidate.PROBE; the rivals' variants, guides/rival.py: shoot_base
+# also the third horizon's, 6, and a fourth's, 7, in the runs of commit 2dd35906, measured and removed) and the name
+# shaping_line gives it; the rest of the accepted are the run's own labels'
+SOURCES = (("accepted_probe", (5,), "the probe's"), ("accepted_rival", (1,), "frame rival"),
+           ("accepted_servo", (2,), "servo"), ("accepted_shoot", (3,), "shooting"),
+           ("accepted_shoot_base", (4, 6, 7), "shooting, other horizons"),
+           ("accepted_shoot_hold", (8,), "held-goal shooting"))
 
 
 def by_source(summary: dict) -> str:
     """`` (own labels 2, shooting 1, held-goal shooting 3)``: whose clone the accepted candidates were, where one came
     from anything but the run's own labels (a new user could not tell from the printed lines whether an option's
     rival had won); empty otherwise."""
-    counts = [(name, int(summary.get(key) or 0)) for key, name in SOURCES]
+    counts = [(name, int(summary.get(key) or 0)) for key, _, name in SOURCES]
     own = int(summary["candidates_accepted"]) - sum(n for _, n in counts)
     if not any(n for _, n in counts):
         return ""
@@ -300,21 +305,17 @@ def rows_summary(rows: list[dict]) -> dict | None:
                                 and _num(r.get("candidate_accepted")) == 0)
     if "jump_reverted" in rows[0]:  # revert_paired / revert_margin: jumps the next generation undid
         out["jumps_reverted"] = sum(1 for r in rows if _num(r.get("jump_reverted")) == 1)
-    if "candidate_rival" in rows[0]:  # the label probe's candidate, judged beside generation 0 (rival code 5)
-        out["accepted_probe"] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
-                                    and _num(r.get("candidate_rival")) == 5)
-    # with rivals (guides/rival.py): the accepted that were the rival frame's clone (variant 1), the servo's
-    # (variant 2), the shooting labels' (variant 3); None: the run has no such rival
+    # the accepted per source (SOURCES): the label probe's candidate wherever candidate_rival is logged; a rival's
+    # (guides/rival.py) None where the run had no such rival (no gain column of it)
     head = rows[0]
-    has = {1: "candidate_rival" in head and ("rival_gain" in head or "servo_gain" not in head),  # older runs:
-           2: "servo_gain" in head, 3: "shoot_gain" in head, 4: "shoot_base_gain" in head,  # candidate_rival
-           8: "shoot_hold_gain" in head}  # and no gain columns
-    for key, v in (("accepted_rival", 1), ("accepted_servo", 2), ("accepted_shoot", 3),
-                   ("accepted_shoot_base", 4), ("accepted_shoot_hold", 8)):  # shoot_base: the third horizon's (6), and
-        # a fourth's (7) in the runs of commit 2dd35906, measured and removed
-        vs = (v, 6, 7) if v == 4 else (v,)
-        out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
-                       and _num(r.get("candidate_rival")) in vs) if has[v] else None
+    has = {"accepted_probe": "candidate_rival" in head,
+           "accepted_rival": "candidate_rival" in head and ("rival_gain" in head or "servo_gain" not in head),
+           "accepted_servo": "servo_gain" in head, "accepted_shoot": "shoot_gain" in head,  # older runs: candidate_rival
+           "accepted_shoot_base": "shoot_base_gain" in head, "accepted_shoot_hold": "shoot_hold_gain" in head}  # alone
+    for key, vs, _ in SOURCES:
+        if has[key] or key != "accepted_probe":  # a run without the column has no probe count at all
+            out[key] = sum(1 for r in rows if _num(r.get("candidate_accepted")) == 1
+                           and _num(r.get("candidate_rival")) in vs) if has[key] else None
     return out
 
 
